@@ -1,0 +1,22 @@
+// Scalar root finding on a bracket.
+#pragma once
+
+#include <functional>
+#include <optional>
+
+namespace cutdyn {
+
+struct RootResult {
+  double x = 0.0;
+  double fx = 0.0;
+  int evaluations = 0;
+  bool converged = false;
+};
+
+/// Brent's method for f(x) = 0 on [a, b] with f(a)·f(b) <= 0. Returns std::nullopt when
+/// the bracket does not change sign. Stops when the bracket is below
+/// `x_tol + 4·eps·|x|` or after `max_evaluations`.
+std::optional<RootResult> brent_root(const std::function<double(double)>& f, double a, double b,
+                                     double x_tol, int max_evaluations = 200);
+
+}  // namespace cutdyn

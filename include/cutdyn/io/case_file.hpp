@@ -1,0 +1,120 @@
+// Case files (TOML). Keys carry their unit; the loaded Case is SI (names without a unit
+// suffix are SI; a field in another unit says so in its name, e.g. `rpm_min`).
+//
+// Every value is checked when the file is loaded. All problems are collected and thrown
+// together as cutdyn::InvalidInput whose where() is the file name (or "example NAME") and
+// whose problems() read  `<key> = <value as written>: <rule>`,  with <key> the TOML path as
+// the user wrote it ("modes[0].damping_ratio", "lobes.rpm_min", "vibration.amplitude_um").
+// Kinds of problem: TOML syntax (with line and column), missing key, wrong type, value out
+// of range or not finite, unknown key or table, inconsistent keys.
+//
+// The keys and rules are documented in docs/case-files.md.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cutdyn/modal/modal_model.hpp"
+
+namespace cutdyn::io {
+
+enum class Process { kTurning, kMilling };
+
+/// Stability method requested in [lobes].method.
+enum class StabilityMethod { kAuto, kClosedForm, kMultiFrequency, kFullDiscretization };
+
+const char* to_string(Process process);
+const char* to_string(StabilityMethod method);  // "auto", "closed-form", ...
+
+/// [cutting]. Which keys a command needs is checked by that command.
+struct CuttingSection {
+  std::optional<double> kt_pa;  // kt_n_per_mm2: turning feed-direction coefficient; milling tangential
+  std::optional<double> kc_pa;  // kc_n_per_mm2: turning cutting-direction coefficient
+  std::optional<double> kr_pa;  // kr_n_per_mm2: milling radial coefficient
+  std::optional<double> speed_m_per_s;           // speed_m_per_min
+  std::optional<double> uncut_chip_thickness_m;  // uncut_chip_thickness_mm (turning: feed/rev)
+  std::optional<double> width_m;                 // width_mm (turning: depth of cut)
+};
+
+/// [tool] (milling; loaded and range-checked now, used by the milling commands).
+struct ToolSection {
+  int teeth = 0;
+  double diameter_m = 0.0;
+  double helix_rad = 0.0;
+};
+
+/// [operation] (milling).
+struct OperationSection {
+  double radial_immersion = 1.0;  // a_e / D, 0 < . <= 1
+  bool down_milling = true;       // direction = "down" | "up"
+};
+
+/// [vibration]: vibration-assisted cutting along the cutting direction.
+struct VibrationSection {
+  double frequency_hz = 0.0;
+  std::optional<double> amplitude_m;            // amplitude_um
+  std::optional<double> workpiece_diameter_m;   // workpiece_diameter_mm: speed from rpm
+  std::optional<double> duty_cycle;             // fixed duty cycle, 0 < r <= 1
+};
+
+/// [lobes]: the spindle-speed grid and the depth search range.
+struct LobesSection {
+  double rpm_min = 500.0;
+  double rpm_max = 5000.0;
+  int rpm_steps = 200;             // number of speeds, >= 2, <= 100000
+  double depth_max_m = 0.03;       // depth_max_mm
+  StabilityMethod method = StabilityMethod::kAuto;
+  int harmonics = 5;               // multi-frequency: harmonics kept each side, 0..50
+  int steps_per_period = 0;        // full discretization: 0 = automatic, else 1..100000
+};
+
+/// [simulate]: one time-domain run (command-line flags override these).
+struct SimulateSection {
+  std::optional<double> rpm;
+  std::optional<double> depth_m;                 // depth_mm
+  double duration_s = 1.0;                       // 0 < . <= 1000
+  double initial_displacement_m = 1e-6;          // initial_displacement_um, >= 0
+};
+
+struct Case {
+  std::string source;  // file path as given, or "example NAME"
+  Process process = Process::kTurning;
+  ModalModel modal;    // from [[modes]], SI
+  CuttingSection cutting;
+  std::optional<ToolSection> tool;
+  std::optional<OperationSection> operation;
+  std::optional<VibrationSection> vibration;
+  LobesSection lobes;
+  SimulateSection simulate;
+};
+
+/// Parses and validates TOML text. `source` names it in error messages.
+Case parse_case(std::string_view toml_text, std::string_view source);
+
+/// Reads and parses a file. A missing or unreadable file throws cutdyn::InvalidInput
+/// with where() = the path and a problem saying why.
+Case load_case_file(const std::filesystem::path& path);
+
+/// Built-in example cases (examples/*.toml, embedded at build time): name and text,
+/// sorted by name.
+const std::vector<std::pair<std::string_view, std::string_view>>& examples();
+
+/// Text of a built-in example, or nullopt.
+std::optional<std::string_view> example_text(std::string_view name);
+
+/// Loads a built-in example (source = "example NAME"); throws cutdyn::InvalidInput
+/// listing the available names if there is none called `name`.
+Case load_example(std::string_view name);
+
+/// The effective case as JSON, in the case file's own keys and units (so that it could
+/// be written back as TOML): {"process": ..., "modes": [...], "cutting": {...}, ...}.
+/// Optional sections that are absent are omitted.
+nlohmann::json to_json(const Case& c);
+
+}  // namespace cutdyn::io

@@ -1,0 +1,78 @@
+// Output files that appear whole or not at all.
+//
+// A command opens every output through one OutputTransaction. Each file is written to a
+// temporary name in the target's folder; `commit()` renames them all into place. If the
+// transaction is destroyed without commit (an error was thrown), the temporaries are
+// removed and no output file is left behind, partial or stale.
+#pragma once
+
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <ostream>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace cutdyn::io {
+
+class OutputTransaction {
+ public:
+  OutputTransaction() = default;
+  OutputTransaction(const OutputTransaction&) = delete;
+  OutputTransaction& operator=(const OutputTransaction&) = delete;
+  ~OutputTransaction();
+
+  /// Opens `target` for writing (truncating). Throws std::runtime_error naming the path
+  /// if its folder does not exist or is not writable.
+  std::ostream& open(const std::filesystem::path& target);
+
+  /// Adds a file that was written by someone else (e.g. gnuplot) at `temporary`, to be
+  /// renamed to `target` on commit and deleted on rollback.
+  void adopt(const std::filesystem::path& temporary, const std::filesystem::path& target);
+
+  /// A fresh, empty temporary folder beside `target` (removed on commit or rollback).
+  std::filesystem::path scratch_dir(const std::filesystem::path& target);
+
+  /// Flushes and closes every stream, then renames every temporary into place.
+  /// Throws std::runtime_error if any write failed (then nothing is renamed).
+  void commit();
+
+ private:
+  struct Entry {
+    std::filesystem::path temporary;
+    std::filesystem::path target;
+    std::unique_ptr<std::ofstream> stream;  // null for adopted files
+  };
+  void rollback() noexcept;
+  std::vector<Entry> entries_;
+  std::vector<std::filesystem::path> scratch_dirs_;
+  bool committed_ = false;
+};
+
+/// One CSV cell: a number, an integer or a text (quoted if it holds , or ").
+using CsvCell = std::variant<double, long long, std::string>;
+
+/// Writes a header line, then rows. Doubles are written in shortest round-trip form.
+/// A non-finite double is a programming error: it throws std::logic_error naming the
+/// column, so that NaN never reaches an output file.
+class CsvWriter {
+ public:
+  CsvWriter(std::ostream& out, std::vector<std::string> columns);
+  void row(const std::vector<CsvCell>& cells);
+
+ private:
+  std::ostream& out_;
+  std::vector<std::string> columns_;
+};
+
+/// Writes `value` with 2-space indentation and a final newline. Throws std::logic_error
+/// if it holds a non-finite number (nlohmann::json would write null).
+void write_json(std::ostream& out, const nlohmann::json& value);
+
+/// Formats a double in shortest round-trip form ("0.1", "2.26e+08").
+std::string format_number(double value);
+
+}  // namespace cutdyn::io

@@ -1,0 +1,71 @@
+#include "cutdyn/core/roots.hpp"
+
+#include <cmath>
+#include <limits>
+#include <utility>
+
+namespace cutdyn {
+
+// Brent (1973), "Algorithms for Minimization without Derivatives", ch. 4 (zero).
+std::optional<RootResult> brent_root(const std::function<double(double)>& f, double a, double b,
+                                     double x_tol, int max_evaluations) {
+  double fa = f(a);
+  double fb = f(b);
+  int evaluations = 2;
+  if (fa == 0.0) return RootResult{a, fa, evaluations, true};
+  if (fb == 0.0) return RootResult{b, fb, evaluations, true};
+  if ((fa > 0.0) == (fb > 0.0)) return std::nullopt;
+  const double eps = std::numeric_limits<double>::epsilon();
+  double c = a, fc = fa, d = b - a, e = d;
+  while (evaluations < max_evaluations) {
+    if ((fb > 0.0) == (fc > 0.0)) {
+      c = a;
+      fc = fa;
+      d = e = b - a;
+    }
+    if (std::abs(fc) < std::abs(fb)) {
+      a = b;
+      b = c;
+      c = a;
+      fa = fb;
+      fb = fc;
+      fc = fa;
+    }
+    const double tol = 2.0 * eps * std::abs(b) + 0.5 * x_tol;
+    const double m = 0.5 * (c - b);
+    if (std::abs(m) <= tol || fb == 0.0) return RootResult{b, fb, evaluations, true};
+    if (std::abs(e) >= tol && std::abs(fa) > std::abs(fb)) {
+      double p, q, r;
+      const double s = fb / fa;
+      if (a == c) {
+        p = 2.0 * m * s;
+        q = 1.0 - s;
+      } else {
+        q = fa / fc;
+        r = fb / fc;
+        p = s * (2.0 * m * q * (q - r) - (b - a) * (r - 1.0));
+        q = (q - 1.0) * (r - 1.0) * (s - 1.0);
+      }
+      if (p > 0.0) q = -q;
+      p = std::abs(p);
+      if (2.0 * p < std::min(3.0 * m * q - std::abs(tol * q), std::abs(e * q))) {
+        e = d;
+        d = p / q;
+      } else {
+        d = m;
+        e = m;
+      }
+    } else {
+      d = m;
+      e = m;
+    }
+    a = b;
+    fa = fb;
+    b += std::abs(d) > tol ? d : (m > 0.0 ? tol : -tol);
+    fb = f(b);
+    ++evaluations;
+  }
+  return RootResult{b, fb, evaluations, false};
+}
+
+}  // namespace cutdyn

@@ -1,0 +1,50 @@
+#include "cutdyn/core/roots.hpp"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "cutdyn/core/error.hpp"
+
+namespace cutdyn {
+namespace {
+
+TEST(BrentRoot, FindsCubeRootOfTwoToTolerance) {
+  auto r = brent_root([](double x) { return x * x * x - 2.0; }, 0.0, 2.0, 1e-14);
+  ASSERT_TRUE(r.has_value());
+  EXPECT_TRUE(r->converged);
+  EXPECT_NEAR(r->x, std::cbrt(2.0), 1e-13);
+  EXPECT_LT(r->evaluations, 30);  // superlinear: bisection would need ~47
+}
+
+TEST(BrentRoot, RejectsBracketWithoutSignChange) {
+  EXPECT_FALSE(brent_root([](double x) { return x * x + 1.0; }, -1.0, 1.0, 1e-12).has_value());
+}
+
+TEST(BrentRoot, HandlesRootAtEndpoint) {
+  auto r = brent_root([](double x) { return std::sin(x); }, 0.0, 1.0, 1e-12);
+  ASSERT_TRUE(r.has_value());
+  EXPECT_EQ(r->x, 0.0);
+}
+
+TEST(Validator, ListsEveryProblemWithFieldValueUnitAndRule) {
+  Validator v("modes[0]");
+  v.require_positive("stiffness_n_per_m", -5.0, "N/m");
+  v.require_in_open("damping_ratio", 1.5, "", 0.0, 1.0);
+  v.require_positive("natural_hz", std::nan(""), "Hz");
+  ASSERT_EQ(v.problems().size(), 3u);
+  EXPECT_EQ(v.problems()[0], "modes[0].stiffness_n_per_m = -5 N/m: must be positive");
+  EXPECT_EQ(v.problems()[1],
+            "modes[0].damping_ratio = 1.5: must be greater than 0 and less than 1");
+  EXPECT_EQ(v.problems()[2], "modes[0].natural_hz = nan Hz: must be a finite number");
+  try {
+    v.throw_if_any("case.toml");
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where(), "case.toml");
+    EXPECT_EQ(e.problems().size(), 3u);
+  }
+}
+
+}  // namespace
+}  // namespace cutdyn
