@@ -1,0 +1,68 @@
+// First-order full discretization of the periodic delayed system (delayed_system.hpp)
+// [Ding, Zhu, Zhang, Ding 2010, IJMTM 50:502–509]; docs/models/turning.md §5.
+//
+// One period T is cut into steps t0 = 0 < t1 < ... < tn = T, with nodes on every jump of
+// H(t). On step j (length hj) the structure is integrated exactly and the cutting term is
+// taken with H at its mean over the step, H̄j, and the displacements y(t), y(t − τ) linear
+// between the step's ends:
+//     x(j+1) = Φ0j·x(j) + w·[W0j·E·H̄j·(ŷ(j) − y(j)) + W1j·E·H̄j·(ŷ(j+1) − y(j+1))],
+//     Φ0j = e^(A0·hj),  W1j = (1/hj)∫0^hj e^(A0(hj−s))·s ds,  W0j = ∫0^hj e^(A0 s) ds − W1j,
+// with ŷ(j) = y(tj − τ) interpolated linearly between the two nodes around it. Stacking
+// x(j) and the past displacements gives the transition matrix Φ over one period (Ding's
+// form); by Floquet theory the process is stable when every eigenvalue of Φ has modulus < 1.
+//
+// Two ways to use the map:
+// * dense: build Φ and take its eigenvalues (the textbook method; dimension d + r·L with
+//   L ≈ τ/h, so only for short delays);
+// * reduced (default): a multiplier μ = e^(iθ) on the unit circle makes the map's solution
+//   quasi-periodic, y(node + n) = μ·y(node), so the stacked history collapses onto the n
+//   nodes of one period. The boundary condition becomes the eigenvalue problem of a matrix
+//   of size 2r·(number of steps in contact), independent of the delay: w = 1/λ for every
+//   real positive eigenvalue λ of K(θ). Scanning θ over [0, π] finds every depth at which a
+//   multiplier of the same Φ crosses the unit circle, exactly, without forming Φ.
+#pragma once
+
+#include <vector>
+
+#include "cutdyn/stability/critical_depth.hpp"
+#include "cutdyn/stability/delayed_system.hpp"
+
+namespace cutdyn {
+
+struct FdOptions {
+  /// Longest step as a fraction of the shortest structural period 2π/max|pole(A0)|.
+  double max_step_fraction = 1.0 / 64.0;
+  /// If > 0: exactly this many steps per period (spread over the coefficient's segments in
+  /// proportion to their length, at least one each); for a constant coefficient the period
+  /// is then the delay itself, as in the textbook method. 0: steps from max_step_fraction and
+  /// a constant coefficient is discretized with a period of one step.
+  int steps_per_period = 0;
+  double depth_max_m = 0.03;     // search limit
+  double samples_per_turn = 16;  // multiplier-angle samples per 2π of μ^(−τ/T) phase
+};
+
+/// The time grid of one period.
+struct FdGrid {
+  double period_s = 0.0;
+  std::vector<double> nodes_s;  // n + 1 nodes, nodes_s.front() = 0, nodes_s.back() = T
+  int steps() const { return static_cast<int>(nodes_s.size()) - 1; }
+};
+
+FdGrid fd_grid(const DelayedSystem& system, const FdOptions& options);
+
+/// Transition matrix Φ over one period at width of cut `depth_m` (dense, textbook form).
+Eigen::MatrixXd fd_transition_matrix(const DelayedSystem& system, const FdGrid& grid,
+                                     double depth_m);
+
+/// Largest |eigenvalue| of fd_transition_matrix.
+double fd_spectral_radius(const DelayedSystem& system, const FdGrid& grid, double depth_m);
+
+/// Critical depth by the reduced (multiplier-on-the-unit-circle) method.
+CriticalDepth fd_critical_depth(const DelayedSystem& system, const FdOptions& options);
+
+/// Critical depth by the dense method: spectral radius on a coarse depth scan to bracket the
+/// first unstable depth, then bisection to `rel_tol`. For cross-checks at short delays.
+CriticalDepth fd_critical_depth_dense(const DelayedSystem& system, const FdOptions& options,
+                                      double rel_tol = 1e-6, int coarse_steps = 24);
+
+}  // namespace cutdyn

@@ -1,0 +1,55 @@
+// Stability lobes: the critical depth at every spindle speed of a grid, in parallel.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "cutdyn/stability/critical_depth.hpp"
+
+namespace cutdyn {
+
+struct LobesOptions {
+  double rpm_min = 500.0;
+  double rpm_max = 5000.0;
+  int rpm_steps = 200;  // speeds on a uniform grid, both ends included
+  int threads = 0;      // 0: all cores (OpenMP)
+
+  std::vector<std::string> validate() const;
+  std::vector<double> speeds_rpm() const;
+};
+
+/// Per-speed boundary with the extra columns a process adds (duty cycle, lobe number, ...).
+struct LobePoint {
+  double rpm = 0.0;
+  CriticalDepth boundary;
+  double duty_cycle = 1.0;
+  int lobe = 0;
+};
+
+enum class LobesStatus { kSuccess, kFailed };
+
+struct LobesReport {
+  LobesStatus status = LobesStatus::kSuccess;
+  std::string message;
+  std::vector<LobePoint> points;  // ascending speed
+  double seconds = 0.0;
+  long long evaluations = 0;
+  LobesOptions options;           // as used
+};
+
+/// Calls `at_speed(rpm)` for every speed of the grid, spread over threads, and gathers the
+/// points in speed order. `progress(done, total)`, if set, is called from one thread at a
+/// time as speeds complete. An exception thrown by `at_speed` is rethrown after the loop.
+LobesReport trace_lobes(const std::function<LobePoint(double rpm)>& at_speed,
+                        const LobesOptions& options,
+                        const std::function<void(int done, int total)>& progress = {});
+
+/// Critical depth at one speed from a point test: scans [0, depth_max] in `coarse_steps`
+/// equal steps for the first unstable depth (so that an unstable island above a stable
+/// band is not skipped by bisection's first halving), then bisects that bracket until it is
+/// smaller than rel_tol times its upper end.
+CriticalDepth critical_depth_by_bisection(const std::function<bool(double depth_m)>& unstable,
+                                          double depth_max_m, int coarse_steps, double rel_tol);
+
+}  // namespace cutdyn

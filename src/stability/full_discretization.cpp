@@ -1,0 +1,386 @@
+#include "cutdyn/stability/full_discretization.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <unsupported/Eigen/MatrixFunctions>
+
+#include "cutdyn/core/units.hpp"
+#include "cutdyn/stability/boundary_scan.hpp"
+#include "cutdyn/stability/lobes.hpp"
+#include "cutdyn/stability/multi_frequency.hpp"
+
+namespace cutdyn {
+namespace {
+
+using cplx = std::complex<double>;
+using units::kPi;
+using units::kTwoPi;
+
+// Exact integrals of one step [Ding2010, eqs. 8–12]: Φ0 = e^(Ah), and the weights W0, W1
+// of the step's start and end values of a linearly interpolated forcing, from one matrix
+// exponential of the block matrix [[A, I, 0], [0, 0, I], [0, 0, 0]]·h (Van Loan 1978).
+struct StepMatrices {
+  Eigen::MatrixXd phi0;  // d×d
+  Eigen::MatrixXd w0E;   // W0·E, d×r
+  Eigen::MatrixXd w1E;   // W1·E, d×r
+  Eigen::MatrixXd H;     // H̄ over the step, r×r
+  bool active = false;   // H̄ ≠ 0
+};
+
+StepMatrices step_matrices(const DelayedSystem& s, double t0, double t1) {
+  const auto d = s.A0.rows();
+  const double h = t1 - t0;
+  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(3 * d, 3 * d);
+  m.topLeftCorner(d, d) = s.A0 * h;
+  m.block(0, d, d, d).setIdentity();
+  m.block(0, d, d, d) *= h;
+  m.block(d, 2 * d, d, d).setIdentity();
+  m.block(d, 2 * d, d, d) *= h;
+  const Eigen::MatrixXd f = m.exp();
+  // With the scaling above, f12 = Φ1 = ∫0^h e^(A(h−s)) ds and f13 = ∫0^h e^(A(h−s)) s ds.
+  const Eigen::MatrixXd phi1 = f.block(0, d, d, d);
+  const Eigen::MatrixXd w1 = f.block(0, 2 * d, d, d) / h;
+  StepMatrices out;
+  out.phi0 = f.topLeftCorner(d, d);
+  out.w1E = w1 * s.E;
+  out.w0E = (phi1 - w1) * s.E;
+  out.H = s.H.mean(t0, t1);
+  out.active = out.H.norm() > 0.0;
+  return out;
+}
+
+// y(t_j − τ) = (1 − α)·y(g) + α·y(g + 1), g a global node index (node g + n is node g one
+// period later).
+struct DelayRef {
+  long long g = 0;
+  double alpha = 0.0;
+};
+
+long long floor_div(long long a, long long b) {
+  long long q = a / b;
+  if ((a % b != 0) && ((a < 0) != (b < 0))) --q;
+  return q;
+}
+
+class Discretization {
+ public:
+  Discretization(const DelayedSystem& s, const FdGrid& grid) : sys_(s), grid_(grid) {
+    const int n = grid.steps();
+    steps_.reserve(static_cast<std::size_t>(n));
+    for (int j = 0; j < n; ++j) {
+      steps_.push_back(step_matrices(s, grid.nodes_s[static_cast<std::size_t>(j)],
+                                     grid.nodes_s[static_cast<std::size_t>(j + 1)]));
+    }
+    refs_.resize(static_cast<std::size_t>(n + 1));
+    for (int j = 0; j <= n; ++j) refs_[static_cast<std::size_t>(j)] = delay_ref(j);
+  }
+
+  int n() const { return grid_.steps(); }
+  const StepMatrices& step(int j) const { return steps_[static_cast<std::size_t>(j)]; }
+  const DelayRef& ref(int j) const { return refs_[static_cast<std::size_t>(j)]; }
+  double time(long long g) const {
+    const long long p = floor_div(g, n());
+    return grid_.nodes_s[static_cast<std::size_t>(g - p * n())] +
+           static_cast<double>(p) * grid_.period_s;
+  }
+
+ private:
+  DelayRef delay_ref(int j) const {
+    const double T = grid_.period_s;
+    const double s = grid_.nodes_s[static_cast<std::size_t>(j)] - sys_.delay_s;
+    const double p = std::floor(s / T);
+    double u = s - p * T;
+    const auto& t = grid_.nodes_s;
+    auto it = std::upper_bound(t.begin(), t.end(), u);
+    auto i = static_cast<long long>(it - t.begin()) - 1;
+    i = std::clamp<long long>(i, 0, n() - 1);
+    const double h = t[static_cast<std::size_t>(i + 1)] - t[static_cast<std::size_t>(i)];
+    double alpha = (u - t[static_cast<std::size_t>(i)]) / h;
+    long long g = static_cast<long long>(p) * n() + i;
+    // Snap to a node when the delayed instant falls on one.
+    if (alpha < 1e-12) alpha = 0.0;
+    if (alpha > 1.0 - 1e-12) {
+      alpha = 0.0;
+      ++g;
+    }
+    return {g, alpha};
+  }
+
+  const DelayedSystem& sys_;
+  const FdGrid& grid_;
+  std::vector<StepMatrices> steps_;
+  std::vector<DelayRef> refs_;
+};
+
+// The harmonic (θ + 2πk)/T that carries most of a Floquet solution sampled at `times`.
+double dominant_frequency_hz(double theta, double period, const std::vector<double>& times,
+                             const std::vector<cplx>& values, int steps) {
+  double best_score = -1.0, best_w = theta / period;
+  const int kmax = std::max(0, steps / 2);
+  for (int k = -kmax; k <= kmax; ++k) {
+    const double w = (theta + kTwoPi * k) / period;
+    cplx acc{0.0, 0.0};
+    for (std::size_t i = 0; i < times.size(); ++i) acc += values[i] * std::exp(cplx(0.0, -w * times[i]));
+    if (std::abs(acc) > best_score) {
+      best_score = std::abs(acc);
+      best_w = w;
+    }
+  }
+  return std::abs(units::rad_per_s_to_hz(best_w));
+}
+
+double shortest_structural_period(const DelayedSystem& s) {
+  const Eigen::VectorXcd poles = s.A0.eigenvalues();
+  double w = 0.0;
+  for (Eigen::Index i = 0; i < poles.size(); ++i) w = std::max(w, std::abs(poles(i)));
+  return kTwoPi / w;
+}
+
+}  // namespace
+
+FdGrid fd_grid(const DelayedSystem& s, const FdOptions& o) {
+  FdGrid grid;
+  double h_max = o.max_step_fraction * shortest_structural_period(s);
+  h_max = std::min(h_max, s.delay_s);  // the delayed value of a step's end must be known
+  if (s.H.constant) {
+    if (o.steps_per_period > 0) {
+      grid.period_s = s.delay_s;
+      for (int j = 0; j <= o.steps_per_period; ++j)
+        grid.nodes_s.push_back(s.delay_s * j / o.steps_per_period);
+    } else {
+      grid.period_s = h_max;
+      grid.nodes_s = {0.0, h_max};
+    }
+    return grid;
+  }
+  const double T = s.H.period_s;
+  grid.period_s = T;
+  std::vector<double> cuts{0.0};
+  for (double b : s.H.breakpoints_s)
+    if (b > 0.0 && b < T) cuts.push_back(b);
+  cuts.push_back(T);
+  std::sort(cuts.begin(), cuts.end());
+  grid.nodes_s.push_back(0.0);
+  for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
+    const double len = cuts[k + 1] - cuts[k];
+    if (len <= 1e-15 * T) continue;
+    int steps = o.steps_per_period > 0
+                    ? std::max(1, static_cast<int>(std::lround(o.steps_per_period * len / T)))
+                    : std::max(1, static_cast<int>(std::ceil(len / h_max - 1e-9)));
+    for (int j = 1; j <= steps; ++j) grid.nodes_s.push_back(cuts[k] + len * j / steps);
+  }
+  grid.nodes_s.back() = T;
+  return grid;
+}
+
+Eigen::MatrixXd fd_transition_matrix(const DelayedSystem& s, const FdGrid& grid, double depth) {
+  const Discretization disc(s, grid);
+  const int n = disc.n();
+  const auto d = s.A0.rows();
+  const auto r = s.C.rows();
+  // History length: the oldest node any step needs, counted back from that step's node.
+  long long L = 1;
+  for (int j = 0; j < n; ++j) {
+    for (int e : {j, j + 1}) {
+      const DelayRef& ref = disc.ref(e);
+      L = std::max(L, j - ref.g);
+    }
+  }
+  const auto D = d + r * L;
+  Eigen::MatrixXd phi = Eigen::MatrixXd::Identity(D, D);
+  Eigen::MatrixXd next(D, D);
+
+  // Rows of y at global node g, seen from the state at node j (g <= j): C·x(j) rows when
+  // g = j, history block j − g − 1 otherwise.
+  const auto y_rows = [&](const Eigen::MatrixXd& m, int j, long long g) -> Eigen::MatrixXd {
+    const long long back = j - g;
+    if (back == 0) return s.C * m.topRows(d);
+    return m.middleRows(d + r * (back - 1), r);
+  };
+  const auto delayed_rows = [&](const Eigen::MatrixXd& m, int j, const DelayRef& ref) {
+    Eigen::MatrixXd rows = (1.0 - ref.alpha) * y_rows(m, j, ref.g);
+    if (ref.alpha > 0.0) rows += ref.alpha * y_rows(m, j, ref.g + 1);
+    return rows;
+  };
+
+  for (int j = 0; j < n; ++j) {
+    const StepMatrices& st = disc.step(j);
+    const Eigen::MatrixXd x = phi.topRows(d);
+    if (st.active && depth > 0.0) {
+      const Eigen::MatrixXd wh0 = depth * st.w0E * st.H;
+      const Eigen::MatrixXd wh1 = depth * st.w1E * st.H;
+      const Eigen::MatrixXd nmat = Eigen::MatrixXd::Identity(d, d) + wh1 * s.C;
+      const Eigen::MatrixXd rhs = (st.phi0 - wh0 * s.C) * x + wh0 * delayed_rows(phi, j, disc.ref(j)) +
+                                  wh1 * delayed_rows(phi, j, disc.ref(j + 1));
+      next.topRows(d) = nmat.partialPivLu().solve(rhs);
+    } else {
+      next.topRows(d) = st.phi0 * x;
+    }
+    next.middleRows(d, r) = s.C * x;
+    if (L > 1) next.middleRows(d + r, r * (L - 1)) = phi.middleRows(d, r * (L - 1));
+    phi.swap(next);
+  }
+  return phi;
+}
+
+double fd_spectral_radius(const DelayedSystem& s, const FdGrid& grid, double depth) {
+  const Eigen::MatrixXd phi = fd_transition_matrix(s, grid, depth);
+  return phi.eigenvalues().cwiseAbs().maxCoeff();
+}
+
+CriticalDepth fd_critical_depth_dense(const DelayedSystem& s, const FdOptions& o, double rel_tol,
+                                      int coarse_steps) {
+  const FdGrid grid = fd_grid(s, o);
+  CriticalDepth result = critical_depth_by_bisection(
+      [&](double w) { return fd_spectral_radius(s, grid, w) >= 1.0; }, o.depth_max_m,
+      coarse_steps, rel_tol);
+  if (!result.found) return result;
+  const double hi = result.depth_m * (1.0 + 0.5 * rel_tol);
+  // Chatter frequency from the dominant multiplier's eigenvector: its history holds y over
+  // the last L nodes.
+  const Eigen::MatrixXd phi = fd_transition_matrix(s, grid, hi);
+  Eigen::EigenSolver<Eigen::MatrixXd> eig(phi, true);
+  Eigen::Index k = 0;
+  eig.eigenvalues().cwiseAbs().maxCoeff(&k);
+  const double theta = std::abs(std::arg(eig.eigenvalues()(k)));
+  const Eigen::VectorXcd v = eig.eigenvectors().col(k);
+  const auto d = s.A0.rows();
+  const auto r = s.C.rows();
+  const Discretization disc(s, grid);
+  std::vector<double> times;
+  std::vector<cplx> values;
+  times.push_back(0.0);
+  values.push_back((s.C.cast<cplx>() * v.head(d))(0));
+  for (Eigen::Index b = 0; d + r * (b + 1) <= v.size(); ++b) {
+    times.push_back(disc.time(-(b + 1)));
+    values.push_back(v(d + r * b));
+  }
+  result.chatter_hz = dominant_frequency_hz(std::arg(eig.eigenvalues()(k)) >= 0 ? theta : -theta,
+                                            grid.period_s, times, values, grid.steps());
+  return result;
+}
+
+CriticalDepth fd_critical_depth(const DelayedSystem& s, const FdOptions& o) {
+  const FdGrid grid = fd_grid(s, o);
+  const Discretization disc(s, grid);
+  const int n = disc.n();
+  const auto d = s.A0.rows();
+  const auto r = s.C.rows();
+
+  std::vector<int> active;
+  for (int j = 0; j < n; ++j)
+    if (disc.step(j).active) active.push_back(j);
+  CriticalDepth result;
+  result.depth_m = o.depth_max_m;
+  if (active.empty()) return result;
+  const auto m = static_cast<Eigen::Index>(2 * r * static_cast<Eigen::Index>(active.size()));
+
+  // Response of the nodal displacements to the step inputs z = (a_j, b_j) over one period of
+  // a solution with multiplier μ: Y = (Tc + Cp·(μI − Ψ)⁻¹·V)·z.
+  Eigen::MatrixXd Tc = Eigen::MatrixXd::Zero(r * n, m);
+  Eigen::MatrixXd V(d, m);
+  Eigen::MatrixXd Cp(r * n, d);
+  Eigen::MatrixXd prefix = Eigen::MatrixXd::Identity(d, d);
+  for (int i = 0; i < n; ++i) {
+    Cp.middleRows(r * i, r) = s.C * prefix;
+    prefix = disc.step(i).phi0 * prefix;
+  }
+  const Eigen::MatrixXd psi = prefix;  // e^(A0·T)
+  for (std::size_t jj = 0; jj < active.size(); ++jj) {
+    const int j = active[jj];
+    for (int which = 0; which < 2; ++which) {
+      const Eigen::Index col = (2 * static_cast<Eigen::Index>(jj) + which) * r;
+      Eigen::MatrixXd v = which == 0 ? disc.step(j).w0E : disc.step(j).w1E;  // into x(j+1)
+      for (int i = j + 1; i < n; ++i) {
+        Tc.block(r * i, col, r, r) = s.C * v;
+        v = disc.step(i).phi0 * v;
+      }
+      V.middleCols(col, r) = v;
+    }
+  }
+
+  // The closure z = w·Q(μ)·Y as terms (row block, node, coefficient, power of μ):
+  // a_j = H̄j·(ŷ(j) − y(j)), b_j = H̄j·(ŷ(j+1) − y(j+1)), with y(g) = μ^floor(g/n)·Y(g mod n).
+  struct Term {
+    Eigen::Index row_block;
+    Eigen::Index node;
+    double coef;
+    long long power;
+  };
+  std::vector<Term> terms;
+  const auto add_y = [&](Eigen::Index rb, long long g, double coef) {
+    if (coef == 0.0) return;
+    const long long p = floor_div(g, n);
+    terms.push_back({rb, static_cast<Eigen::Index>(g - p * n), coef, p});
+  };
+  long long delay_periods = 0;
+  for (std::size_t jj = 0; jj < active.size(); ++jj) {
+    const int j = active[jj];
+    for (int which = 0; which < 2; ++which) {
+      const auto rb = static_cast<Eigen::Index>(2 * jj + which);
+      const int node = j + which;
+      const DelayRef& ref = disc.ref(node);
+      add_y(rb, ref.g, 1.0 - ref.alpha);
+      add_y(rb, ref.g + 1, ref.alpha);
+      add_y(rb, node, -1.0);
+      delay_periods = std::max(delay_periods, -floor_div(ref.g, n));
+    }
+  }
+
+  const double min_eigenvalue = 1.0 / o.depth_max_m;
+  Eigen::MatrixXcd T(r * n, m), trow(r, m), rhs(d, m);
+  const Eigen::MatrixXcd Tc_c = Tc.cast<cplx>(), Cp_c = Cp.cast<cplx>(), V_c = V.cast<cplx>();
+  const auto response = [&](double theta) {
+    const cplx mu = std::polar(1.0, theta);
+    Eigen::MatrixXcd shifted = -psi.cast<cplx>();
+    shifted.diagonal().array() += mu;
+    rhs.noalias() = shifted.partialPivLu().solve(V_c);
+    T.noalias() = Cp_c * rhs;
+    T += Tc_c;
+  };
+  const MatrixFunction evaluate = [&](double theta, Eigen::MatrixXcd& K) {
+    response(theta);
+    K.setZero(m, m);
+    for (Eigen::Index rb = 0; rb < m / r; ++rb) {
+      trow.setZero();
+      for (const Term& t : terms) {
+        if (t.row_block != rb) continue;
+        trow += (t.coef * std::polar(1.0, theta * static_cast<double>(t.power))) *
+                T.middleRows(r * t.node, r);
+      }
+      const int j = active[static_cast<std::size_t>(rb / 2)];
+      K.middleRows(r * rb, r) = disc.step(j).H.cast<cplx>() * trow;
+    }
+    return K.norm() >= min_eigenvalue;
+  };
+
+  BoundaryScanOptions scan;
+  scan.theta_min = 0.0;
+  scan.theta_max = kPi;
+  const double resonance = 0.25 * sharpest_half_bandwidth(s) * grid.period_s;
+  scan.theta_step = std::min(kTwoPi / (o.samples_per_turn * static_cast<double>(delay_periods + 1)),
+                             resonance);
+  scan.min_eigenvalue = min_eigenvalue;
+  scan.real_at_ends = true;
+  const BoundaryScanReport report = scan_boundary(evaluate, scan);
+  result.evaluations = report.evaluations;
+  if (report.points.empty()) return result;
+
+  const BoundaryPoint& best = report.points.front();
+  result.found = true;
+  result.depth_m = best.depth;
+  response(best.theta);
+  const Eigen::VectorXcd y = T * best.eigenvector;
+  std::vector<double> times;
+  std::vector<cplx> values;
+  for (int i = 0; i < n; ++i) {
+    times.push_back(grid.nodes_s[static_cast<std::size_t>(i)]);
+    values.push_back(y(r * i));
+  }
+  result.chatter_hz = dominant_frequency_hz(best.theta, grid.period_s, times, values, n);
+  return result;
+}
+
+}  // namespace cutdyn

@@ -1,0 +1,90 @@
+#include "cutdyn/stability/lobes.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <mutex>
+
+#include <omp.h>
+
+#include "cutdyn/core/error.hpp"
+
+namespace cutdyn {
+
+std::vector<std::string> LobesOptions::validate() const {
+  Validator v;
+  v.require_positive("rpm_min", rpm_min, "rpm");
+  v.require(rpm_max > rpm_min, "rpm_max", rpm_max, "rpm",
+            "must be greater than rpm_min = " + format_value(rpm_min));
+  v.require(rpm_steps >= 2 && rpm_steps <= 100000, "rpm_steps", rpm_steps, "",
+            "must be 2 to 100000");
+  v.require(threads >= 0, "threads", threads, "", "must not be negative");
+  return v.problems();
+}
+
+std::vector<double> LobesOptions::speeds_rpm() const {
+  std::vector<double> s(static_cast<std::size_t>(rpm_steps));
+  for (int i = 0; i < rpm_steps; ++i)
+    s[static_cast<std::size_t>(i)] = rpm_min + (rpm_max - rpm_min) * i / (rpm_steps - 1);
+  return s;
+}
+
+LobesReport trace_lobes(const std::function<LobePoint(double)>& at_speed, const LobesOptions& o,
+                        const std::function<void(int, int)>& progress) {
+  if (const auto problems = o.validate(); !problems.empty()) throw InvalidInput(problems, "lobes");
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<double> speeds = o.speeds_rpm();
+  const int n = static_cast<int>(speeds.size());
+  LobesReport report;
+  report.options = o;
+  report.points.resize(speeds.size());
+  std::exception_ptr error;
+  std::mutex mutex;
+  std::atomic<int> done{0};
+  const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (int i = 0; i < n; ++i) {
+    try {
+      report.points[static_cast<std::size_t>(i)] = at_speed(speeds[static_cast<std::size_t>(i)]);
+      const int finished = ++done;
+      if (progress) {
+        std::lock_guard<std::mutex> lock(mutex);
+        progress(finished, n);
+      }
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!error) error = std::current_exception();
+    }
+  }
+  if (error) std::rethrow_exception(error);
+  for (const LobePoint& p : report.points) report.evaluations += p.boundary.evaluations;
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
+
+CriticalDepth critical_depth_by_bisection(const std::function<bool(double)>& unstable,
+                                          double depth_max_m, int coarse_steps, double rel_tol) {
+  CriticalDepth result;
+  result.depth_m = depth_max_m;
+  double lo = 0.0, hi = -1.0;
+  for (int i = 1; i <= coarse_steps; ++i) {
+    const double w = depth_max_m * i / coarse_steps;
+    ++result.evaluations;
+    if (unstable(w)) {
+      hi = w;
+      break;
+    }
+    lo = w;
+  }
+  if (hi < 0.0) return result;
+  while (hi - lo > rel_tol * hi) {
+    const double mid = 0.5 * (lo + hi);
+    ++result.evaluations;
+    (unstable(mid) ? hi : lo) = mid;
+  }
+  result.found = true;
+  result.depth_m = 0.5 * (lo + hi);
+  return result;
+}
+
+}  // namespace cutdyn

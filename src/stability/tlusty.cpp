@@ -1,0 +1,121 @@
+#include "cutdyn/stability/tlusty.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "cutdyn/core/roots.hpp"
+#include "cutdyn/core/units.hpp"
+
+namespace cutdyn {
+namespace {
+
+using units::kPi;
+using units::kTwoPi;
+
+// Highest chatter frequency that can matter: above every mode, |G| <= Σ 1/(k_i (r_i² − 1)),
+// and w_lim >= 1/(2K|G|) exceeds depth_max once that bound drops below 1/(2K·depth_max).
+double omega_upper_bound(const ModalModel& model, Direction direction, double coefficient,
+                         double depth_max) {
+  double w_top = 0.0;
+  for (const Mode& m : model.modes)
+    if (m.direction == direction) w_top = std::max(w_top, m.natural_rad_s);
+  const double need = 1.0 / (2.0 * coefficient * depth_max);
+  const auto bound = [&](double w) {
+    double s = 0.0;
+    for (const Mode& m : model.modes) {
+      if (m.direction != direction) continue;
+      const double r = w / m.natural_rad_s;
+      s += 1.0 / (m.stiffness_n_per_m * (r * r - 1.0));
+    }
+    return s - need;
+  };
+  double hi = 1.01 * w_top;
+  while (bound(hi) > 0.0) hi *= 2.0;
+  const auto root = brent_root(bound, 1.01 * w_top, hi, 1e-9 * hi);
+  return root ? root->x : hi;
+}
+
+// ε(ω)/(2π) − ωτ/(2π) is the phase mismatch; lobes are where ωτ − ε(ω) = 2πj.
+double epsilon(std::complex<double> g) { return 3.0 * kPi + 2.0 * std::arg(g); }
+
+}  // namespace
+
+TlustyLobePoint tlusty_lobe_point(const ModalModel& model, Direction direction,
+                                  double coefficient_pa, double omega_rad_s, int lobe) {
+  const auto g = frf(model, direction, omega_rad_s);
+  if (!(g.real() < 0.0)) return {std::numeric_limits<double>::infinity(), 0.0};
+  return {-1.0 / (2.0 * coefficient_pa * g.real()),
+          (kTwoPi * lobe + epsilon(g)) / omega_rad_s};
+}
+
+TlustyResult tlusty_critical_depth(const ModalModel& model, Direction direction,
+                                   double coefficient_pa, double delay_s, double depth_max_m) {
+  TlustyResult result;
+  result.boundary.depth_m = depth_max_m;
+  double half_bandwidth = std::numeric_limits<double>::infinity();
+  for (const Mode& m : model.modes)
+    if (m.direction == direction)
+      half_bandwidth = std::min(half_bandwidth, std::max(m.damping_ratio, 1e-4) * m.natural_rad_s);
+  if (!std::isfinite(half_bandwidth)) return result;  // no modes: never unstable
+
+  const double w_hi = omega_upper_bound(model, direction, coefficient_pa, depth_max_m);
+  // Grid: 16 points per 2π of delay phase and 4 per resonance half-bandwidth.
+  const double step = std::min(kTwoPi / (16.0 * delay_s), 0.25 * half_bandwidth);
+  const auto n = static_cast<long long>(std::ceil(w_hi / step));
+  const auto phase = [&](double w) {  // (ωτ − ε)/2π, defined where Re G < 0
+    return (w * delay_s - epsilon(frf(model, direction, w))) / kTwoPi;
+  };
+
+  struct Bracket {
+    double lo, hi;
+    int lobe;
+    double estimate;
+  };
+  std::vector<Bracket> brackets;
+  double best_estimate = std::numeric_limits<double>::infinity();
+  double prev_w = 0.0;
+  auto prev_g = frf(model, direction, 0.0);
+  double prev_phase = 0.0;
+  for (long long i = 1; i <= n; ++i) {
+    const double w = static_cast<double>(i) * step;
+    const auto g = frf(model, direction, w);
+    ++result.boundary.evaluations;
+    const double ph = g.real() < 0.0 ? (w * delay_s - epsilon(g)) / kTwoPi : 0.0;
+    if (g.real() < 0.0 && prev_g.real() < 0.0 && std::floor(ph) != std::floor(prev_phase)) {
+      // The phase is increasing in ω here by far more than ε changes on this grid, but test
+      // every integer passed in either direction.
+      const double lo_j = std::min(std::floor(prev_phase), std::floor(ph)) + 1.0;
+      const double hi_j = std::max(std::floor(prev_phase), std::floor(ph));
+      for (double j = lo_j; j <= hi_j; j += 1.0) {
+        const double t = (j - prev_phase) / (ph - prev_phase);
+        const double re = prev_g.real() + t * (g.real() - prev_g.real());
+        const double estimate = -1.0 / (2.0 * coefficient_pa * re);
+        brackets.push_back({prev_w, w, static_cast<int>(j), estimate});
+        best_estimate = std::min(best_estimate, estimate);
+      }
+    }
+    prev_w = w;
+    prev_g = g;
+    prev_phase = ph;
+  }
+
+  for (const Bracket& b : brackets) {
+    if (b.estimate > 1.05 * best_estimate || b.lobe < 0) continue;
+    const auto root = brent_root([&](double w) { return phase(w) - b.lobe; }, b.lo, b.hi,
+                                 1e-13 * b.hi);
+    if (!root) continue;
+    result.boundary.evaluations += root->evaluations;
+    const auto g = frf(model, direction, root->x);
+    const double depth = -1.0 / (2.0 * coefficient_pa * g.real());
+    if (depth <= depth_max_m && (!result.boundary.found || depth < result.boundary.depth_m)) {
+      result.boundary.found = true;
+      result.boundary.depth_m = depth;
+      result.boundary.chatter_hz = units::rad_per_s_to_hz(root->x);
+      result.lobe = b.lobe;
+    }
+  }
+  return result;
+}
+
+}  // namespace cutdyn

@@ -1,0 +1,123 @@
+#include "cutdyn/stability/turning.hpp"
+
+#include <cmath>
+
+#include "cutdyn/core/error.hpp"
+#include "cutdyn/core/units.hpp"
+#include "cutdyn/stability/multi_frequency.hpp"
+#include "cutdyn/stability/tlusty.hpp"
+
+namespace cutdyn {
+
+DutyCycle VibrationAssist::at_rpm(double rpm) const {
+  if (duty_cycle) return fixed_duty_cycle(*duty_cycle, frequency_hz);
+  const double v = units::kPi * workpiece_diameter_m.value_or(0.0) * rpm / 60.0;
+  return cutdyn::duty_cycle(v, frequency_hz, amplitude_m);
+}
+
+std::vector<std::string> TurningModel::validate() const {
+  Validator v;
+  v.merge(modal.validate());
+  for (std::size_t i = 0; i < modal.modes.size(); ++i) {
+    if (modal.modes[i].direction != Direction::kX)
+      v.add("modes[" + std::to_string(i) + "].direction = y: turning models the feed direction x only");
+    v.require(modal.modes[i].damping_ratio > 0.0, "modes[" + std::to_string(i) + "].damping_ratio",
+              modal.modes[i].damping_ratio, "", "must be positive for a stability analysis");
+  }
+  v.require_positive("kt_pa", kt_pa, "N/m²");
+  if (vibration) {
+    v.require_positive("vibration.frequency_hz", vibration->frequency_hz, "Hz");
+    if (vibration->duty_cycle) {
+      v.require(*vibration->duty_cycle > 0.0 && *vibration->duty_cycle <= 1.0,
+                "vibration.duty_cycle", *vibration->duty_cycle, "",
+                "must be greater than 0 and at most 1");
+    } else {
+      v.require_positive("vibration.amplitude_m", vibration->amplitude_m, "m");
+      if (!vibration->workpiece_diameter_m)
+        v.add("vibration: give duty_cycle, or workpiece_diameter_m to compute it from the speed");
+      else
+        v.require_positive("vibration.workpiece_diameter_m", *vibration->workpiece_diameter_m, "m");
+    }
+  }
+  return v.problems();
+}
+
+TurningModel TurningModel::conventional() const {
+  TurningModel m = *this;
+  m.vibration.reset();
+  return m;
+}
+
+DelayedSystem turning_system(const TurningModel& model, double rpm) {
+  const auto ss = modal_state_space(model.modal, {Direction::kX});
+  DelayedSystem s;
+  s.A0 = ss.A;
+  s.E = ss.B;
+  s.C = ss.C;
+  s.delay_s = 60.0 / rpm;  // [Chikishev2018, eq. 6]: one revolution
+  const Eigen::MatrixXd kt = Eigen::MatrixXd::Constant(1, 1, model.kt_pa);
+  if (model.vibration) {
+    const DutyCycle dc = model.vibration->at_rpm(rpm);
+    const ContactWindow g = dc.window();
+    s.H = windowed_coefficient(kt, g.period_s, g.duty_cycle, g.start_s);
+  } else {
+    s.H = constant_coefficient(kt);
+  }
+  return s;
+}
+
+const char* to_string(TurningMethod method) {
+  switch (method) {
+    case TurningMethod::kClosedForm: return "closed-form";
+    case TurningMethod::kMultiFrequency: return "multi-frequency";
+    case TurningMethod::kFullDiscretization: return "full-discretization";
+    case TurningMethod::kFullDiscretizationDense: return "full-discretization-dense";
+  }
+  return "?";
+}
+
+std::vector<std::string> TurningStabilityOptions::validate() const {
+  Validator v;
+  v.require_positive("depth_max_m", depth_max_m, "m");
+  v.require(harmonics >= 0 && harmonics <= 50, "harmonics", harmonics, "", "must be 0 to 50");
+  v.require(fd.steps_per_period >= 0 && fd.steps_per_period <= 100000, "fd.steps_per_period",
+            fd.steps_per_period, "", "must be 0 (automatic) to 100000");
+  v.require(fd.max_step_fraction > 0.0 && fd.max_step_fraction <= 0.5, "fd.max_step_fraction",
+            fd.max_step_fraction, "", "must be greater than 0 and at most 0.5");
+  return v.problems();
+}
+
+TurningBoundary turning_critical_depth(const TurningModel& model, double rpm,
+                                       const TurningStabilityOptions& o) {
+  TurningBoundary out;
+  out.duty_cycle = model.vibration ? model.vibration->at_rpm(rpm).ratio : 1.0;
+  const double tau = 60.0 / rpm;
+  switch (o.method) {
+    case TurningMethod::kClosedForm: {
+      const auto t = tlusty_critical_depth(model.modal, Direction::kX, out.duty_cycle * model.kt_pa,
+                                           tau, o.depth_max_m);
+      out.boundary = t.boundary;
+      break;
+    }
+    case TurningMethod::kMultiFrequency: {
+      MultiFrequencyOptions mf;
+      mf.harmonics = o.harmonics;
+      mf.depth_max_m = o.depth_max_m;
+      out.boundary = multi_frequency_critical_depth(turning_system(model, rpm), mf);
+      break;
+    }
+    case TurningMethod::kFullDiscretization:
+    case TurningMethod::kFullDiscretizationDense: {
+      FdOptions fd = o.fd;
+      fd.depth_max_m = o.depth_max_m;
+      const DelayedSystem s = turning_system(model, rpm);
+      out.boundary = o.method == TurningMethod::kFullDiscretization ? fd_critical_depth(s, fd)
+                                                                    : fd_critical_depth_dense(s, fd);
+      break;
+    }
+  }
+  out.lobe = out.boundary.found ? static_cast<int>(std::floor(out.boundary.chatter_hz * tau)) : 0;
+  return out;
+}
+
+}  // namespace cutdyn
