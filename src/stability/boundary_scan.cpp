@@ -114,12 +114,15 @@ BoundaryScanReport scan_boundary(const MatrixFunction& evaluate,
   }
   if (o.real_at_ends) take_real_at(o.theta_max, prev);
 
-  // Refine the candidates that can be the smallest depth.
-  double smallest = std::numeric_limits<double>::infinity();
-  for (const Candidate& c : candidates) smallest = std::min(smallest, c.depth_estimate);
-  for (const BoundaryPoint& p : direct) smallest = std::min(smallest, p.depth);
+  // Refine in order of the interpolated depth; stop once an estimate exceeds the best
+  // refined depth (or end-point depth) by more than refine_factor.
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+    return a.depth_estimate < b.depth_estimate;
+  });
+  double best = std::numeric_limits<double>::infinity();
+  for (const BoundaryPoint& p : direct) best = std::min(best, p.depth);
   for (const Candidate& c : candidates) {
-    if (!(c.depth_estimate <= o.refine_factor * smallest)) continue;
+    if (c.depth_estimate > o.refine_factor * best) break;
     // Follow the eigenvalue: at θ the one nearest the straight line from λa to λb.
     const auto follow = [&](double theta) {
       const double t = (theta - c.theta_a) / (c.theta_b - c.theta_a);
@@ -132,6 +135,7 @@ BoundaryScanReport scan_boundary(const MatrixFunction& evaluate,
     auto [lambda, vec] = ev.nearest(root->x, c.lambda_a + t * (c.lambda_b - c.lambda_a));
     if (!(lambda.real() >= o.min_eigenvalue)) continue;
     report.points.push_back({root->x, 1.0 / lambda.real(), lambda, vec});
+    best = std::min(best, 1.0 / lambda.real());
   }
   for (BoundaryPoint& p : direct) {
     if (p.depth * o.min_eigenvalue <= 1.0) report.points.push_back(std::move(p));

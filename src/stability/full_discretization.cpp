@@ -150,8 +150,10 @@ FdGrid fd_grid(const DelayedSystem& s, const FdOptions& o) {
       for (int j = 0; j <= o.steps_per_period; ++j)
         grid.nodes_s.push_back(s.delay_s * j / o.steps_per_period);
     } else {
-      grid.period_s = h_max;
-      grid.nodes_s = {0.0, h_max};
+      // One step per period, and a whole number of steps per delay: no interpolation.
+      const double h = s.delay_s / std::ceil(s.delay_s / h_max - 1e-9);
+      grid.period_s = h;
+      grid.nodes_s = {0.0, h};
     }
     return grid;
   }
@@ -353,7 +355,7 @@ CriticalDepth fd_critical_depth(const DelayedSystem& s, const FdOptions& o) {
       const int j = active[static_cast<std::size_t>(rb / 2)];
       K.middleRows(r * rb, r) = disc.step(j).H.cast<cplx>() * trow;
     }
-    return K.norm() >= min_eigenvalue;
+    return K.norm() >= 0.5 * min_eigenvalue;  // as the scan's own margin
   };
 
   BoundaryScanOptions scan;

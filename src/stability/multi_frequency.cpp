@@ -76,7 +76,7 @@ CriticalDepth multi_frequency_critical_depth(const DelayedSystem& system,
             regen[static_cast<std::size_t>(q + P)];
       }
     }
-    return K.norm() >= min_eigenvalue;
+    return K.norm() >= 0.5 * min_eigenvalue;  // as the scan's own margin
   };
 
   BoundaryScanOptions scan;

@@ -63,7 +63,9 @@ TlustyResult tlusty_critical_depth(const ModalModel& model, Direction direction,
   // Grid: 16 points per 2π of delay phase and 4 per resonance half-bandwidth.
   const double step = std::min(kTwoPi / (16.0 * delay_s), 0.25 * half_bandwidth);
   const auto n = static_cast<long long>(std::ceil(w_hi / step));
-  const auto phase = [&](double w) {  // (ωτ − ε)/2π, defined where Re G < 0
+  // (ωτ − ε)/2π. Since Im G < 0 for every ω > 0 (damped modes), arg G and so the phase are
+  // continuous in ω, also where Re G changes sign; a root is a boundary only where Re G < 0.
+  const auto phase = [&](double w) {
     return (w * delay_s - epsilon(frf(model, direction, w))) / kTwoPi;
   };
 
@@ -73,26 +75,24 @@ TlustyResult tlusty_critical_depth(const ModalModel& model, Direction direction,
     double estimate;
   };
   std::vector<Bracket> brackets;
-  double best_estimate = std::numeric_limits<double>::infinity();
-  double prev_w = 0.0;
-  auto prev_g = frf(model, direction, 0.0);
-  double prev_phase = 0.0;
+  double prev_w = 0.5 * step;
+  auto prev_g = frf(model, direction, prev_w);
+  double prev_phase = (prev_w * delay_s - epsilon(prev_g)) / kTwoPi;
   for (long long i = 1; i <= n; ++i) {
-    const double w = static_cast<double>(i) * step;
+    const double w = (static_cast<double>(i) + 0.5) * step;
     const auto g = frf(model, direction, w);
     ++result.boundary.evaluations;
-    const double ph = g.real() < 0.0 ? (w * delay_s - epsilon(g)) / kTwoPi : 0.0;
-    if (g.real() < 0.0 && prev_g.real() < 0.0 && std::floor(ph) != std::floor(prev_phase)) {
-      // The phase is increasing in ω here by far more than ε changes on this grid, but test
-      // every integer passed in either direction.
+    const double ph = (w * delay_s - epsilon(g)) / kTwoPi;
+    if (std::floor(ph) != std::floor(prev_phase) && (g.real() < 0.0 || prev_g.real() < 0.0)) {
+      // Every integer passed, in either direction.
       const double lo_j = std::min(std::floor(prev_phase), std::floor(ph)) + 1.0;
       const double hi_j = std::max(std::floor(prev_phase), std::floor(ph));
       for (double j = lo_j; j <= hi_j; j += 1.0) {
         const double t = (j - prev_phase) / (ph - prev_phase);
-        const double re = prev_g.real() + t * (g.real() - prev_g.real());
+        const double re = std::min(prev_g.real() + t * (g.real() - prev_g.real()),
+                                   std::min(prev_g.real(), g.real()));
         const double estimate = -1.0 / (2.0 * coefficient_pa * re);
         brackets.push_back({prev_w, w, static_cast<int>(j), estimate});
-        best_estimate = std::min(best_estimate, estimate);
       }
     }
     prev_w = w;
@@ -100,13 +100,19 @@ TlustyResult tlusty_critical_depth(const ModalModel& model, Direction direction,
     prev_phase = ph;
   }
 
+  // Refine in order of the interpolated estimate; once an estimate exceeds the best refined
+  // depth by more than the interpolation can be off, no later bracket can win.
+  std::sort(brackets.begin(), brackets.end(),
+            [](const Bracket& a, const Bracket& b) { return a.estimate < b.estimate; });
   for (const Bracket& b : brackets) {
-    if (b.estimate > 1.05 * best_estimate || b.lobe < 0) continue;
+    if (b.lobe < 0) continue;
+    if (result.boundary.found && b.estimate > 1.05 * result.boundary.depth_m) break;
     const auto root = brent_root([&](double w) { return phase(w) - b.lobe; }, b.lo, b.hi,
                                  1e-13 * b.hi);
     if (!root) continue;
     result.boundary.evaluations += root->evaluations;
     const auto g = frf(model, direction, root->x);
+    if (!(g.real() < 0.0)) continue;
     const double depth = -1.0 / (2.0 * coefficient_pa * g.real());
     if (depth <= depth_max_m && (!result.boundary.found || depth < result.boundary.depth_m)) {
       result.boundary.found = true;

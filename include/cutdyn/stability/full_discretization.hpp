@@ -35,7 +35,8 @@ struct FdOptions {
   /// If > 0: exactly this many steps per period (spread over the coefficient's segments in
   /// proportion to their length, at least one each); for a constant coefficient the period
   /// is then the delay itself, as in the textbook method. 0: steps from max_step_fraction and
-  /// a constant coefficient is discretized with a period of one step.
+  /// a constant coefficient is discretized with a period of one step that divides the
+  /// delay.
   int steps_per_period = 0;
   double depth_max_m = 0.03;     // search limit
   double samples_per_turn = 16;  // multiplier-angle samples per 2π of μ^(−τ/T) phase

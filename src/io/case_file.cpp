@@ -1,0 +1,746 @@
+#include "cutdyn/io/case_file.hpp"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <initializer_list>
+#include <limits>
+#include <sstream>
+#include <system_error>
+
+#include "cutdyn/core/error.hpp"
+#include "cutdyn/core/units.hpp"
+
+namespace cutdyn::io {
+
+namespace detail {
+// Generated at build time from examples/*.toml (cmake/write_embedded_examples.cmake).
+const std::vector<std::pair<std::string_view, std::string_view>>& embedded_examples();
+}  // namespace detail
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// ---- text helpers ----------------------------------------------------------------------
+
+// Optimal-string-alignment distance (Levenshtein plus adjacent transpositions), ignoring
+// ASCII case: "rpm_stepz" → "rpm_steps" is 1, "Lobes" → "lobes" is 0.
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  auto lower = [](char ch) {
+    return (ch >= 'A' && ch <= 'Z') ? static_cast<char>(ch - 'A' + 'a') : ch;
+  };
+  const std::size_t n = a.size(), m = b.size();
+  std::vector<std::vector<std::size_t>> d(n + 1, std::vector<std::size_t>(m + 1, 0));
+  for (std::size_t i = 0; i <= n; ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= m; ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= n; ++i) {
+    for (std::size_t j = 1; j <= m; ++j) {
+      const std::size_t cost = lower(a[i - 1]) == lower(b[j - 1]) ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+      if (i > 1 && j > 1 && lower(a[i - 1]) == lower(b[j - 2]) &&
+          lower(a[i - 2]) == lower(b[j - 1])) {
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+      }
+    }
+  }
+  return d[n][m];
+}
+
+// A key as it would be written in a TOML path: bare if it can be, else quoted.
+std::string key_text(std::string_view key) {
+  const bool bare = !key.empty() && std::all_of(key.begin(), key.end(), [](char ch) {
+    return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') ||
+           ch == '_' || ch == '-';
+  });
+  if (bare) return std::string(key);
+  std::string quoted = "\"";
+  for (char ch : key) {
+    if (ch == '"' || ch == '\\') quoted += '\\';
+    quoted += ch;
+  }
+  return quoted + "\"";
+}
+
+std::string join_quoted(std::initializer_list<std::string_view> names) {
+  std::string text;
+  for (std::string_view name : names) {
+    if (!text.empty()) text += ", ";
+    text += '"';
+    text += name;
+    text += '"';
+  }
+  return text;
+}
+
+const char* type_name(const toml::node& node) {
+  switch (node.type()) {
+    case toml::node_type::table:
+      return "a table";
+    case toml::node_type::array:
+      return node.as_array()->is_array_of_tables() && !node.as_array()->empty()
+                 ? "an array of tables"
+                 : "an array";
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a float";
+    case toml::node_type::boolean:
+      return "a boolean";
+    case toml::node_type::date:
+      return "a date";
+    case toml::node_type::time:
+      return "a time";
+    case toml::node_type::date_time:
+      return "a date-time";
+    case toml::node_type::none:
+      break;
+  }
+  return "nothing";
+}
+
+// ---- the source text, for quoting values as written --------------------------------------
+
+class SourceText {
+ public:
+  explicit SourceText(std::string_view text) : text_(text) {
+    line_starts_.push_back(0);
+    for (std::size_t i = 0; i < text_.size(); ++i) {
+      if (text_[i] == '\n') line_starts_.push_back(i + 1);
+    }
+  }
+
+  // The value of `node` exactly as the file spells it ("2.26e8", "\"y\"", "nan"). Empty
+  // for a table given by a [header] or an array of [[tables]]: there is no value to quote.
+  std::string as_written(const toml::node& node) const {
+    if (const toml::table* table = node.as_table(); table && !table->is_inline()) return {};
+    if (const toml::array* array = node.as_array(); array && !array->empty() &&
+                                                    array->is_array_of_tables() &&
+                                                    !array->front().as_table()->is_inline()) {
+      return {};
+    }
+    const toml::source_region& region = node.source();
+    if (region.begin.line == region.end.line) {
+      const auto begin = offset(region.begin), end = offset(region.end);
+      if (begin && end && *end > *begin) {
+        std::string_view raw = text_.substr(*begin, *end - *begin);
+        while (!raw.empty() && (raw.back() == ' ' || raw.back() == '\t' || raw.back() == '\r')) {
+          raw.remove_suffix(1);
+        }
+        if (!raw.empty()) return std::string(raw);
+      }
+    }
+    // Spans several lines (a multi-line string or array): print it in TOML instead.
+    std::ostringstream out;
+    node.visit([&](auto&& value) { out << value; });
+    return out.str();
+  }
+
+ private:
+  // Byte offset of a 1-based line and column; toml++ counts columns in code points.
+  std::optional<std::size_t> offset(const toml::source_position& pos) const {
+    if (pos.line == 0 || pos.column == 0 || pos.line > line_starts_.size()) return std::nullopt;
+    std::size_t i = line_starts_[pos.line - 1];
+    for (toml::source_index col = 1; col < pos.column; ++col) {
+      if (i >= text_.size()) return std::nullopt;
+      ++i;
+      while (i < text_.size() && (static_cast<unsigned char>(text_[i]) & 0xC0) == 0x80) ++i;
+    }
+    return i;
+  }
+
+  std::string_view text_;
+  std::vector<std::size_t> line_starts_;
+};
+
+// ---- problems --------------------------------------------------------------------------
+
+class Problems {
+ public:
+  explicit Problems(const SourceText& source) : source_(source) {}
+
+  // "<key> = <value as written>: <rule>" (or "<key>: <rule>" when there is no value).
+  void at(const std::string& key, const toml::node& node, std::string_view rule) {
+    list_.push_back(key + value_part(node) + ": " + std::string(rule));
+  }
+  // "<key>: missing (<why>)".
+  void missing(const std::string& key, std::string_view why = "required") {
+    list_.push_back(key + ": missing (" + std::string(why) + ")");
+  }
+  void add(std::string problem) { list_.push_back(std::move(problem)); }
+
+  std::string value_part(const toml::node& node) const {
+    const std::string written = source_.as_written(node);
+    return written.empty() ? std::string{} : " = " + written;
+  }
+  std::string written(const toml::node& node) const { return source_.as_written(node); }
+
+  bool empty() const { return list_.empty(); }
+  std::vector<std::string> take() { return std::move(list_); }
+
+ private:
+  const SourceText& source_;
+  std::vector<std::string> list_;
+};
+
+// ---- reading one table -----------------------------------------------------------------
+
+// An allowed interval for a number, with its rule text ("must be positive", "must be at
+// least 0 and less than 1", ...).
+struct Range {
+  double lo = -kInf;
+  bool lo_open = true;
+  double hi = kInf;
+  bool hi_open = true;
+
+  bool contains(double v) const {
+    return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
+  }
+  std::string rule() const {
+    if (lo == 0.0 && lo_open && hi == kInf) return "must be positive";
+    std::string text = "must be ";
+    if (lo > -kInf) text += (lo_open ? "greater than " : "at least ") + format_value(lo);
+    if (lo > -kInf && hi < kInf) text += " and ";
+    if (hi < kInf) text += (hi_open ? "less than " : "at most ") + format_value(hi);
+    return text;
+  }
+};
+
+constexpr Range kPositive{0.0, true, kInf, true};
+constexpr Range kNonNegative{0.0, false, kInf, true};
+
+enum class Need { kRequired, kOptional };
+
+class TableReader {
+ public:
+  // `path` is "" at the top level, else "lobes" or "modes[0]"; `known` lists every key the
+  // table may hold.
+  TableReader(Problems& problems, const toml::table& table, std::string path,
+              std::initializer_list<std::string_view> known)
+      : problems_(problems), table_(table), path_(std::move(path)), known_(known) {}
+
+  std::string key_path(std::string_view key) const {
+    return path_.empty() ? key_text(key) : path_ + "." + key_text(key);
+  }
+  const toml::node* get(std::string_view key) const { return table_.get(key); }
+  bool has(std::string_view key) const { return table_.contains(key); }
+
+  std::optional<double> number(std::string_view key, const Range& range, Need need) {
+    const toml::node* node = get(key);
+    if (node == nullptr) {
+      if (need == Need::kRequired) problems_.missing(key_path(key));
+      return std::nullopt;
+    }
+    double value = 0.0;
+    if (const auto* i = node->as_integer()) {
+      value = static_cast<double>(i->get());
+    } else if (const auto* f = node->as_floating_point()) {
+      value = f->get();
+    } else {
+      problems_.at(key_path(key), *node,
+                   std::string("wrong type: expected a number, got ") + type_name(*node));
+      return std::nullopt;
+    }
+    if (!std::isfinite(value)) {
+      problems_.at(key_path(key), *node, "must be a finite number");
+      return std::nullopt;
+    }
+    if (!range.contains(value)) {
+      problems_.at(key_path(key), *node, range.rule());
+      return std::nullopt;
+    }
+    return value;
+  }
+
+  std::optional<int> integer(std::string_view key, int lo, int hi, Need need) {
+    const toml::node* node = get(key);
+    if (node == nullptr) {
+      if (need == Need::kRequired) problems_.missing(key_path(key));
+      return std::nullopt;
+    }
+    const auto* i = node->as_integer();
+    if (i == nullptr) {
+      problems_.at(key_path(key), *node,
+                   std::string("wrong type: expected an integer, got ") + type_name(*node));
+      return std::nullopt;
+    }
+    const std::int64_t value = i->get();
+    if (value < lo || value > hi) {
+      problems_.at(key_path(key), *node,
+                   "must be an integer from " + std::to_string(lo) + " to " + std::to_string(hi));
+      return std::nullopt;
+    }
+    return static_cast<int>(value);
+  }
+
+  std::optional<std::string> choice(std::string_view key,
+                                    std::initializer_list<std::string_view> options, Need need) {
+    const toml::node* node = get(key);
+    if (node == nullptr) {
+      if (need == Need::kRequired) problems_.missing(key_path(key));
+      return std::nullopt;
+    }
+    const auto* s = node->as_string();
+    if (s == nullptr) {
+      problems_.at(key_path(key), *node,
+                   std::string("wrong type: expected a string, got ") + type_name(*node));
+      return std::nullopt;
+    }
+    if (std::find(options.begin(), options.end(), s->get()) == options.end()) {
+      problems_.at(key_path(key), *node, "must be one of " + join_quoted(options));
+      return std::nullopt;
+    }
+    return s->get();
+  }
+
+  // "lobes.rpm_stepz: unknown key (did you mean rpm_steps?)" for every key not in `known`.
+  void report_unknown() {
+    for (auto&& [key, node] : table_) {
+      const std::string_view name = key.str();
+      if (std::find(known_.begin(), known_.end(), name) != known_.end()) continue;
+      std::string problem =
+          key_path(name) + (node.is_table() ? ": unknown table" : ": unknown key");
+      std::string_view best;
+      std::size_t best_distance = 3;
+      for (std::string_view candidate : known_) {
+        const std::size_t d = edit_distance(name, candidate);
+        if (d < best_distance) {
+          best_distance = d;
+          best = candidate;
+        }
+      }
+      if (!best.empty()) problem += " (did you mean " + std::string(best) + "?)";
+      problems_.add(std::move(problem));
+    }
+  }
+
+  // The sub-table `key`, or nullptr when absent or not a table (then a problem is recorded).
+  const toml::table* section(std::string_view key) {
+    const toml::node* node = get(key);
+    if (node == nullptr) return nullptr;
+    if (const toml::table* table = node->as_table()) return table;
+    problems_.at(key_path(key), *node,
+                 std::string("wrong type: expected a table ([") + std::string(key) + "]), got " +
+                     type_name(*node));
+    return nullptr;
+  }
+
+  Problems& problems() { return problems_; }
+
+ private:
+  Problems& problems_;
+  const toml::table& table_;
+  std::string path_;
+  std::vector<std::string_view> known_;
+};
+
+// ---- unit conversions at the file's edge -------------------------------------------------
+// Divisions rather than products with 1e-3 etc., so that e.g. 30 mm is exactly the double
+// nearest 0.03 m.
+double mm_to_m(double mm) { return mm / 1e3; }
+double um_to_m(double um) { return um / 1e6; }
+double m_to_mm(double m) { return m * 1e3; }
+double m_to_um(double m) { return m * 1e6; }
+double n_per_mm2_to_pa(double v) { return v * 1e6; }
+double pa_to_n_per_mm2(double v) { return v / 1e6; }
+double m_per_min_to_m_per_s(double v) { return v / 60.0; }
+double m_per_s_to_m_per_min(double v) { return v * 60.0; }
+
+// ---- sections ----------------------------------------------------------------------------
+
+void read_mode(TableReader& t, std::optional<Process> process, Case& c) {
+  const auto direction = t.choice("direction", {"x", "y"}, Need::kRequired);
+  const auto hz = t.number("natural_hz", kPositive, Need::kRequired);
+  const auto zeta = t.number("damping_ratio", Range{0.0, false, 1.0, true}, Need::kRequired);
+  const auto k = t.number("stiffness_n_per_m", kPositive, Need::kOptional);
+  const auto m = t.number("mass_kg", kPositive, Need::kOptional);
+  const toml::node* k_node = t.get("stiffness_n_per_m");
+  const toml::node* m_node = t.get("mass_kg");
+  Problems& problems = t.problems();
+  if (k_node != nullptr && m_node != nullptr) {
+    problems.add(t.key_path("stiffness_n_per_m") + problems.value_part(*k_node) + " and " +
+                 t.key_path("mass_kg") + problems.value_part(*m_node) +
+                 ": give either stiffness_n_per_m or mass_kg, not both");
+  } else if (k_node == nullptr && m_node == nullptr) {
+    problems.missing(t.key_path("stiffness_n_per_m"), "required unless mass_kg is given");
+  }
+  if (process == Process::kTurning && direction == "y") {
+    problems.at(t.key_path("direction"), *t.get("direction"),
+                "turning models the feed direction \"x\" only");
+  }
+  t.report_unknown();
+  if (!direction || !hz || !zeta || (!k && !m) || (k && m)) return;
+  const Direction dir = *direction == "x" ? Direction::kX : Direction::kY;
+  const double w = units::hz_to_rad_per_s(*hz);
+  c.modal.modes.push_back(k ? Mode{dir, w, *zeta, *k} : mode_from_mass(dir, w, *zeta, *m));
+}
+
+void read_modes(TableReader& top, std::optional<Process> process, Case& c) {
+  Problems& problems = top.problems();
+  const toml::node* node = top.get("modes");
+  if (node == nullptr) {
+    problems.missing("modes", "required: at least one [[modes]] table");
+    return;
+  }
+  const toml::array* array = node->as_array();
+  if (array == nullptr) {
+    problems.at("modes", *node,
+                std::string("wrong type: expected an array of tables ([[modes]]), got ") +
+                    type_name(*node));
+    return;
+  }
+  if (array->empty()) {
+    problems.at("modes", *node, "must hold at least one mode");
+    return;
+  }
+  for (std::size_t i = 0; i < array->size(); ++i) {
+    const std::string path = "modes[" + std::to_string(i) + "]";
+    const toml::node& element = *array->get(i);
+    const toml::table* table = element.as_table();
+    if (table == nullptr) {
+      problems.at(path, element,
+                  std::string("wrong type: expected a table, got ") + type_name(element));
+      continue;
+    }
+    TableReader t(problems, *table, path,
+                  {"direction", "natural_hz", "damping_ratio", "stiffness_n_per_m", "mass_kg"});
+    read_mode(t, process, c);
+  }
+}
+
+void read_cutting(TableReader& t, Case& c) {
+  CuttingSection& s = c.cutting;
+  if (auto v = t.number("kt_n_per_mm2", kPositive, Need::kOptional)) s.kt_pa = n_per_mm2_to_pa(*v);
+  if (auto v = t.number("kc_n_per_mm2", kPositive, Need::kOptional)) s.kc_pa = n_per_mm2_to_pa(*v);
+  if (auto v = t.number("kr_n_per_mm2", kNonNegative, Need::kOptional)) {
+    s.kr_pa = n_per_mm2_to_pa(*v);
+  }
+  if (auto v = t.number("speed_m_per_min", kPositive, Need::kOptional)) {
+    s.speed_m_per_s = m_per_min_to_m_per_s(*v);
+  }
+  if (auto v = t.number("uncut_chip_thickness_mm", kPositive, Need::kOptional)) {
+    s.uncut_chip_thickness_m = mm_to_m(*v);
+  }
+  if (auto v = t.number("width_mm", kPositive, Need::kOptional)) s.width_m = mm_to_m(*v);
+  t.report_unknown();
+}
+
+void read_tool(TableReader& t, Case& c) {
+  ToolSection s;
+  if (auto v = t.integer("teeth", 1, 200, Need::kRequired)) s.teeth = *v;
+  if (auto v = t.number("diameter_mm", kPositive, Need::kRequired)) s.diameter_m = mm_to_m(*v);
+  if (auto v = t.number("helix_deg", Range{0.0, false, 90.0, true}, Need::kOptional)) {
+    s.helix_rad = units::deg_to_rad(*v);
+  }
+  t.report_unknown();
+  c.tool = s;
+}
+
+void read_operation(TableReader& t, Case& c) {
+  OperationSection s;
+  if (auto v = t.number("radial_immersion", Range{0.0, true, 1.0, false}, Need::kOptional)) {
+    s.radial_immersion = *v;
+  }
+  if (auto v = t.choice("direction", {"down", "up"}, Need::kOptional))
+    s.down_milling = *v == "down";
+  t.report_unknown();
+  c.operation = s;
+}
+
+void read_vibration(TableReader& t, Case& c) {
+  VibrationSection s;
+  if (auto v = t.number("frequency_hz", kPositive, Need::kRequired)) s.frequency_hz = *v;
+  if (auto v = t.number("amplitude_um", kPositive, Need::kOptional)) s.amplitude_m = um_to_m(*v);
+  if (auto v = t.number("workpiece_diameter_mm", kPositive, Need::kOptional)) {
+    s.workpiece_diameter_m = mm_to_m(*v);
+  }
+  if (auto v = t.number("duty_cycle", Range{0.0, true, 1.0, false}, Need::kOptional)) {
+    s.duty_cycle = *v;
+  }
+  Problems& problems = t.problems();
+  const toml::node* duty = t.get("duty_cycle");
+  const toml::node* diameter = t.get("workpiece_diameter_mm");
+  if (duty != nullptr && diameter != nullptr) {
+    problems.add(t.key_path("duty_cycle") + problems.value_part(*duty) + " and " +
+                 t.key_path("workpiece_diameter_mm") + problems.value_part(*diameter) +
+                 ": give either duty_cycle (fixed) or workpiece_diameter_mm (duty cycle from the "
+                 "cutting speed), not both");
+  }
+  if (duty == nullptr && !t.has("amplitude_um")) {
+    problems.missing(t.key_path("amplitude_um"), "required unless duty_cycle is given");
+  }
+  t.report_unknown();
+  c.vibration = s;
+}
+
+void read_lobes(TableReader& t, Case& c) {
+  LobesSection& s = c.lobes;
+  const LobesSection defaults;
+  const auto rpm_min = t.number("rpm_min", kPositive, Need::kOptional);
+  const auto rpm_max = t.number("rpm_max", kPositive, Need::kOptional);
+  if (rpm_min) s.rpm_min = *rpm_min;
+  if (rpm_max) s.rpm_max = *rpm_max;
+  const toml::node* min_node = t.get("rpm_min");
+  const toml::node* max_node = t.get("rpm_max");
+  const bool min_ok = min_node == nullptr || rpm_min.has_value();
+  const bool max_ok = max_node == nullptr || rpm_max.has_value();
+  if (min_ok && max_ok && !(s.rpm_max > s.rpm_min)) {
+    Problems& problems = t.problems();
+    if (max_node != nullptr) {
+      const std::string min_text = min_node != nullptr
+                                       ? problems.written(*min_node)
+                                       : format_value(defaults.rpm_min) + " (default)";
+      problems.at(t.key_path("rpm_max"), *max_node,
+                  "must be greater than " + t.key_path("rpm_min") + " = " + min_text);
+    } else {
+      problems.at(t.key_path("rpm_min"), *min_node,
+                  "must be less than " + t.key_path("rpm_max") + " = " +
+                      format_value(defaults.rpm_max) + " (default)");
+    }
+  }
+  if (auto v = t.integer("rpm_steps", 2, 100000, Need::kOptional)) s.rpm_steps = *v;
+  if (auto v = t.number("depth_max_mm", Range{0.0, true, 10000.0, false}, Need::kOptional)) {
+    s.depth_max_m = mm_to_m(*v);
+  }
+  if (auto v = t.choice("method", {"auto", "closed-form", "multi-frequency", "full-discretization"},
+                        Need::kOptional)) {
+    s.method = *v == "auto"              ? StabilityMethod::kAuto
+               : *v == "closed-form"     ? StabilityMethod::kClosedForm
+               : *v == "multi-frequency" ? StabilityMethod::kMultiFrequency
+                                         : StabilityMethod::kFullDiscretization;
+  }
+  if (auto v = t.integer("harmonics", 0, 50, Need::kOptional)) s.harmonics = *v;
+  if (auto v = t.integer("steps_per_period", 0, 100000, Need::kOptional)) s.steps_per_period = *v;
+  t.report_unknown();
+}
+
+void read_simulate(TableReader& t, Case& c) {
+  SimulateSection& s = c.simulate;
+  if (auto v = t.number("rpm", kPositive, Need::kOptional)) s.rpm = *v;
+  if (auto v = t.number("depth_mm", kPositive, Need::kOptional)) s.depth_m = mm_to_m(*v);
+  if (auto v = t.number("duration_s", Range{0.0, true, 1000.0, false}, Need::kOptional)) {
+    s.duration_s = *v;
+  }
+  if (auto v = t.number("initial_displacement_um", kNonNegative, Need::kOptional)) {
+    s.initial_displacement_m = um_to_m(*v);
+  }
+  t.report_unknown();
+}
+
+// ---- JSON --------------------------------------------------------------------------------
+
+// A converted-back value, rounded to 15 significant digits so that the unit round trip
+// prints what the file said (30, not 30.000000000000004); integral values print as integers.
+nlohmann::json tidy(double value) {
+  if (!std::isfinite(value)) return value;
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.15g", value);
+  const double rounded = std::strtod(buffer, nullptr);
+  if (std::abs(rounded) < 1e15 && rounded == std::trunc(rounded)) {
+    return static_cast<std::int64_t>(rounded);
+  }
+  return rounded;
+}
+
+}  // namespace
+
+const char* to_string(Process process) {
+  return process == Process::kTurning ? "turning" : "milling";
+}
+
+const char* to_string(StabilityMethod method) {
+  switch (method) {
+    case StabilityMethod::kAuto:
+      return "auto";
+    case StabilityMethod::kClosedForm:
+      return "closed-form";
+    case StabilityMethod::kMultiFrequency:
+      return "multi-frequency";
+    case StabilityMethod::kFullDiscretization:
+      return "full-discretization";
+  }
+  return "auto";
+}
+
+Case parse_case(std::string_view toml_text, std::string_view source) {
+  toml::table root;
+  try {
+    root = toml::parse(toml_text, source);
+  } catch (const toml::parse_error& e) {
+    throw InvalidInput(
+        {"line " + std::to_string(e.source().begin.line) + ", column " +
+         std::to_string(e.source().begin.column) + ": " + std::string(e.description())},
+        std::string(source));
+  }
+
+  const SourceText text(toml_text);
+  Problems problems(text);
+  Case c;
+  c.source = std::string(source);
+
+  TableReader top(
+      problems, root, "",
+      {"process", "modes", "cutting", "tool", "operation", "vibration", "lobes", "simulate"});
+  std::optional<Process> process;
+  if (auto v = top.choice("process", {"turning", "milling"}, Need::kRequired)) {
+    process = *v == "turning" ? Process::kTurning : Process::kMilling;
+    c.process = *process;
+  }
+  read_modes(top, process, c);
+  if (const toml::table* t = top.section("cutting")) {
+    TableReader r(problems, *t, "cutting",
+                  {"kt_n_per_mm2", "kc_n_per_mm2", "kr_n_per_mm2", "speed_m_per_min",
+                   "uncut_chip_thickness_mm", "width_mm"});
+    read_cutting(r, c);
+  }
+  if (const toml::table* t = top.section("tool")) {
+    TableReader r(problems, *t, "tool", {"teeth", "diameter_mm", "helix_deg"});
+    read_tool(r, c);
+  }
+  if (const toml::table* t = top.section("operation")) {
+    TableReader r(problems, *t, "operation", {"radial_immersion", "direction"});
+    read_operation(r, c);
+  }
+  if (const toml::table* t = top.section("vibration")) {
+    TableReader r(problems, *t, "vibration",
+                  {"frequency_hz", "amplitude_um", "workpiece_diameter_mm", "duty_cycle"});
+    read_vibration(r, c);
+  }
+  if (const toml::table* t = top.section("lobes")) {
+    TableReader r(problems, *t, "lobes",
+                  {"rpm_min", "rpm_max", "rpm_steps", "depth_max_mm", "method", "harmonics",
+                   "steps_per_period"});
+    read_lobes(r, c);
+  }
+  if (const toml::table* t = top.section("simulate")) {
+    TableReader r(problems, *t, "simulate",
+                  {"rpm", "depth_mm", "duration_s", "initial_displacement_um"});
+    read_simulate(r, c);
+  }
+  top.report_unknown();
+
+  if (!problems.empty()) throw InvalidInput(problems.take(), std::string(source));
+  return c;
+}
+
+Case load_case_file(const std::filesystem::path& path) {
+  const std::string where = path.string();
+  auto fail = [&](int error) -> Case {
+    throw InvalidInput({"cannot read the file: " + std::generic_category().message(error)}, where);
+  };
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) return fail(EISDIR);
+  errno = 0;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return fail(errno != 0 ? errno : ENOENT);
+  std::ostringstream content;
+  content << in.rdbuf();
+  if (in.bad()) return fail(errno != 0 ? errno : EIO);
+  return parse_case(content.str(), where);
+}
+
+const std::vector<std::pair<std::string_view, std::string_view>>& examples() {
+  // The generator sorts by file name, where "a-b.toml" comes before "a.toml"; sort by name.
+  static const std::vector<std::pair<std::string_view, std::string_view>> sorted = [] {
+    auto list = detail::embedded_examples();
+    std::sort(list.begin(), list.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    return list;
+  }();
+  return sorted;
+}
+
+std::optional<std::string_view> example_text(std::string_view name) {
+  for (const auto& [example_name, text] : examples()) {
+    if (example_name == name) return text;
+  }
+  return std::nullopt;
+}
+
+Case load_example(std::string_view name) {
+  const std::string source = "example " + std::string(name);
+  const auto text = example_text(name);
+  if (!text) {
+    std::string names;
+    for (const auto& entry : examples()) {
+      if (!names.empty()) names += ", ";
+      names += entry.first;
+    }
+    throw InvalidInput(
+        {"no built-in example called \"" + std::string(name) + "\"; available: " + names}, source);
+  }
+  return parse_case(*text, source);
+}
+
+nlohmann::json to_json(const Case& c) {
+  using nlohmann::json;
+  json j;
+  j["process"] = to_string(c.process);
+
+  json modes = json::array();
+  for (const Mode& m : c.modal.modes) {
+    modes.push_back({{"direction", cutdyn::to_string(m.direction)},
+                     {"natural_hz", tidy(units::rad_per_s_to_hz(m.natural_rad_s))},
+                     {"damping_ratio", tidy(m.damping_ratio)},
+                     {"stiffness_n_per_m", tidy(m.stiffness_n_per_m)}});
+  }
+  j["modes"] = std::move(modes);
+
+  json cutting = json::object();
+  const CuttingSection& cs = c.cutting;
+  if (cs.kt_pa) cutting["kt_n_per_mm2"] = tidy(pa_to_n_per_mm2(*cs.kt_pa));
+  if (cs.kc_pa) cutting["kc_n_per_mm2"] = tidy(pa_to_n_per_mm2(*cs.kc_pa));
+  if (cs.kr_pa) cutting["kr_n_per_mm2"] = tidy(pa_to_n_per_mm2(*cs.kr_pa));
+  if (cs.speed_m_per_s) cutting["speed_m_per_min"] = tidy(m_per_s_to_m_per_min(*cs.speed_m_per_s));
+  if (cs.uncut_chip_thickness_m) {
+    cutting["uncut_chip_thickness_mm"] = tidy(m_to_mm(*cs.uncut_chip_thickness_m));
+  }
+  if (cs.width_m) cutting["width_mm"] = tidy(m_to_mm(*cs.width_m));
+  if (!cutting.empty()) j["cutting"] = std::move(cutting);
+
+  if (c.tool) {
+    j["tool"] = {{"teeth", c.tool->teeth},
+                 {"diameter_mm", tidy(m_to_mm(c.tool->diameter_m))},
+                 {"helix_deg", tidy(units::rad_to_deg(c.tool->helix_rad))}};
+  }
+  if (c.operation) {
+    j["operation"] = {{"radial_immersion", tidy(c.operation->radial_immersion)},
+                      {"direction", c.operation->down_milling ? "down" : "up"}};
+  }
+  if (c.vibration) {
+    const VibrationSection& v = *c.vibration;
+    json vib = {{"frequency_hz", tidy(v.frequency_hz)}};
+    if (v.amplitude_m) vib["amplitude_um"] = tidy(m_to_um(*v.amplitude_m));
+    if (v.workpiece_diameter_m)
+      vib["workpiece_diameter_mm"] = tidy(m_to_mm(*v.workpiece_diameter_m));
+    if (v.duty_cycle) vib["duty_cycle"] = tidy(*v.duty_cycle);
+    j["vibration"] = std::move(vib);
+  }
+
+  const LobesSection& l = c.lobes;
+  j["lobes"] = {{"rpm_min", tidy(l.rpm_min)},
+                {"rpm_max", tidy(l.rpm_max)},
+                {"rpm_steps", l.rpm_steps},
+                {"depth_max_mm", tidy(m_to_mm(l.depth_max_m))},
+                {"method", to_string(l.method)},
+                {"harmonics", l.harmonics},
+                {"steps_per_period", l.steps_per_period}};
+
+  const SimulateSection& s = c.simulate;
+  json sim = {{"duration_s", tidy(s.duration_s)},
+              {"initial_displacement_um", tidy(m_to_um(s.initial_displacement_m))}};
+  if (s.rpm) sim["rpm"] = tidy(*s.rpm);
+  if (s.depth_m) sim["depth_mm"] = tidy(m_to_mm(*s.depth_m));
+  j["simulate"] = std::move(sim);
+  return j;
+}
+
+}  // namespace cutdyn::io

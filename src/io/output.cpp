@@ -1,0 +1,330 @@
+#include "cutdyn/io/output.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <stdexcept>
+#include <system_error>
+#include <utility>
+
+namespace cutdyn::io {
+namespace fs = std::filesystem;
+
+namespace {
+
+// Hidden names beside the target, so a rename is atomic (same folder, same file system)
+// and leftovers of a killed run are easy to find: `.<name>.cutdyn-tmp-<random>`.
+constexpr const char* kTemporaryTag = ".cutdyn-tmp-";
+constexpr int kNameAttempts = 100;
+
+std::string random_suffix() {
+  thread_local std::mt19937_64 engine = [] {
+    std::random_device device;
+    std::seed_seq seed{
+        static_cast<std::uint64_t>(device()), static_cast<std::uint64_t>(device()),
+        static_cast<std::uint64_t>(::getpid()),
+        static_cast<std::uint64_t>(std::chrono::steady_clock::now().time_since_epoch().count())};
+    return std::mt19937_64(seed);
+  }();
+  static constexpr char kDigits[] = "0123456789abcdefghijklmnopqrstuvwxyz";
+  std::uniform_int_distribution<std::size_t> pick(0, sizeof kDigits - 2);
+  std::string suffix(12, '0');
+  for (char& c : suffix) c = kDigits[pick(engine)];
+  return suffix;
+}
+
+std::string errno_text(int error) { return std::generic_category().message(error); }
+
+[[noreturn]] void throw_cannot_write(const fs::path& target, const std::string& reason) {
+  throw std::runtime_error("cannot write " + target.string() + ": " + reason);
+}
+
+// The folder that will hold `target`; throws naming `target` if it is unusable.
+fs::path folder_of(const fs::path& target) {
+  if (target.empty() || !target.has_filename()) throw_cannot_write(target, "not a file name");
+  fs::path folder = target.parent_path();
+  if (folder.empty()) folder = ".";
+  std::error_code ec;
+  const fs::file_status status = fs::status(folder, ec);
+  if (!fs::exists(status))
+    throw_cannot_write(target, "folder " + folder.string() + " does not exist");
+  if (!fs::is_directory(status)) throw_cannot_write(target, folder.string() + " is not a folder");
+  if (fs::is_directory(fs::status(target, ec))) throw_cannot_write(target, "it is a folder");
+  return folder;
+}
+
+fs::path temporary_name(const fs::path& folder, const fs::path& target) {
+  // Appended piecewise: `"." + std::string` trips GCC 12's false -Wrestrict (PR 105329).
+  std::string name(1, '.');
+  name += target.filename().string();
+  name += kTemporaryTag;
+  name += random_suffix();
+  return folder / name;
+}
+
+// The identity of a target, to catch the same file opened twice under two spellings.
+fs::path identity(const fs::path& target) {
+  std::error_code ec;
+  fs::path absolute = fs::absolute(target, ec);
+  return (ec ? target : absolute).lexically_normal();
+}
+
+// Forces the data of a finished file to disk before it is renamed into place, so that a
+// crash cannot leave an empty file under the final name.
+void sync_file(const fs::path& file) {
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return;
+  ::fsync(fd);
+  ::close(fd);
+}
+
+void escape_pointer_token(std::string& pointer, const std::string& key) {
+  pointer += '/';
+  for (char c : key) {
+    if (c == '~') {
+      pointer += "~0";
+    } else if (c == '/') {
+      pointer += "~1";
+    } else {
+      pointer += c;
+    }
+  }
+}
+
+// Depth-first search for a non-finite number; returns its JSON pointer in `pointer`.
+bool find_non_finite(const nlohmann::json& value, std::string& pointer, double& bad) {
+  if (value.is_number_float()) {
+    const double number = value.get<double>();
+    if (std::isfinite(number)) return false;
+    bad = number;
+    return true;
+  }
+  const std::size_t length = pointer.size();
+  if (value.is_object()) {
+    for (auto it = value.begin(); it != value.end(); ++it) {
+      escape_pointer_token(pointer, it.key());
+      if (find_non_finite(it.value(), pointer, bad)) return true;
+      pointer.resize(length);
+    }
+  } else if (value.is_array()) {
+    for (std::size_t i = 0; i < value.size(); ++i) {
+      pointer += '/' + std::to_string(i);
+      if (find_non_finite(value[i], pointer, bad)) return true;
+      pointer.resize(length);
+    }
+  }
+  return false;
+}
+
+std::string format_integer(long long value) {
+  char buffer[32];
+  auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, end);
+}
+
+// RFC 4180: a field holding a comma, a quote or a line break is quoted, quotes doubled.
+void write_text(std::ostream& out, const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) {
+    out << text;
+    return;
+  }
+  out << '"';
+  for (char c : text) {
+    if (c == '"') out << '"';
+    out << c;
+  }
+  out << '"';
+}
+
+}  // namespace
+
+// ---- OutputTransaction ----------------------------------------------------------------
+
+OutputTransaction::~OutputTransaction() {
+  if (!committed_) rollback();
+}
+
+std::ostream& OutputTransaction::open(const fs::path& target) {
+  if (committed_) throw std::logic_error("OutputTransaction: open after commit");
+  const fs::path folder = folder_of(target);
+  const fs::path id = identity(target);
+  for (const Entry& entry : entries_) {
+    if (entry.target == id) {
+      throw std::logic_error("OutputTransaction: " + target.string() + " is opened twice");
+    }
+  }
+
+  // O_EXCL reserves a name nobody else holds; 0666 lets the umask set the permissions an
+  // ordinary output file would get (mkstemp would make it private).
+  fs::path temporary;
+  for (int attempt = 0;; ++attempt) {
+    temporary = temporary_name(folder, target);
+    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd >= 0) {
+      ::close(fd);
+      break;
+    }
+    if (errno != EEXIST || attempt + 1 >= kNameAttempts)
+      throw_cannot_write(target, errno_text(errno));
+  }
+
+  auto stream = std::make_unique<std::ofstream>(temporary, std::ios::out | std::ios::trunc);
+  if (!stream->is_open()) {
+    const int error = errno;
+    std::error_code ec;
+    fs::remove(temporary, ec);
+    throw_cannot_write(target, error != 0 ? errno_text(error) : "cannot open a temporary file");
+  }
+  std::ostream& out = *stream;
+  entries_.push_back(Entry{temporary, id, std::move(stream)});
+  return out;
+}
+
+void OutputTransaction::adopt(const fs::path& temporary, const fs::path& target) {
+  if (committed_) throw std::logic_error("OutputTransaction: adopt after commit");
+  const fs::path id = identity(target);
+  for (const Entry& entry : entries_) {
+    if (entry.target == id) {
+      throw std::logic_error("OutputTransaction: " + target.string() + " is opened twice");
+    }
+  }
+  entries_.push_back(Entry{temporary, id, nullptr});
+}
+
+fs::path OutputTransaction::scratch_dir(const fs::path& target) {
+  if (committed_) throw std::logic_error("OutputTransaction: scratch_dir after commit");
+  const fs::path folder = folder_of(target);
+  for (int attempt = 0;; ++attempt) {
+    fs::path dir = temporary_name(folder, target);
+    if (::mkdir(dir.c_str(), 0777) == 0) {
+      scratch_dirs_.push_back(dir);
+      return dir;
+    }
+    if (errno != EEXIST || attempt + 1 >= kNameAttempts)
+      throw_cannot_write(target, errno_text(errno));
+  }
+}
+
+void OutputTransaction::commit() {
+  if (committed_) throw std::logic_error("OutputTransaction: committed twice");
+
+  // 1. Finish every file; any failure so far means nothing is renamed.
+  for (Entry& entry : entries_) {
+    if (entry.temporary.empty()) continue;  // renamed by an earlier, failed commit
+    if (entry.stream) {
+      if (entry.stream->is_open()) {
+        entry.stream->flush();
+        entry.stream->close();
+      }
+      if (entry.stream->fail()) throw_cannot_write(entry.target, "write failed");
+    } else {
+      std::error_code ec;
+      if (!fs::is_regular_file(entry.temporary, ec)) {
+        throw_cannot_write(entry.target,
+                           "its temporary " + entry.temporary.string() + " is missing");
+      }
+    }
+  }
+  for (const Entry& entry : entries_) {
+    if (!entry.temporary.empty()) sync_file(entry.temporary);
+  }
+
+  // 2. Rename each into place (atomic per file: same folder).
+  for (Entry& entry : entries_) {
+    if (entry.temporary.empty()) continue;
+    std::error_code ec;
+    fs::rename(entry.temporary, entry.target, ec);
+    if (ec) throw_cannot_write(entry.target, ec.message());
+    entry.temporary.clear();
+  }
+
+  // 3. Scratch folders hold only leftovers now (logs, files not adopted).
+  for (const fs::path& dir : scratch_dirs_) {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+  scratch_dirs_.clear();
+  committed_ = true;
+}
+
+void OutputTransaction::rollback() noexcept {
+  for (Entry& entry : entries_) {
+    if (entry.stream && entry.stream->is_open()) entry.stream->close();
+    if (!entry.temporary.empty()) {
+      std::error_code ec;
+      fs::remove(entry.temporary, ec);
+    }
+  }
+  entries_.clear();
+  for (const fs::path& dir : scratch_dirs_) {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+  scratch_dirs_.clear();
+}
+
+// ---- CSV ------------------------------------------------------------------------------
+
+CsvWriter::CsvWriter(std::ostream& out, std::vector<std::string> columns)
+    : out_(out), columns_(std::move(columns)) {
+  if (columns_.empty()) throw std::logic_error("CsvWriter: no columns");
+  for (std::size_t i = 0; i < columns_.size(); ++i) {
+    if (i > 0) out_ << ',';
+    write_text(out_, columns_[i]);
+  }
+  out_ << '\n';
+}
+
+void CsvWriter::row(const std::vector<CsvCell>& cells) {
+  if (cells.size() != columns_.size()) {
+    throw std::logic_error("CsvWriter: a row has " + std::to_string(cells.size()) +
+                           " cells but the header has " + std::to_string(columns_.size()) +
+                           " columns");
+  }
+  // Check the whole row first, so that a bad row writes nothing.
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    if (const double* number = std::get_if<double>(&cells[i]); number && !std::isfinite(*number)) {
+      throw std::logic_error("CsvWriter: column \"" + columns_[i] +
+                             "\" gets the non-finite value " + format_number(*number));
+    }
+  }
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    if (i > 0) out_ << ',';
+    if (const double* number = std::get_if<double>(&cells[i])) {
+      out_ << format_number(*number);
+    } else if (const long long* integer = std::get_if<long long>(&cells[i])) {
+      out_ << format_integer(*integer);
+    } else {
+      write_text(out_, std::get<std::string>(cells[i]));
+    }
+  }
+  out_ << '\n';
+}
+
+// ---- JSON -----------------------------------------------------------------------------
+
+void write_json(std::ostream& out, const nlohmann::json& value) {
+  std::string pointer;
+  double bad = 0.0;
+  if (find_non_finite(value, pointer, bad)) {
+    throw std::logic_error(
+        "write_json: non-finite number " + format_number(bad) + " at " +
+        (pointer.empty() ? std::string("the document root") : "\"" + pointer + "\""));
+  }
+  out << value.dump(2) << '\n';
+}
+
+std::string format_number(double value) {
+  char buffer[64];
+  auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, end);
+}
+
+}  // namespace cutdyn::io

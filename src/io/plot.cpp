@@ -1,0 +1,381 @@
+#include "cutdyn/io/plot.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <vector>
+
+#include "cutdyn/core/error.hpp"
+
+namespace cutdyn::io {
+namespace fs = std::filesystem;
+
+namespace {
+
+struct FigureFormat {
+  std::string_view extension;
+  std::string_view terminal;  // the gnuplot `set terminal` arguments
+};
+
+// Sizes chosen for a readable figure on screen (svg, png) and in a document (pdf).
+constexpr FigureFormat kFormats[] = {
+    {".svg", "svg size 900,600 dynamic enhanced font 'Sans,12' background rgb 'white'"},
+    {".png", "pngcairo size 1200,800 enhanced font 'Sans,12'"},
+    {".pdf", "pdfcairo size 7in,4.5in enhanced font 'Sans,10'"},
+};
+
+// Okabe-Ito colours: distinct for colour-blind readers and in greyscale print.
+constexpr std::string_view kPalette[] = {"#0072B2", "#D55E00", "#009E73", "#CC79A7",
+                                         "#E69F00", "#56B4E9", "#000000"};
+
+constexpr std::string_view kStyles[] = {"lines", "points", "linespoints", "stable-region"};
+
+const FigureFormat* find_format(const fs::path& figure) {
+  std::string extension = figure.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  for (const FigureFormat& format : kFormats) {
+    if (format.extension == extension) return &format;
+  }
+  return nullptr;
+}
+
+// A gnuplot double-quoted string holding `text` literally. Backquotes must be escaped:
+// gnuplot runs `...` as a shell command even inside double quotes.
+std::string quote(std::string_view text) {
+  std::string quoted = "\"";
+  for (char c : text) {
+    switch (c) {
+      case '\\':
+        quoted += "\\\\";
+        break;
+      case '"':
+        quoted += "\\\"";
+        break;
+      case '`':
+        quoted += "\\140";
+        break;
+      case '\n':
+        quoted += "\\n";
+        break;
+      case '\t':
+        quoted += "\\t";
+        break;
+      default:
+        if (static_cast<unsigned char>(c) >= 0x20 && c != 0x7f) quoted += c;  // drop controls
+    }
+  }
+  return quoted + "\"";
+}
+
+// Text shown in the figure: quoted, and kept out of enhanced-text markup (where _ ^ @ & ~
+// { } \ would mean subscripts and the like) when it holds any of those characters.
+std::string label(std::string_view text) {
+  const bool markup = text.find_first_of("_^@&~{}\\") != std::string_view::npos;
+  return quote(text) + (markup ? " noenhanced" : "");
+}
+
+// Text in a `#` comment: one line.
+std::string comment(std::string_view text) {
+  std::string line(text);
+  std::replace_if(
+      line.begin(), line.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+  return line;
+}
+
+std::string data_value(double value) { return std::isfinite(value) ? format_number(value) : "NaN"; }
+
+void check_spec(const PlotSpec& spec) {
+  if (spec.series.empty()) throw std::logic_error("write_plot: no series to plot");
+  for (const PlotSeries& series : spec.series) {
+    if (series.x.size() != series.y.size()) {
+      throw std::logic_error("write_plot: series \"" + series.title + "\" has " +
+                             std::to_string(series.x.size()) + " x values but " +
+                             std::to_string(series.y.size()) + " y values");
+    }
+    if (std::find(std::begin(kStyles), std::end(kStyles), series.style) == std::end(kStyles)) {
+      throw std::logic_error("write_plot: series \"" + series.title + "\" has unknown style \"" +
+                             series.style + "\" (use lines, points, linespoints or stable-region)");
+    }
+  }
+  for (const std::optional<double>& bound : {spec.y_min, spec.y_max}) {
+    if (bound && !std::isfinite(*bound)) throw std::logic_error("write_plot: non-finite y range");
+  }
+  if (spec.y_min && spec.y_max && !(*spec.y_min < *spec.y_max)) {
+    throw std::logic_error("write_plot: y_min must be less than y_max");
+  }
+  if (spec.y_log && spec.y_min && !(*spec.y_min > 0.0)) {
+    throw std::logic_error("write_plot: a logarithmic y axis needs y_min > 0");
+  }
+}
+
+bool has_finite_point(const PlotSpec& spec) {
+  for (const PlotSeries& series : spec.series) {
+    for (std::size_t i = 0; i < series.x.size(); ++i) {
+      if (std::isfinite(series.x[i]) && std::isfinite(series.y[i])) return true;
+    }
+  }
+  return false;
+}
+
+std::string bound(const std::optional<double>& value) {
+  return value ? format_number(*value) : std::string("*");
+}
+
+void write_data(std::ostream& out, const PlotSpec& spec, const std::string& figure_name,
+                const std::string& script_name) {
+  if (!spec.title.empty()) out << "# " << comment(spec.title) << '\n';
+  out << "# Data for " << comment(figure_name) << ", drawn by " << comment(script_name)
+      << ": one block per series\n"
+      << "# (gnuplot `index 0`, `index 1`, ...), blocks separated by two blank lines;"
+         " NaN marks a missing value.\n";
+  const std::string x_name = spec.x_label.empty() ? "x" : comment(spec.x_label);
+  const std::string y_name = spec.y_label.empty() ? "y" : comment(spec.y_label);
+  for (std::size_t s = 0; s < spec.series.size(); ++s) {
+    const PlotSeries& series = spec.series[s];
+    if (s > 0) out << "\n\n";
+    out << "# " << (series.title.empty() ? "series " + std::to_string(s) : comment(series.title))
+        << '\n';
+    out << "# columns: 1 = " << x_name << ", 2 = " << y_name << '\n';
+    // An empty block would vanish between the separators and shift every later index.
+    if (series.x.empty()) out << "NaN NaN\n";
+    for (std::size_t i = 0; i < series.x.size(); ++i) {
+      out << data_value(series.x[i]) << ' ' << data_value(series.y[i]) << '\n';
+    }
+  }
+}
+
+void write_script(std::ostream& out, const PlotSpec& spec, const FigureFormat& format,
+                  const std::string& figure_name, const std::string& data_name,
+                  const std::string& script_name) {
+  out << "# " << (spec.title.empty() ? std::string("cutdyn figure") : comment(spec.title))
+      << "\n#\n"
+      << "# Written by cutdyn. Draws " << comment(figure_name) << " from " << comment(data_name)
+      << " (one block per series, read\n"
+      << "# with `index 0`, `index 1`, ...). Restyle as you like, then run `gnuplot "
+      << comment(script_name) << "` in this folder.\n\n";
+
+  out << "set encoding utf8\n"
+      << "set terminal " << format.terminal << '\n'
+      << "set output " << quote(figure_name) << '\n'
+      << "data = " << quote(data_name) << "\n\n";
+
+  out << "# Title and axes\n"
+      << "set title " << label(spec.title) << '\n'
+      << "set xlabel " << label(spec.x_label) << '\n'
+      << "set ylabel " << label(spec.y_label) << '\n';
+  const bool any_data = has_finite_point(spec);
+  if (any_data) {
+    out << "set autoscale xfix                # x axis spans the data exactly\n"
+        << "set yrange [" << bound(spec.y_min) << ":" << bound(spec.y_max) << "]\n";
+  } else {
+    // Nothing to autoscale on: fixed ranges, so gnuplot draws empty axes instead of failing.
+    double lo = spec.y_min.value_or(spec.y_log ? 1.0 : 0.0);
+    const double hi = spec.y_max.value_or(spec.y_log ? lo * 10.0 : lo + 1.0);
+    if (!(hi > lo)) lo = spec.y_log ? hi / 10.0 : hi - 1.0;
+    out << "set xrange [0:1]                  # no data points\n"
+        << "set yrange [" << format_number(lo) << ":" << format_number(hi) << "]\n";
+  }
+  if (spec.y_log) {
+    // Decades are far apart: a fainter grid at the minor tics helps to read values off.
+    out << "set logscale y\n"
+        << "set mytics 10\n"
+        << "set grid xtics ytics mytics linetype 1 linecolor rgb '#dcdcdc' linewidth 1, \\\n"
+        << "         linetype 1 linecolor rgb '#f0f0f0' linewidth 1\n";
+  } else {
+    out << "set grid xtics ytics linetype 1 linecolor rgb '#dcdcdc' linewidth 1\n";
+  }
+  out << "set tics nomirror out\n"
+      << "set border 3 linewidth 1.2\n"
+      << "set key top left reverse Left opaque box linecolor rgb '#bbbbbb' samplen 3 spacing "
+         "1.3\n\n";
+
+  out << "# One colour per series\n";
+  for (std::size_t s = 0; s < spec.series.size(); ++s) {
+    out << "set style line " << s + 1 << " linecolor rgb '" << kPalette[s % std::size(kPalette)]
+        << "' linewidth 2 pointtype 7 pointsize 0.8\n";
+  }
+  out << "# Stable regions: a light, transparent fill beneath the boundary line\n"
+      << "set style fill transparent solid 0.2 noborder\n\n";
+
+  std::vector<std::string> items;
+  for (std::size_t s = 0; s < spec.series.size(); ++s) {
+    const PlotSeries& series = spec.series[s];
+    const std::string source = "data index " + std::to_string(s) + " using 1:2";
+    const std::string line_style = " linestyle " + std::to_string(s + 1);
+    const std::string title = series.title.empty() ? " notitle" : " title " + label(series.title);
+    if (series.style == "stable-region") {
+      // Fill down to y = 0 (to the bottom of the axis on a log scale, where 0 is undefined);
+      // the key shows the shaded area, the line is drawn over it.
+      items.push_back(source + " with filledcurves " + (spec.y_log ? "x1" : "y1=0") + line_style +
+                      title);
+      items.push_back(source + " with lines" + line_style + " notitle");
+    } else {
+      items.push_back(source + " with " + series.style + line_style + title);
+    }
+  }
+  out << "plot ";
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (i > 0) out << ", \\\n     ";
+    out << items[i];
+  }
+  out << "\n\nunset output\n";
+}
+
+void write_file(const fs::path& path, const fs::path& figure,
+                const std::function<void(std::ostream&)>& body) {
+  std::ofstream out(path);
+  if (out) body(out);
+  out.close();
+  if (!out)
+    throw std::runtime_error("cannot write " + path.string() + " (for " + figure.string() + ")");
+}
+
+std::optional<fs::path> find_program(const std::string& name) {
+  const char* path = std::getenv("PATH");
+  std::string_view rest = path ? path : "/usr/local/bin:/usr/bin:/bin";
+  while (true) {
+    const std::size_t colon = rest.find(':');
+    std::string_view folder = rest.substr(0, colon);
+    fs::path candidate = fs::path(folder.empty() ? "." : std::string(folder)) / name;
+    std::error_code ec;
+    if (fs::is_regular_file(candidate, ec) && ::access(candidate.c_str(), X_OK) == 0) {
+      return fs::absolute(candidate, ec);  // absolute: the child changes folder before exec
+    }
+    if (colon == std::string_view::npos) return std::nullopt;
+    rest.remove_prefix(colon + 1);
+  }
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.pop_back();
+  constexpr std::size_t kMaxLength = 4000;
+  if (text.size() > kMaxLength) text = "..." + text.substr(text.size() - kMaxLength);
+  return text;
+}
+
+// Runs `gnuplot -d <script>` in `folder` (-d: ignore the user's ~/.gnuplot, for a
+// reproducible figure), stdin and stdout on /dev/null, stderr into `stderr_file`.
+// Returns the wait status.
+int run_gnuplot(const fs::path& gnuplot, const fs::path& folder, const std::string& script,
+                const fs::path& stderr_file) {
+  // Everything the child needs is prepared before fork: after it, only
+  // async-signal-safe calls.
+  const std::string program = gnuplot.string();
+  const std::string folder_text = folder.string();
+  const std::string stderr_text = stderr_file.string();
+  std::string arg0 = "gnuplot", arg1 = "-d", arg2 = script;
+  char* argv[] = {arg0.data(), arg1.data(), arg2.data(), nullptr};
+
+  const pid_t pid = ::fork();
+  if (pid < 0)
+    throw std::runtime_error("cannot start gnuplot: " + std::generic_category().message(errno));
+  if (pid == 0) {
+    // Kept above 2, so that one dup2 cannot close another when cutdyn runs without stdin.
+    const auto above_std = [](int fd) { return fd >= 0 && fd <= 2 ? ::fcntl(fd, F_DUPFD, 3) : fd; };
+    const int err = above_std(::open(stderr_text.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644));
+    const int null_in = above_std(::open("/dev/null", O_RDONLY));
+    const int null_out = above_std(::open("/dev/null", O_WRONLY));
+    if (err < 0 || null_in < 0 || null_out < 0) ::_exit(126);
+    ::dup2(null_in, STDIN_FILENO);
+    ::dup2(null_out, STDOUT_FILENO);
+    ::dup2(err, STDERR_FILENO);
+    for (int fd : {err, null_in, null_out}) {
+      if (fd > STDERR_FILENO) ::close(fd);
+    }
+    if (::chdir(folder_text.c_str()) != 0) {
+      constexpr char kMessage[] = "cutdyn: cannot enter the scratch folder\n";
+      [[maybe_unused]] auto n = ::write(STDERR_FILENO, kMessage, sizeof kMessage - 1);
+      ::_exit(126);
+    }
+    ::execv(program.c_str(), argv);
+    constexpr char kMessage[] = "cutdyn: cannot execute gnuplot\n";
+    [[maybe_unused]] auto n = ::write(STDERR_FILENO, kMessage, sizeof kMessage - 1);
+    ::_exit(127);
+  }
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) {
+      throw std::runtime_error("cannot wait for gnuplot: " +
+                               std::generic_category().message(errno));
+    }
+  }
+  return status;
+}
+
+}  // namespace
+
+void check_figure_path(const fs::path& figure) {
+  if (find_format(figure)) return;
+  const std::string extension = figure.extension().string();
+  const std::string problem =
+      extension.empty() ? "figure file name has no extension: use .svg, .png or .pdf"
+                        : "unsupported figure format \"" + extension + "\": use .svg, .png or .pdf";
+  throw InvalidInput({problem}, figure.string());
+}
+
+void write_plot(const PlotSpec& spec, const fs::path& figure, OutputTransaction& outputs) {
+  check_figure_path(figure);
+  check_spec(spec);
+  const FigureFormat& format = *find_format(figure);
+
+  const std::optional<fs::path> gnuplot = find_program("gnuplot");
+  if (!gnuplot) {
+    throw std::runtime_error("cannot draw " + figure.string() +
+                             ": gnuplot is not installed (Debian package gnuplot-nox)");
+  }
+
+  // Final names, written in a scratch folder beside the figure so that the script's
+  // relative names stay right after the files are renamed into place.
+  const std::string figure_name = figure.filename().string();
+  const std::string stem = figure.stem().string();
+  const std::string data_name = stem + ".dat";
+  const std::string script_name = stem + ".gp";
+  const fs::path scratch = outputs.scratch_dir(figure);
+
+  write_file(scratch / data_name, figure,
+             [&](std::ostream& out) { write_data(out, spec, figure_name, script_name); });
+  write_file(scratch / script_name, figure, [&](std::ostream& out) {
+    write_script(out, spec, format, figure_name, data_name, script_name);
+  });
+
+  const fs::path stderr_file = scratch / "gnuplot.stderr";
+  const int status = run_gnuplot(*gnuplot, scratch, script_name, stderr_file);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    const std::string how = WIFEXITED(status) ? "exit status " + std::to_string(WEXITSTATUS(status))
+                                              : "signal " + std::to_string(WTERMSIG(status));
+    const std::string message = read_text(stderr_file);
+    throw std::runtime_error("gnuplot failed to draw " + figure.string() + " (" + how + ")" +
+                             (message.empty() ? std::string() : ":\n" + message));
+  }
+  std::error_code ec;
+  if (fs::file_size(scratch / figure_name, ec) == 0 || ec) {
+    throw std::runtime_error("gnuplot wrote no figure for " + figure.string() +
+                             (fs::exists(stderr_file) ? ": " + read_text(stderr_file) : ""));
+  }
+
+  const fs::path folder = figure.parent_path();
+  outputs.adopt(scratch / figure_name, figure);
+  outputs.adopt(scratch / data_name, folder / data_name);
+  outputs.adopt(scratch / script_name, folder / script_name);
+}
+
+}  // namespace cutdyn::io

@@ -1,0 +1,629 @@
+#include "cutdyn/io/case_file.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "cutdyn/core/error.hpp"
+#include "cutdyn/core/units.hpp"
+
+namespace cutdyn::io {
+namespace {
+
+using ::testing::ElementsAre;
+using ::testing::HasSubstr;
+
+// The S4 table-2 structure (Chikishev & Gasparyan 2018): 228.8 Hz, 2.26e8 N/m, zeta = 0.01.
+constexpr const char* kMinimal = R"(
+process = "turning"
+[[modes]]
+direction = "x"
+natural_hz = 228.8
+damping_ratio = 0.01
+stiffness_n_per_m = 2.26e8
+)";
+
+// Parses `text`, expects it to fail, and returns the problems (where() must be "test.toml").
+std::vector<std::string> problems_of(const std::string& text) {
+  try {
+    parse_case(text, "test.toml");
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where(), "test.toml");
+    return e.problems();
+  }
+  ADD_FAILURE() << "expected InvalidInput for:\n" << text;
+  return {};
+}
+
+// kMinimal plus `extra` appended.
+std::string with(const std::string& extra) { return std::string(kMinimal) + extra; }
+
+void expect_table2_mode(const Case& c) {
+  ASSERT_EQ(c.modal.modes.size(), 1u);
+  const Mode& m = c.modal.modes[0];
+  EXPECT_EQ(m.direction, Direction::kX);
+  EXPECT_NEAR(m.natural_rad_s, 2.0 * units::kPi * 228.8, 1e-9 * 2.0 * units::kPi * 228.8);
+  EXPECT_DOUBLE_EQ(m.damping_ratio, 0.01);
+  EXPECT_DOUBLE_EQ(m.stiffness_n_per_m, 2.26e8);
+}
+
+// ---- the built-in examples ------------------------------------------------------------
+
+TEST(CaseFileExamples, ListIsSortedAndEveryExampleLoads) {
+  const auto& list = examples();
+  ASSERT_GE(list.size(), 4u);
+  EXPECT_TRUE(std::is_sorted(list.begin(), list.end(),
+                             [](const auto& a, const auto& b) { return a.first < b.first; }));
+  for (const auto& [name, text] : list) {
+    SCOPED_TRACE(std::string(name));
+    EXPECT_EQ(example_text(name), text);
+    const Case c = load_example(name);
+    EXPECT_EQ(c.source, "example " + std::string(name));
+    EXPECT_EQ(c.process, Process::kTurning);
+    expect_table2_mode(c);
+    EXPECT_TRUE(c.modal.validate().empty());
+  }
+}
+
+TEST(CaseFileExamples, TurningConventionalIsTable2InSi) {
+  const Case c = load_example("turning-conventional");
+  expect_table2_mode(c);
+  ASSERT_TRUE(c.cutting.kt_pa);
+  EXPECT_DOUBLE_EQ(*c.cutting.kt_pa, 850e6);
+  ASSERT_TRUE(c.cutting.uncut_chip_thickness_m);
+  EXPECT_DOUBLE_EQ(*c.cutting.uncut_chip_thickness_m, 0.05e-3);
+  EXPECT_FALSE(c.cutting.kc_pa);
+  EXPECT_FALSE(c.vibration);
+  EXPECT_FALSE(c.tool);
+  EXPECT_FALSE(c.operation);
+  EXPECT_DOUBLE_EQ(c.lobes.rpm_min, 500.0);
+  EXPECT_DOUBLE_EQ(c.lobes.rpm_max, 5000.0);
+  EXPECT_EQ(c.lobes.rpm_steps, 200);
+  EXPECT_DOUBLE_EQ(c.lobes.depth_max_m, 0.03);
+  EXPECT_EQ(c.lobes.method, StabilityMethod::kAuto);
+  ASSERT_TRUE(c.simulate.rpm);
+  EXPECT_DOUBLE_EQ(*c.simulate.rpm, 1400.0);
+  ASSERT_TRUE(c.simulate.depth_m);
+  EXPECT_DOUBLE_EQ(*c.simulate.depth_m, 6e-3);
+  EXPECT_DOUBLE_EQ(c.simulate.duration_s, 2.0);
+  EXPECT_DOUBLE_EQ(c.simulate.initial_displacement_m, 1e-6);  // default
+}
+
+TEST(CaseFileExamples, UltrasonicCasesCarryTheirVibration) {
+  const Case fixed = load_example("turning-ultrasonic");
+  ASSERT_TRUE(fixed.vibration);
+  EXPECT_DOUBLE_EQ(fixed.vibration->frequency_hz, 20000.0);
+  ASSERT_TRUE(fixed.vibration->duty_cycle);
+  EXPECT_DOUBLE_EQ(*fixed.vibration->duty_cycle, 0.6);
+  EXPECT_FALSE(fixed.vibration->amplitude_m);
+  EXPECT_FALSE(fixed.vibration->workpiece_diameter_m);
+  EXPECT_DOUBLE_EQ(fixed.lobes.depth_max_m, 0.03);
+
+  const Case speed = load_example("turning-ultrasonic-speed");
+  ASSERT_TRUE(speed.vibration);
+  ASSERT_TRUE(speed.vibration->amplitude_m);
+  EXPECT_DOUBLE_EQ(*speed.vibration->amplitude_m, 20e-6);
+  ASSERT_TRUE(speed.vibration->workpiece_diameter_m);
+  EXPECT_DOUBLE_EQ(*speed.vibration->workpiece_diameter_m, 0.04);
+  EXPECT_FALSE(speed.vibration->duty_cycle);
+  EXPECT_DOUBLE_EQ(speed.lobes.rpm_min, 200.0);
+  EXPECT_DOUBLE_EQ(speed.lobes.depth_max_m, 0.04);
+
+  const Case force = load_example("ultrasonic-force");
+  EXPECT_DOUBLE_EQ(*force.cutting.kc_pa, 2100e6);
+  EXPECT_DOUBLE_EQ(*force.cutting.kt_pa, 1200e6);
+  EXPECT_DOUBLE_EQ(*force.cutting.speed_m_per_s, 1.0);  // 60 m/min
+  EXPECT_DOUBLE_EQ(*force.cutting.uncut_chip_thickness_m, 0.15e-3);
+  EXPECT_DOUBLE_EQ(*force.cutting.width_m, 0.2e-3);
+  EXPECT_DOUBLE_EQ(*force.vibration->amplitude_m, 20e-6);
+  // No [lobes] or [simulate]: the defaults.
+  EXPECT_DOUBLE_EQ(force.lobes.rpm_max, 5000.0);
+  EXPECT_EQ(force.lobes.rpm_steps, 200);
+  EXPECT_DOUBLE_EQ(force.simulate.duration_s, 1.0);
+  EXPECT_FALSE(force.simulate.rpm);
+}
+
+TEST(CaseFileExamples, UnknownExampleListsTheAvailableNames) {
+  EXPECT_FALSE(example_text("nope"));
+  try {
+    load_example("nope");
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where(), "example nope");
+    ASSERT_EQ(e.problems().size(), 1u);
+    EXPECT_EQ(e.problems()[0],
+              "no built-in example called \"nope\"; available: turning-conventional, "
+              "turning-ultrasonic, turning-ultrasonic-speed, ultrasonic-force");
+  }
+}
+
+TEST(CaseFileExamples, EmbeddedTextMatchesTheFilesOnDisk) {
+  for (const auto& [name, text] : examples()) {
+    std::ifstream in(std::filesystem::path(CUTDYN_EXAMPLES_DIR) / (std::string(name) + ".toml"));
+    ASSERT_TRUE(in) << name;
+    const std::string disk((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(disk, text) << name;
+  }
+}
+
+// ---- what a valid file gives ------------------------------------------------------------
+
+TEST(CaseFileParse, ConvertsEveryKeyToSi) {
+  const Case c = parse_case(R"(
+process = "milling"
+[[modes]]
+direction = "x"
+natural_hz = 500
+damping_ratio = 0
+mass_kg = 2                       # k = m (2 pi 500)^2
+[[modes]]
+direction = "y"
+natural_hz = 922.0
+damping_ratio = 0.039
+stiffness_n_per_m = 1.2e7
+[cutting]
+kt_n_per_mm2 = 600
+kr_n_per_mm2 = 0
+kc_n_per_mm2 = 1500.5
+speed_m_per_min = 120
+uncut_chip_thickness_mm = 0.1
+width_mm = 2
+[tool]
+teeth = 2
+diameter_mm = 20
+helix_deg = 30
+[operation]
+radial_immersion = 0.5
+direction = "up"
+[vibration]
+frequency_hz = 20_000
+amplitude_um = 10
+[lobes]
+rpm_min = 5000
+rpm_max = 25000
+rpm_steps = 2
+depth_max_mm = 10000
+method = "full-discretization"
+harmonics = 0
+steps_per_period = 100000
+[simulate]
+rpm = 12000
+depth_mm = 1.5
+duration_s = 1000
+initial_displacement_um = 0
+)",
+                            "m.toml");
+  EXPECT_EQ(c.source, "m.toml");
+  EXPECT_EQ(c.process, Process::kMilling);
+  ASSERT_EQ(c.modal.modes.size(), 2u);
+  const double w0 = units::hz_to_rad_per_s(500.0);
+  EXPECT_DOUBLE_EQ(c.modal.modes[0].natural_rad_s, w0);
+  EXPECT_DOUBLE_EQ(c.modal.modes[0].stiffness_n_per_m, 2.0 * w0 * w0);
+  EXPECT_DOUBLE_EQ(c.modal.modes[0].mass_kg(), 2.0);
+  EXPECT_DOUBLE_EQ(c.modal.modes[0].damping_ratio, 0.0);
+  EXPECT_EQ(c.modal.modes[1].direction, Direction::kY);
+  EXPECT_DOUBLE_EQ(c.modal.modes[1].stiffness_n_per_m, 1.2e7);
+  EXPECT_DOUBLE_EQ(*c.cutting.kt_pa, 600e6);
+  EXPECT_DOUBLE_EQ(*c.cutting.kr_pa, 0.0);
+  EXPECT_DOUBLE_EQ(*c.cutting.kc_pa, 1500.5e6);
+  EXPECT_DOUBLE_EQ(*c.cutting.speed_m_per_s, 2.0);
+  EXPECT_DOUBLE_EQ(*c.cutting.uncut_chip_thickness_m, 1e-4);
+  EXPECT_DOUBLE_EQ(*c.cutting.width_m, 2e-3);
+  ASSERT_TRUE(c.tool);
+  EXPECT_EQ(c.tool->teeth, 2);
+  EXPECT_DOUBLE_EQ(c.tool->diameter_m, 0.02);
+  EXPECT_DOUBLE_EQ(c.tool->helix_rad, units::kPi / 6.0);
+  ASSERT_TRUE(c.operation);
+  EXPECT_DOUBLE_EQ(c.operation->radial_immersion, 0.5);
+  EXPECT_FALSE(c.operation->down_milling);
+  ASSERT_TRUE(c.vibration);
+  EXPECT_DOUBLE_EQ(c.vibration->frequency_hz, 20000.0);
+  EXPECT_DOUBLE_EQ(*c.vibration->amplitude_m, 1e-5);
+  EXPECT_DOUBLE_EQ(c.lobes.rpm_min, 5000.0);
+  EXPECT_DOUBLE_EQ(c.lobes.rpm_max, 25000.0);
+  EXPECT_EQ(c.lobes.rpm_steps, 2);
+  EXPECT_DOUBLE_EQ(c.lobes.depth_max_m, 10.0);
+  EXPECT_EQ(c.lobes.method, StabilityMethod::kFullDiscretization);
+  EXPECT_EQ(c.lobes.harmonics, 0);
+  EXPECT_EQ(c.lobes.steps_per_period, 100000);
+  EXPECT_DOUBLE_EQ(*c.simulate.rpm, 12000.0);
+  EXPECT_DOUBLE_EQ(*c.simulate.depth_m, 1.5e-3);
+  EXPECT_DOUBLE_EQ(c.simulate.duration_s, 1000.0);
+  EXPECT_DOUBLE_EQ(c.simulate.initial_displacement_m, 0.0);
+}
+
+TEST(CaseFileParse, OptionalTablesGetTheirDefaults) {
+  const Case c = parse_case(with(R"(
+[tool]
+teeth = 4
+diameter_mm = 12
+[operation]
+)"),
+                            "d.toml");
+  EXPECT_DOUBLE_EQ(c.tool->helix_rad, 0.0);
+  EXPECT_DOUBLE_EQ(c.operation->radial_immersion, 1.0);
+  EXPECT_TRUE(c.operation->down_milling);
+  EXPECT_FALSE(c.cutting.kt_pa);
+  EXPECT_DOUBLE_EQ(c.lobes.rpm_min, 500.0);
+  EXPECT_DOUBLE_EQ(c.lobes.rpm_max, 5000.0);
+  EXPECT_DOUBLE_EQ(c.lobes.depth_max_m, 0.03);
+  EXPECT_EQ(c.lobes.harmonics, 5);
+  EXPECT_EQ(c.lobes.steps_per_period, 0);
+}
+
+TEST(CaseFileParse, EnumNames) {
+  EXPECT_STREQ(to_string(Process::kTurning), "turning");
+  EXPECT_STREQ(to_string(Process::kMilling), "milling");
+  EXPECT_STREQ(to_string(StabilityMethod::kAuto), "auto");
+  EXPECT_STREQ(to_string(StabilityMethod::kClosedForm), "closed-form");
+  EXPECT_STREQ(to_string(StabilityMethod::kMultiFrequency), "multi-frequency");
+  EXPECT_STREQ(to_string(StabilityMethod::kFullDiscretization), "full-discretization");
+  for (const char* method : {"auto", "closed-form", "multi-frequency", "full-discretization"}) {
+    const Case c = parse_case(with(std::string("[lobes]\nmethod = \"") + method + "\"\n"), "t");
+    EXPECT_STREQ(to_string(c.lobes.method), method);
+  }
+}
+
+// ---- one test per kind of problem -------------------------------------------------------
+
+TEST(CaseFileErrors, SyntaxErrorGivesLineAndColumn) {
+  const auto p = problems_of("process = \"turning\"\n[[modes]]\nnatural_hz = = 3\n");
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_THAT(p[0], ::testing::StartsWith("line 3, column 14: "));
+  const auto dup = problems_of(with("[lobes]\nrpm_min = 1\nrpm_min = 2\n"));
+  ASSERT_EQ(dup.size(), 1u);
+  EXPECT_THAT(dup[0], ::testing::StartsWith("line 10, column "));
+  EXPECT_THAT(dup[0], HasSubstr("rpm_min"));
+}
+
+TEST(CaseFileErrors, MissingRequiredKeys) {
+  EXPECT_THAT(problems_of(""), ElementsAre("process: missing (required)",
+                                           "modes: missing (required: at least one [[modes]] "
+                                           "table)"));
+  EXPECT_THAT(problems_of(with("[[modes]]\ndirection = \"x\"\ndamping_ratio = 0.02\n"
+                               "stiffness_n_per_m = 1e7\n")),
+              ElementsAre("modes[1].natural_hz: missing (required)"));
+  EXPECT_THAT(problems_of(with("[[modes]]\ndirection = \"x\"\nnatural_hz = 100\n"
+                               "damping_ratio = 0.02\n")),
+              ElementsAre("modes[1].stiffness_n_per_m: missing (required unless mass_kg is "
+                          "given)"));
+  EXPECT_THAT(
+      problems_of(with("[tool]\nhelix_deg = 30\n")),
+      ElementsAre("tool.teeth: missing (required)", "tool.diameter_mm: missing (required)"));
+  EXPECT_THAT(problems_of(with("[vibration]\nfrequency_hz = 20000\n")),
+              ElementsAre("vibration.amplitude_um: missing (required unless duty_cycle is "
+                          "given)"));
+  EXPECT_THAT(problems_of(with("[vibration]\nduty_cycle = 0.5\n")),
+              ElementsAre("vibration.frequency_hz: missing (required)"));
+  EXPECT_THAT(problems_of("process = \"milling\"\nmodes = []\n"),
+              ElementsAre("modes = []: must hold at least one mode"));
+}
+
+TEST(CaseFileErrors, WrongTypes) {
+  EXPECT_THAT(problems_of(with("[cutting]\nkt_n_per_mm2 = \"850\"\n")),
+              ElementsAre("cutting.kt_n_per_mm2 = \"850\": wrong type: expected a number, got a "
+                          "string"));
+  EXPECT_THAT(problems_of(with("[simulate]\nrpm = true\n")),
+              ElementsAre("simulate.rpm = true: wrong type: expected a number, got a boolean"));
+  EXPECT_THAT(problems_of(with("[lobes]\nrpm_steps = 2.5\n")),
+              ElementsAre("lobes.rpm_steps = 2.5: wrong type: expected an integer, got a float"));
+  EXPECT_THAT(problems_of(with("[tool]\nteeth = 2.0\ndiameter_mm = 20\n")),
+              ElementsAre("tool.teeth = 2.0: wrong type: expected an integer, got a float"));
+  EXPECT_THAT(problems_of(with("[lobes]\nmethod = 3\n")),
+              ElementsAre("lobes.method = 3: wrong type: expected a string, got an integer"));
+  EXPECT_THAT(problems_of("lobes = 3\n" + std::string(kMinimal)),
+              ElementsAre("lobes = 3: wrong type: expected a table ([lobes]), got an integer"));
+  EXPECT_THAT(problems_of("process = \"turning\"\n[modes]\ndirection = \"x\"\n"),
+              ElementsAre("modes: wrong type: expected an array of tables ([[modes]]), got a "
+                          "table"));
+  EXPECT_THAT(problems_of("process = \"turning\"\nmodes = [1]\n"),
+              ElementsAre("modes[0] = 1: wrong type: expected a table, got an integer"));
+  EXPECT_THAT(problems_of(with("[cutting]\nwidth_mm = [1, 2]\n")),
+              ElementsAre("cutting.width_mm = [1, 2]: wrong type: expected a number, got an "
+                          "array"));
+}
+
+TEST(CaseFileErrors, ValuesOutOfRange) {
+  EXPECT_THAT(problems_of("process = \"turning\"\n[[modes]]\ndirection = \"x\"\n"
+                          "natural_hz = 0\ndamping_ratio = 1.0\nmass_kg = -2.5\n"),
+              ElementsAre("modes[0].natural_hz = 0: must be positive",
+                          "modes[0].damping_ratio = 1.0: must be at least 0 and less than 1",
+                          "modes[0].mass_kg = -2.5: must be positive"));
+  EXPECT_THAT(problems_of(with("[operation]\nradial_immersion = 0\n")),
+              ElementsAre("operation.radial_immersion = 0: must be greater than 0 and at most 1"));
+  EXPECT_THAT(problems_of(with("[operation]\nradial_immersion = 1.01\ndirection = \"climb\"\n")),
+              ElementsAre("operation.radial_immersion = 1.01: must be greater than 0 and at most 1",
+                          "operation.direction = \"climb\": must be one of \"down\", \"up\""));
+  EXPECT_THAT(problems_of(with("[lobes]\nrpm_steps = 100001\n")),
+              ElementsAre("lobes.rpm_steps = 100001: must be an integer from 2 to 100000"));
+  EXPECT_THAT(problems_of(with("[lobes]\nrpm_steps = 1\nharmonics = 51\nsteps_per_period = -1\n"
+                               "depth_max_mm = 1e5\nmethod = \"fast\"\n")),
+              ElementsAre("lobes.rpm_steps = 1: must be an integer from 2 to 100000",
+                          "lobes.depth_max_mm = 1e5: must be greater than 0 and at most 10000",
+                          "lobes.method = \"fast\": must be one of \"auto\", \"closed-form\", "
+                          "\"multi-frequency\", \"full-discretization\"",
+                          "lobes.harmonics = 51: must be an integer from 0 to 50",
+                          "lobes.steps_per_period = -1: must be an integer from 0 to 100000"));
+  EXPECT_THAT(problems_of(with("[tool]\nteeth = 0\ndiameter_mm = 20\nhelix_deg = 90\n")),
+              ElementsAre("tool.teeth = 0: must be an integer from 1 to 200",
+                          "tool.helix_deg = 90: must be at least 0 and less than 90"));
+  EXPECT_THAT(problems_of(with("[simulate]\nduration_s = 1000.5\ninitial_displacement_um = -1\n")),
+              ElementsAre("simulate.duration_s = 1000.5: must be greater than 0 and at most 1000",
+                          "simulate.initial_displacement_um = -1: must be at least 0"));
+  EXPECT_THAT(problems_of(with("[cutting]\nkr_n_per_mm2 = -0.5\nkc_n_per_mm2 = 0\n")),
+              ElementsAre("cutting.kc_n_per_mm2 = 0: must be positive",
+                          "cutting.kr_n_per_mm2 = -0.5: must be at least 0"));
+  EXPECT_THAT(problems_of("process = \"drilling\"\n[[modes]]\ndirection = \"z\"\n"
+                          "natural_hz = 1\ndamping_ratio = 0\nstiffness_n_per_m = 1\n"),
+              ElementsAre("process = \"drilling\": must be one of \"turning\", \"milling\"",
+                          "modes[0].direction = \"z\": must be one of \"x\", \"y\""));
+}
+
+TEST(CaseFileErrors, RpmMaxMustExceedRpmMin) {
+  EXPECT_THAT(problems_of(with("[lobes]\nrpm_min = 5000\nrpm_max = 5000\n")),
+              ElementsAre("lobes.rpm_max = 5000: must be greater than lobes.rpm_min = 5000"));
+  EXPECT_THAT(problems_of(with("[lobes]\nrpm_max = 400\n")),
+              ElementsAre("lobes.rpm_max = 400: must be greater than lobes.rpm_min = 500 "
+                          "(default)"));
+  EXPECT_THAT(problems_of(with("[lobes]\nrpm_min = 6e3\n")),
+              ElementsAre("lobes.rpm_min = 6e3: must be less than lobes.rpm_max = 5000 "
+                          "(default)"));
+  // An invalid bound is reported once, not also as an inconsistency.
+  EXPECT_THAT(
+      problems_of(with("[lobes]\nrpm_min = -1\nrpm_max = -2\n")),
+      ElementsAre("lobes.rpm_min = -1: must be positive", "lobes.rpm_max = -2: must be positive"));
+}
+
+TEST(CaseFileErrors, NanAndInfAreRejected) {
+  EXPECT_THAT(problems_of(with("[cutting]\nkt_n_per_mm2 = nan\nwidth_mm = +inf\n"
+                               "[simulate]\nrpm = -inf\n")),
+              ElementsAre("cutting.kt_n_per_mm2 = nan: must be a finite number",
+                          "cutting.width_mm = +inf: must be a finite number",
+                          "simulate.rpm = -inf: must be a finite number"));
+  EXPECT_THAT(problems_of(with("[lobes]\nrpm_steps = nan\n")),
+              ElementsAre("lobes.rpm_steps = nan: wrong type: expected an integer, got a float"));
+}
+
+TEST(CaseFileErrors, UnknownKeysAndTables) {
+  EXPECT_THAT(problems_of(with("[lobes]\nrpm_stepz = 200\n")),
+              ElementsAre("lobes.rpm_stepz: unknown key (did you mean rpm_steps?)"));
+  EXPECT_THAT(problems_of(with("[lobes]\ncolour = \"red\"\n")),
+              ElementsAre("lobes.colour: unknown key"));
+  EXPECT_THAT(problems_of(with("[lobez]\nrpm_min = 1\n")),
+              ElementsAre("lobez: unknown table (did you mean lobes?)"));
+  EXPECT_THAT(problems_of(with("[material]\nname = \"AISI1045\"\n")),
+              ElementsAre("material: unknown table"));
+  EXPECT_THAT(problems_of("Process = \"turning\"\n" + with("")),
+              ElementsAre("Process: unknown key (did you mean process?)"));
+  EXPECT_THAT(problems_of(with("natural_Hz = 3\n")),
+              ElementsAre("modes[0].natural_Hz: unknown key (did you mean natural_hz?)"));
+  EXPECT_THAT(problems_of(with("[simulate.extra]\na = 1\n")),
+              ElementsAre("simulate.extra: unknown table"));
+  EXPECT_THAT(problems_of(with("[cutting]\n\"kt n\" = 1\n")),
+              ElementsAre("cutting.\"kt n\": unknown key"));
+}
+
+TEST(CaseFileErrors, StiffnessAndMassBothGiven) {
+  EXPECT_THAT(problems_of(with("mass_kg = 3\n")),
+              ElementsAre("modes[0].stiffness_n_per_m = 2.26e8 and modes[0].mass_kg = 3: give "
+                          "either stiffness_n_per_m or mass_kg, not both"));
+}
+
+TEST(CaseFileErrors, DutyCycleAndWorkpieceDiameterBothGiven) {
+  EXPECT_THAT(problems_of(with("[vibration]\nfrequency_hz = 20000\nduty_cycle = 0.6\n"
+                               "workpiece_diameter_mm = 40\n")),
+              ElementsAre("vibration.duty_cycle = 0.6 and vibration.workpiece_diameter_mm = 40: "
+                          "give either duty_cycle (fixed) or workpiece_diameter_mm (duty cycle "
+                          "from the cutting speed), not both"));
+  EXPECT_THAT(problems_of(with("[vibration]\nfrequency_hz = 20000\nduty_cycle = 1.5\n")),
+              ElementsAre("vibration.duty_cycle = 1.5: must be greater than 0 and at most 1"));
+}
+
+TEST(CaseFileErrors, TurningModesActInXOnly) {
+  EXPECT_THAT(problems_of(with("[[modes]]\ndirection = 'y'\nnatural_hz = 300\n"
+                               "damping_ratio = 0.02\nstiffness_n_per_m = 1e7\n")),
+              ElementsAre("modes[1].direction = 'y': turning models the feed direction \"x\" "
+                          "only"));
+  // The same mode is fine in milling.
+  std::string milling = with(
+      "[[modes]]\ndirection = 'y'\nnatural_hz = 300\n"
+      "damping_ratio = 0.02\nstiffness_n_per_m = 1e7\n");
+  milling.replace(milling.find("turning"), 7, "milling");
+  EXPECT_EQ(parse_case(milling, "t").modal.count(Direction::kY), 1);
+}
+
+TEST(CaseFileErrors, EveryProblemInAFileIsReported) {
+  const auto p = problems_of(R"(
+process = "turning"
+[[modes]]
+direction = "y"
+natural_hz = -228.8
+damping_ratio = 1.5
+[cutting]
+kt_n_per_mm2 = "850"
+[vibration]
+frequency_hz = 0
+[lobes]
+rpm_min = 5000
+rpm_max = 500
+rpm_stepz = 10
+[extra]
+)");
+  EXPECT_THAT(
+      p, ElementsAre("modes[0].natural_hz = -228.8: must be positive",
+                     "modes[0].damping_ratio = 1.5: must be at least 0 and less than 1",
+                     "modes[0].stiffness_n_per_m: missing (required unless mass_kg is given)",
+                     "modes[0].direction = \"y\": turning models the feed direction \"x\" only",
+                     "cutting.kt_n_per_mm2 = \"850\": wrong type: expected a number, got a string",
+                     "vibration.frequency_hz = 0: must be positive",
+                     "vibration.amplitude_um: missing (required unless duty_cycle is given)",
+                     "lobes.rpm_max = 500: must be greater than lobes.rpm_min = 5000",
+                     "lobes.rpm_stepz: unknown key (did you mean rpm_steps?)",
+                     "extra: unknown table"));
+  EXPECT_EQ(p.size(), 10u);
+}
+
+TEST(CaseFileErrors, ValuesAreQuotedAsWritten) {
+  // Underscores, exponents, hex and literal strings are echoed exactly, in the user's unit.
+  EXPECT_THAT(problems_of(with("[lobes]\ndepth_max_mm = 1_000_0.5\nrpm_steps = 0x186A1\n"
+                               "method = 'Auto'   # comment\n")),
+              ElementsAre("lobes.rpm_steps = 0x186A1: must be an integer from 2 to 100000",
+                          "lobes.depth_max_mm = 1_000_0.5: must be greater than 0 and at most "
+                          "10000",
+                          "lobes.method = 'Auto': must be one of \"auto\", \"closed-form\", "
+                          "\"multi-frequency\", \"full-discretization\""));
+  EXPECT_THAT(problems_of(with("[operation]\ndirection = \"é-down\"\n")),
+              ElementsAre("operation.direction = \"é-down\": must be one of \"down\", \"up\""));
+}
+
+TEST(CaseFileErrors, MessageNamesTheFile) {
+  try {
+    parse_case(with("[lobes]\nrpm_min = 0\n"), "cases/a.toml");
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where(), "cases/a.toml");
+    EXPECT_STREQ(e.what(), "cases/a.toml: lobes.rpm_min = 0: must be positive");
+  }
+}
+
+// ---- files -------------------------------------------------------------------------------
+
+TEST(CaseFileLoad, ReadsAFileAndNamesItAsSource) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("cutdyn_case_file_test_" +
+                     std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + ".toml");
+  {
+    std::ofstream out(path);
+    out << kMinimal;
+  }
+  const Case c = load_case_file(path);
+  std::filesystem::remove(path);
+  EXPECT_EQ(c.source, path.string());
+  expect_table2_mode(c);
+}
+
+TEST(CaseFileLoad, MissingFileOrFolderCannotBeRead) {
+  const std::filesystem::path missing = "/nonexistent/cutdyn/case.toml";
+  try {
+    load_case_file(missing);
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where(), missing.string());
+    EXPECT_THAT(e.problems(), ElementsAre("cannot read the file: No such file or directory"));
+  }
+  try {
+    load_case_file(std::filesystem::temp_directory_path());
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_THAT(e.problems(), ElementsAre("cannot read the file: Is a directory"));
+  }
+}
+
+// ---- JSON --------------------------------------------------------------------------------
+
+TEST(CaseFileJson, EchoesTheFileInItsOwnKeysAndUnits) {
+  const nlohmann::json j = to_json(load_example("turning-ultrasonic-speed"));
+  EXPECT_EQ(j["process"], "turning");
+  ASSERT_EQ(j["modes"].size(), 1u);
+  EXPECT_EQ(j["modes"][0]["direction"], "x");
+  EXPECT_EQ(j["modes"][0]["natural_hz"].get<double>(), 228.8);
+  EXPECT_EQ(j["modes"][0]["damping_ratio"].get<double>(), 0.01);
+  EXPECT_EQ(j["modes"][0]["stiffness_n_per_m"].get<double>(), 2.26e8);
+  EXPECT_EQ(j["cutting"],
+            (nlohmann::json{{"kt_n_per_mm2", 850}, {"uncut_chip_thickness_mm", 0.05}}));
+  EXPECT_EQ(j["vibration"],
+            (nlohmann::json{
+                {"frequency_hz", 20000}, {"amplitude_um", 20}, {"workpiece_diameter_mm", 40}}));
+  EXPECT_EQ(j["lobes"], (nlohmann::json{{"rpm_min", 200},
+                                        {"rpm_max", 2000},
+                                        {"rpm_steps", 200},
+                                        {"depth_max_mm", 40},
+                                        {"method", "auto"},
+                                        {"harmonics", 5},
+                                        {"steps_per_period", 0}}));
+  EXPECT_EQ(
+      j["simulate"],
+      (nlohmann::json{
+          {"rpm", 600}, {"depth_mm", 10}, {"duration_s", 2}, {"initial_displacement_um", 1}}));
+  EXPECT_FALSE(j.contains("tool"));
+  EXPECT_FALSE(j.contains("operation"));
+}
+
+TEST(CaseFileJson, RoundTripsThroughToml) {
+  const std::string text = R"(
+process = "milling"
+[[modes]]
+direction = "y"
+natural_hz = 922.5
+damping_ratio = 0.039
+mass_kg = 0.03993
+[cutting]
+kt_n_per_mm2 = 644.5
+kr_n_per_mm2 = 236.3
+speed_m_per_min = 183.7
+[tool]
+teeth = 2
+diameter_mm = 19.05
+helix_deg = 12.5
+[operation]
+radial_immersion = 0.05
+direction = "up"
+[vibration]
+frequency_hz = 40000
+duty_cycle = 0.35
+[lobes]
+rpm_min = 5000.5
+rpm_max = 25000
+rpm_steps = 301
+depth_max_mm = 7.5
+method = "multi-frequency"
+harmonics = 7
+steps_per_period = 40
+[simulate]
+depth_mm = 0.33
+duration_s = 0.25
+initial_displacement_um = 0.7
+)";
+  const Case first = parse_case(text, "a.toml");
+  const nlohmann::json j = to_json(first);
+  EXPECT_EQ(j["tool"], (nlohmann::json{{"teeth", 2}, {"diameter_mm", 19.05}, {"helix_deg", 12.5}}));
+  EXPECT_EQ(j["operation"], (nlohmann::json{{"radial_immersion", 0.05}, {"direction", "up"}}));
+  EXPECT_EQ(j["vibration"], (nlohmann::json{{"frequency_hz", 40000}, {"duty_cycle", 0.35}}));
+  EXPECT_EQ(j["cutting"]["speed_m_per_min"].get<double>(), 183.7);
+  EXPECT_EQ(j["lobes"]["rpm_min"].get<double>(), 5000.5);
+  EXPECT_EQ(j["lobes"]["method"], "multi-frequency");
+  EXPECT_EQ(j["simulate"]["depth_mm"].get<double>(), 0.33);
+  EXPECT_FALSE(j["simulate"].contains("rpm"));
+  EXPECT_EQ(j["modes"][0]["natural_hz"].get<double>(), 922.5);
+  const double w = units::hz_to_rad_per_s(922.5);
+  EXPECT_NEAR(j["modes"][0]["stiffness_n_per_m"].get<double>(), 0.03993 * w * w,
+              1e-12 * 0.03993 * w * w);
+
+  // Write the JSON back as TOML and load it again: the same case.
+  std::string again = "process = \"milling\"\n";
+  for (const auto& mode : j["modes"]) {
+    again += "[[modes]]\n";
+    for (const auto& [key, value] : mode.items()) again += key + " = " + value.dump() + "\n";
+  }
+  for (const char* table : {"cutting", "tool", "operation", "vibration", "lobes", "simulate"}) {
+    again += std::string("[") + table + "]\n";
+    for (const auto& [key, value] : j[table].items()) again += key + " = " + value.dump() + "\n";
+  }
+  const Case second = parse_case(again, "b.toml");
+  EXPECT_EQ(to_json(second), j);
+  EXPECT_NEAR(second.modal.modes[0].stiffness_n_per_m, first.modal.modes[0].stiffness_n_per_m,
+              1e-12 * first.modal.modes[0].stiffness_n_per_m);
+  EXPECT_DOUBLE_EQ(second.tool->helix_rad, first.tool->helix_rad);
+  EXPECT_DOUBLE_EQ(*second.cutting.speed_m_per_s, *first.cutting.speed_m_per_s);
+  EXPECT_DOUBLE_EQ(second.lobes.depth_max_m, first.lobes.depth_max_m);
+  EXPECT_DOUBLE_EQ(second.simulate.initial_displacement_m, first.simulate.initial_displacement_m);
+}
+
+}  // namespace
+}  // namespace cutdyn::io

@@ -1,0 +1,309 @@
+#include "cutdyn/io/output.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace cutdyn::io {
+namespace {
+namespace fs = std::filesystem;
+
+std::string read_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+void write_file(const fs::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+// Names in `dir`, sorted, hidden ones included.
+std::vector<std::string> listing(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    names.push_back(entry.path().filename().string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// A fresh folder per test, removed afterwards.
+class OutputTransactionTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("cutdyn-output-test-" + std::to_string(::getpid()) + "-" + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::permissions(dir_, fs::perms::owner_all, fs::perm_options::add, ec);
+    fs::remove_all(dir_, ec);
+  }
+  fs::path dir_;
+};
+
+// ---- format_number ----------------------------------------------------------------------
+
+TEST(OutputFormatNumber, ShortestRoundTrip) {
+  EXPECT_EQ(format_number(0.1), "0.1");
+  EXPECT_EQ(format_number(2.26e8), "2.26e+08");
+  EXPECT_EQ(format_number(500.0), "500");
+  EXPECT_EQ(format_number(-0.0), "-0");
+  EXPECT_EQ(format_number(1e-7), "1e-07");
+  const double third = 1.0 / 3.0;
+  EXPECT_EQ(std::stod(format_number(third)), third);
+  EXPECT_EQ(format_number(third), "0.3333333333333333");
+}
+
+// ---- CsvWriter ----------------------------------------------------------------------------
+
+TEST(CsvWriter, WritesHeaderAndRowsExactly) {
+  std::ostringstream out;
+  CsvWriter csv(out, {"spindle_rpm", "critical_depth_mm", "lobe", "note"});
+  csv.row({500.0, 0.1, 3LL, std::string("plain")});
+  csv.row({1250.5, 2.26e8, -12LL, std::string("a,b")});
+  csv.row({5000.0, 1.0 / 3.0, 0LL, std::string("say \"hi\"")});
+  csv.row({1e-7, -0.0, 9007199254740993LL, std::string("two\nlines")});
+  EXPECT_EQ(out.str(),
+            "spindle_rpm,critical_depth_mm,lobe,note\n"
+            "500,0.1,3,plain\n"
+            "1250.5,2.26e+08,-12,\"a,b\"\n"
+            "5000,0.3333333333333333,0,\"say \"\"hi\"\"\"\n"
+            "1e-07,-0,9007199254740993,\"two\nlines\"\n");
+}
+
+TEST(CsvWriter, QuotesHeaderCellsToo) {
+  std::ostringstream out;
+  CsvWriter csv(out, {"force, N", "x"});
+  EXPECT_EQ(out.str(), "\"force, N\",x\n");
+}
+
+TEST(CsvWriter, NonFiniteThrowsNamingTheColumnAndWritesNothing) {
+  for (double bad :
+       {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+        -std::numeric_limits<double>::infinity()}) {
+    std::ostringstream out;
+    CsvWriter csv(out, {"spindle_rpm", "critical_depth_mm"});
+    try {
+      csv.row({500.0, bad});
+      FAIL() << "expected std::logic_error for " << bad;
+    } catch (const std::logic_error& e) {
+      EXPECT_NE(std::string(e.what()).find("critical_depth_mm"), std::string::npos) << e.what();
+      EXPECT_EQ(std::string(e.what()).find("spindle_rpm"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(out.str(), "spindle_rpm,critical_depth_mm\n");  // no partial row
+  }
+}
+
+TEST(CsvWriter, RowWidthMustMatchHeader) {
+  std::ostringstream out;
+  CsvWriter csv(out, {"a", "b"});
+  EXPECT_THROW(csv.row({1.0}), std::logic_error);
+  EXPECT_THROW(csv.row({1.0, 2.0, 3.0}), std::logic_error);
+  EXPECT_EQ(out.str(), "a,b\n");
+}
+
+// ---- write_json ---------------------------------------------------------------------------
+
+TEST(JsonWrite, TwoSpaceIndentAndFinalNewline) {
+  std::ostringstream out;
+  write_json(out, nlohmann::json{{"method", "closed-form"}, {"rpm", {500, 0.1}}});
+  EXPECT_EQ(out.str(),
+            "{\n"
+            "  \"method\": \"closed-form\",\n"
+            "  \"rpm\": [\n"
+            "    500,\n"
+            "    0.1\n"
+            "  ]\n"
+            "}\n");
+}
+
+TEST(JsonWrite, RejectsNaNGivingItsPointer) {
+  nlohmann::json value;
+  value["method"] = "fd";
+  value["lobes"] = nlohmann::json::array();
+  value["lobes"].push_back({{"depth_mm", 1.5}});
+  value["lobes"].push_back({{"depth_mm", std::nan("")}});
+  std::ostringstream out;
+  try {
+    write_json(out, value);
+    FAIL() << "expected std::logic_error";
+  } catch (const std::logic_error& e) {
+    EXPECT_NE(std::string(e.what()).find("/lobes/1/depth_mm"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(out.str(), "");  // nothing written
+}
+
+TEST(JsonWrite, RejectsInfinityWithEscapedPointer) {
+  nlohmann::json value;
+  value["a/b"]["c~d"] = std::numeric_limits<double>::infinity();
+  std::ostringstream out;
+  try {
+    write_json(out, value);
+    FAIL() << "expected std::logic_error";
+  } catch (const std::logic_error& e) {
+    EXPECT_NE(std::string(e.what()).find("/a~1b/c~0d"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(write_json(out, nlohmann::json(std::nan(""))), std::logic_error);
+}
+
+// ---- OutputTransaction --------------------------------------------------------------------
+
+TEST_F(OutputTransactionTest, FilesAppearOnlyAfterCommit) {
+  OutputTransaction outputs;
+  outputs.open(dir_ / "lobes.csv") << "spindle_rpm,critical_depth_mm\n500,1.5\n";
+  outputs.open(dir_ / "lobes.json") << "{}\n";
+
+  // Before commit: only hidden temporaries beside the targets.
+  const std::vector<std::string> before = listing(dir_);
+  ASSERT_EQ(before.size(), 2u);
+  for (const std::string& name : before) {
+    EXPECT_TRUE(name.rfind(".lobes.csv.cutdyn-tmp-", 0) == 0 ||
+                name.rfind(".lobes.json.cutdyn-tmp-", 0) == 0)
+        << name;
+  }
+
+  outputs.commit();
+  EXPECT_EQ(listing(dir_), (std::vector<std::string>{"lobes.csv", "lobes.json"}));
+  EXPECT_EQ(read_file(dir_ / "lobes.csv"), "spindle_rpm,critical_depth_mm\n500,1.5\n");
+  EXPECT_EQ(read_file(dir_ / "lobes.json"), "{}\n");
+}
+
+TEST_F(OutputTransactionTest, DestroyedWithoutCommitLeavesFolderExactlyAsBefore) {
+  write_file(dir_ / "lobes.csv", "stale\n");
+  write_file(dir_ / "other.txt", "keep\n");
+  const std::vector<std::string> before = listing(dir_);
+  {
+    OutputTransaction outputs;
+    outputs.open(dir_ / "lobes.csv") << "new contents\n";
+    outputs.open(dir_ / "new.json") << "{}\n";
+    const fs::path scratch = outputs.scratch_dir(dir_ / "figure.png");
+    EXPECT_EQ(scratch.parent_path(), dir_);
+    write_file(scratch / "figure.png", "png bytes");
+    write_file(scratch / "gnuplot.stderr", "");
+    outputs.adopt(scratch / "figure.png", dir_ / "figure.png");
+    EXPECT_GT(listing(dir_).size(), before.size());
+    // an error is thrown here in real use: no commit
+  }
+  EXPECT_EQ(listing(dir_), before);
+  EXPECT_EQ(read_file(dir_ / "lobes.csv"), "stale\n");
+}
+
+TEST_F(OutputTransactionTest, CommitReplacesAnExistingFile) {
+  write_file(dir_ / "lobes.csv", "stale\n");
+  OutputTransaction outputs;
+  outputs.open(dir_ / "lobes.csv") << "fresh\n";
+  EXPECT_EQ(read_file(dir_ / "lobes.csv"), "stale\n");
+  outputs.commit();
+  EXPECT_EQ(read_file(dir_ / "lobes.csv"), "fresh\n");
+  EXPECT_EQ(listing(dir_), std::vector<std::string>{"lobes.csv"});
+}
+
+TEST_F(OutputTransactionTest, AdoptedFilesAndScratchFolder) {
+  OutputTransaction outputs;
+  const fs::path scratch = outputs.scratch_dir(dir_ / "f.png");
+  EXPECT_TRUE(fs::is_directory(scratch));
+  EXPECT_TRUE(fs::is_empty(scratch));
+  EXPECT_EQ(scratch.filename().string().rfind(".f.png.cutdyn-tmp-", 0), 0u) << scratch;
+  const fs::path second = outputs.scratch_dir(dir_ / "f.png");
+  EXPECT_NE(second, scratch);  // fresh every time
+
+  write_file(scratch / "f.png", "image");
+  write_file(scratch / "log.txt", "not adopted");
+  outputs.adopt(scratch / "f.png", dir_ / "f.png");
+  outputs.commit();
+  EXPECT_EQ(listing(dir_), std::vector<std::string>{"f.png"});  // scratch folders gone
+  EXPECT_EQ(read_file(dir_ / "f.png"), "image");
+}
+
+TEST_F(OutputTransactionTest, MissingAdoptedFileFailsCommitAndRenamesNothing) {
+  {
+    OutputTransaction outputs;
+    outputs.open(dir_ / "a.csv") << "a\n";
+    outputs.adopt(dir_ / "does-not-exist", dir_ / "b.png");
+    EXPECT_THROW(outputs.commit(), std::runtime_error);
+  }
+  EXPECT_TRUE(listing(dir_).empty());
+}
+
+TEST_F(OutputTransactionTest, OpenInMissingFolderThrowsNamingThePath) {
+  const fs::path target = dir_ / "no-such-folder" / "lobes.csv";
+  OutputTransaction outputs;
+  try {
+    outputs.open(target);
+    FAIL() << "expected std::runtime_error";
+  } catch (const std::runtime_error& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.rfind("cannot write " + target.string() + ": ", 0), 0u) << message;
+    EXPECT_NE(message.find("does not exist"), std::string::npos) << message;
+  }
+  EXPECT_THROW(outputs.scratch_dir(target), std::runtime_error);
+  EXPECT_TRUE(listing(dir_).empty());
+}
+
+TEST_F(OutputTransactionTest, OpenInUnwritableFolderThrowsNamingThePath) {
+  if (::geteuid() == 0) GTEST_SKIP() << "root can write anywhere";
+  const fs::path locked = dir_ / "locked";
+  fs::create_directory(locked);
+  fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
+  OutputTransaction outputs;
+  try {
+    outputs.open(locked / "lobes.csv");
+    FAIL() << "expected std::runtime_error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "cannot write " + (locked / "lobes.csv").string() + ": Permission denied");
+  }
+  fs::permissions(locked, fs::perms::owner_all);
+  EXPECT_TRUE(listing(locked).empty());
+}
+
+TEST_F(OutputTransactionTest, OpenOnAFolderThrows) {
+  fs::create_directory(dir_ / "sub");
+  OutputTransaction outputs;
+  EXPECT_THROW(outputs.open(dir_ / "sub"), std::runtime_error);
+}
+
+TEST_F(OutputTransactionTest, SameTargetTwiceIsALogicError) {
+  OutputTransaction outputs;
+  outputs.open(dir_ / "lobes.csv");
+  EXPECT_THROW(outputs.open(dir_ / "lobes.csv"), std::logic_error);
+  EXPECT_THROW(outputs.open(dir_ / "." / "lobes.csv"), std::logic_error);
+  EXPECT_THROW(outputs.adopt(dir_ / "x", dir_ / "lobes.csv"), std::logic_error);
+}
+
+TEST_F(OutputTransactionTest, UseAfterCommitIsALogicError) {
+  OutputTransaction outputs;
+  outputs.open(dir_ / "a.csv") << "a\n";
+  outputs.commit();
+  EXPECT_THROW(outputs.open(dir_ / "b.csv"), std::logic_error);
+  EXPECT_THROW(outputs.commit(), std::logic_error);
+  EXPECT_EQ(listing(dir_), std::vector<std::string>{"a.csv"});
+}
+
+TEST_F(OutputTransactionTest, CsvThroughATransactionLeavesNoFileWhenARowIsBad) {
+  {
+    OutputTransaction outputs;
+    CsvWriter csv(outputs.open(dir_ / "lobes.csv"), {"spindle_rpm", "critical_depth_mm"});
+    csv.row({500.0, 1.5});
+    EXPECT_THROW(csv.row({600.0, std::nan("")}), std::logic_error);
+  }
+  EXPECT_TRUE(listing(dir_).empty());
+}
+
+}  // namespace
+}  // namespace cutdyn::io

@@ -1,0 +1,96 @@
+#include "cutdyn/simulate/turning_simulation.hpp"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "cutdyn/core/error.hpp"
+#include "support/reference_cases.hpp"
+
+namespace cutdyn {
+namespace {
+
+using testing::table2_conventional;
+using testing::table2_vibration;
+
+TurningSimulationResult run(const TurningModel& m, double rpm, double depth) {
+  TurningSimulationOptions o;
+  o.rpm = rpm;
+  o.depth_m = depth;
+  o.feed_m = 0.05e-3;
+  o.duration_s = 2.0;
+  return simulate_turning(m, o);
+}
+
+// [Chikishev2018, fig. 6]: time-domain confirmation of the boundary at 1400 rpm.
+TEST(TurningSimulation, ConfirmsThePredictedBoundaryAt1400Rpm) {
+  for (const TurningModel& m : {table2_conventional(), table2_vibration(20000.0)}) {
+    const double critical = turning_critical_depth(m, 1400.0, {}).boundary.depth_m;
+    const auto below = run(m, 1400.0, 0.9 * critical);
+    const auto above = run(m, 1400.0, 1.1 * critical);
+    EXPECT_FALSE(below.chatter);
+    EXPECT_LT(below.growth_rate_per_s, -0.2);
+    EXPECT_LT(below.revolution_amplitude_m.back(), 0.5 * below.revolution_amplitude_m[1]);
+    EXPECT_TRUE(above.chatter);
+    EXPECT_GT(above.growth_rate_per_s, 0.2);
+    EXPECT_GT(above.revolution_amplitude_m.back(), 2.0 * above.revolution_amplitude_m[1]);
+  }
+}
+
+TEST(TurningSimulation, GrowthRateChangesSignAtTheCriticalDepth) {
+  // A closer look: ±3 % around the full-discretization boundary at 800 rpm, vibration-assisted.
+  const TurningModel m = table2_vibration(20000.0);
+  const double critical = turning_critical_depth(m, 800.0, {}).boundary.depth_m;
+  EXPECT_LT(run(m, 800.0, 0.97 * critical).growth_rate_per_s, 0.0);
+  EXPECT_GT(run(m, 800.0, 1.03 * critical).growth_rate_per_s, 0.0);
+}
+
+TEST(TurningSimulation, FreeVibrationMatchesTheAnalyticSolution) {
+  // Practically no cut (w = 1e-15 m): the tool rings down from the initial displacement δ as
+  // δ·e^(−ζωn t)·(cos ωd t + ζωn/ωd·sin ωd t), which the exact step reproduces to rounding.
+  const TurningModel m = table2_conventional();
+  TurningSimulationOptions o;
+  o.rpm = 1400.0;
+  o.depth_m = 1e-15;
+  o.feed_m = 0.05e-3;
+  o.duration_s = 0.5;
+  o.initial_displacement_m = 1e-6;
+  const auto r = simulate_turning(m, o);
+  const double wn = m.modal.modes[0].natural_rad_s, zeta = 0.01;
+  const double wd = wn * std::sqrt(1.0 - zeta * zeta);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < r.time_s.size(); ++i) {
+    const double t = r.time_s[i];
+    const double exact = 1e-6 * std::exp(-zeta * wn * t) *
+                         (std::cos(wd * t) + zeta * wn / wd * std::sin(wd * t));
+    worst = std::max(worst, std::abs(r.displacement_m[i] - r.static_deflection_m - exact));
+  }
+  EXPECT_LT(worst, 1e-9 * 1e-6);
+  EXPECT_GT(r.time_s.size(), 1000u);
+}
+
+TEST(TurningSimulation, SaturatesWhenTheToolLeavesTheCut) {
+  // Far above the boundary the vibration grows until the tool jumps out of the cut; the
+  // chip thickness then goes negative and the force is zero there.
+  const TurningModel m = table2_conventional();
+  TurningSimulationOptions o;
+  o.rpm = 1400.0;
+  o.depth_m = 2.0 * turning_critical_depth(m, 1400.0, {}).boundary.depth_m;
+  o.feed_m = 0.01e-3;
+  o.duration_s = 3.0;
+  const auto r = simulate_turning(m, o);
+  EXPECT_TRUE(r.lost_contact);
+  EXPECT_TRUE(r.chatter);
+  for (std::size_t i = 0; i < r.force_n.size(); ++i) {
+    if (r.chip_thickness_m[i] <= 0.0) EXPECT_EQ(r.force_n[i], 0.0);
+    EXPECT_TRUE(std::isfinite(r.displacement_m[i]));
+  }
+}
+
+TEST(TurningSimulation, RejectsBadOptions) {
+  TurningSimulationOptions o;  // rpm, depth and feed are zero
+  EXPECT_THROW(simulate_turning(table2_conventional(), o), InvalidInput);
+}
+
+}  // namespace
+}  // namespace cutdyn
