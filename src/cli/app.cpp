@@ -1,23 +1,142 @@
 #include "cli/app.hpp"
 
+#include <exception>
+#include <iostream>
+
 #include <CLI/CLI.hpp>
 
+#include "cli/commands.hpp"
+#include "cutdyn/core/error.hpp"
+#include "cutdyn/io/case_file.hpp"
+
 namespace cutdyn::cli {
+namespace {
+
+void add_outputs(CLI::App* cmd, Outputs& o, const char* csv_help) {
+  cmd->add_option("--out", o.csv, csv_help);
+  cmd->add_option("--json", o.json, "write the results and the effective case as JSON");
+  cmd->add_option("--plot", o.plot,
+                  "draw a figure (.svg, .png or .pdf); its data (.dat) and gnuplot script (.gp) "
+                  "are written beside it");
+}
+
+}  // namespace
 
 int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
-  CLI::App app{"cutdyn: machining-process dynamics", "cutdyn"};
-  app.set_version_flag("--version", std::string("cutdyn ") + CUTDYN_VERSION);
+  CLI::App app{
+      "cutdyn: machining-process dynamics. Chatter stability lobes, time-domain simulation and\n"
+      "cutting forces for turning, conventional and ultrasonic-vibration-assisted.\n"
+      "Without CASE a command runs its built-in default case (see `cutdyn example --list`).",
+      "cutdyn"};
+  app.set_help_all_flag("--help-all", "print help for every command");
+  bool version = false;
+  app.add_flag("--version", version, "print the version");
+  app.require_subcommand(0, 1);
+
+  // example
+  auto* example = app.add_subcommand("example", "print a built-in case file");
+  bool list = false;
+  std::string example_name;
+  example->add_flag("--list", list, "list the built-in cases");
+  example->add_option("NAME", example_name, "the case to print");
+
+  // lobes
+  LobesArgs lobes;
+  auto* lobes_cmd = app.add_subcommand("lobes", "stability lobes: critical depth against spindle speed");
+  lobes_cmd->add_option("CASE", lobes.case_path, "case file (TOML)");
+  add_outputs(lobes_cmd, lobes.outputs,
+              "write the lobes as CSV: spindle_rpm,critical_depth_mm,chatter_hz,lobe,...");
+  lobes_cmd->add_option("--method", lobes.method,
+                        "auto | closed-form | multi-frequency | full-discretization | "
+                        "full-discretization-dense (overrides [lobes].method)");
+  lobes_cmd->add_option("--threads", lobes.threads, "threads (default: all cores)")
+      ->check(CLI::Range(0, 1024));
+
+  // check
+  CheckArgs check;
+  auto* check_cmd = app.add_subcommand("check", "one point: stable?, margin, chatter frequency");
+  check_cmd->add_option("CASE", check.case_path, "case file (TOML)");
+  check_cmd->add_option("--rpm", check.rpm, "spindle speed (rpm)")->required();
+  check_cmd->add_option("--depth-mm", check.depth_mm, "depth (width) of cut (mm)")->required();
+  check_cmd->add_option("--json", check.json, "write the result as JSON");
+  check_cmd->add_option("--method", check.method, "as for `lobes`");
+
+  // simulate
+  SimulateArgs sim;
+  auto* sim_cmd = app.add_subcommand("simulate", "time-domain simulation of the cut");
+  sim_cmd->add_option("CASE", sim.case_path, "case file (TOML)");
+  add_outputs(sim_cmd, sim.outputs,
+              "write the traces as CSV: process,time_s,displacement_um,force_n,chip_thickness_um");
+  sim_cmd->add_option("--rpm", sim.rpm, "spindle speed (rpm), overrides [simulate].rpm");
+  sim_cmd->add_option("--depth-mm", sim.depth_mm, "depth of cut (mm), overrides [simulate].depth_mm");
+  sim_cmd->add_option("--duration-s", sim.duration_s, "simulated time (s)");
+
+  // force
+  ForceArgs force;
+  auto* force_cmd = app.add_subcommand("force", "cutting forces, duty cycle of vibration-assisted cutting");
+  force_cmd->add_option("CASE", force.case_path, "case file (TOML)");
+  force_cmd->add_option("--json", force.json, "write the results as JSON");
+  force_cmd->add_option("--plot", force.plot, "draw the force pulses over three vibration periods");
+
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {
     app.parse(reversed);
-  } catch (const CLI::Success&) {
+  } catch (const CLI::CallForHelp&) {
     out << app.help();
     return 0;
+  } catch (const CLI::CallForAllHelp&) {
+    out << app.help("", CLI::AppFormatMode::All);
+    return 0;
   } catch (const CLI::ParseError& e) {
+    // Subcommand help comes through here as CallForHelp from the subcommand.
+    if (e.get_exit_code() == 0) {
+      for (CLI::App* sub : app.get_subcommands()) {
+        out << sub->help();
+        return 0;
+      }
+      out << app.help();
+      return 0;
+    }
     err << "cutdyn: error: command line: " << e.what() << "\n";
+    err << "Run `cutdyn --help` for usage.\n";
     return 2;
   }
-  return 0;
+  if (version) {
+    out << "cutdyn " << CUTDYN_VERSION << "\n";
+    return 0;
+  }
+
+  try {
+    if (example->parsed()) {
+      if (list || example_name.empty()) {
+        for (const auto& [name, text] : io::examples()) {
+          // First comment line is the description.
+          std::string first(text.substr(0, text.find('\n')));
+          if (first.rfind("# ", 0) == 0) first = first.substr(2);
+          out << name << "\n    " << first << "\n";
+        }
+        return 0;
+      }
+      const auto text = io::example_text(example_name);
+      if (!text) io::load_example(example_name);  // throws the list of names
+      out << *text;
+      return 0;
+    }
+    if (lobes_cmd->parsed()) return run_lobes(lobes, out, err);
+    if (check_cmd->parsed()) return run_check(check, out, err);
+    if (sim_cmd->parsed()) return run_simulate(sim, out, err);
+    if (force_cmd->parsed()) return run_force(force, out, err);
+    err << app.help();
+    return 2;
+  } catch (const InvalidInput& e) {
+    const std::string where = e.where().empty() ? "input" : e.where();
+    for (const std::string& problem : e.problems())
+      err << "cutdyn: error: " << where << ": " << problem << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    err << "cutdyn: error: " << e.what() << "\n";
+    return 1;
+  }
 }
 
 }  // namespace cutdyn::cli

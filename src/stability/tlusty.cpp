@@ -106,7 +106,7 @@ TlustyResult tlusty_critical_depth(const ModalModel& model, Direction direction,
             [](const Bracket& a, const Bracket& b) { return a.estimate < b.estimate; });
   for (const Bracket& b : brackets) {
     if (b.lobe < 0) continue;
-    if (result.boundary.found && b.estimate > 1.05 * result.boundary.depth_m) break;
+    if (result.boundary.found && b.estimate > 1.5 * result.boundary.depth_m) break;
     const auto root = brent_root([&](double w) { return phase(w) - b.lobe; }, b.lo, b.hi,
                                  1e-13 * b.hi);
     if (!root) continue;

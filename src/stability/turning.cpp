@@ -1,6 +1,7 @@
 #include "cutdyn/stability/turning.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
@@ -87,8 +88,42 @@ std::vector<std::string> TurningStabilityOptions::validate() const {
   return v.problems();
 }
 
+namespace {
+std::string rounded(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", value);
+  return buffer;
+}
+}  // namespace
+
+void check_speed_domain(const TurningModel& model, double rpm) {
+  // The frequency and multiplier scans resolve the delay phase, so their work grows with the
+  // number of vibration cycles in one revolution; bound it rather than run for hours.
+  constexpr double kMaxModeCycles = 20000.0;
+  constexpr double kMaxVibrationPeriods = 500000.0;
+  Validator v;
+  v.require_positive("spindle speed", rpm, "rpm");
+  v.throw_if_any();
+  const double tau = 60.0 / rpm;
+  const double f_top = units::rad_per_s_to_hz(model.modal.max_natural_rad_s());
+  if (tau * f_top > kMaxModeCycles) {
+    v.add("spindle speed = " + rounded(rpm) + " rpm: one revolution spans " +
+          rounded(std::round(tau * f_top)) + " periods of the " + rounded(f_top) +
+          " Hz mode; the stability methods take at most " + rounded(kMaxModeCycles) +
+          " (raise the speed)");
+  }
+  if (model.vibration && tau * model.vibration->frequency_hz > kMaxVibrationPeriods) {
+    v.add("spindle speed = " + rounded(rpm) + " rpm: one revolution spans " +
+          rounded(std::round(tau * model.vibration->frequency_hz)) +
+          " vibration periods; the stability methods take at most " +
+          rounded(kMaxVibrationPeriods) + " (raise the speed)");
+  }
+  v.throw_if_any();
+}
+
 TurningBoundary turning_critical_depth(const TurningModel& model, double rpm,
                                        const TurningStabilityOptions& o) {
+  check_speed_domain(model, rpm);
   TurningBoundary out;
   out.duty_cycle = model.vibration ? model.vibration->at_rpm(rpm).ratio : 1.0;
   const double tau = 60.0 / rpm;

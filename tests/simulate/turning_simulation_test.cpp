@@ -82,7 +82,9 @@ TEST(TurningSimulation, SaturatesWhenTheToolLeavesTheCut) {
   EXPECT_TRUE(r.lost_contact);
   EXPECT_TRUE(r.chatter);
   for (std::size_t i = 0; i < r.force_n.size(); ++i) {
-    if (r.chip_thickness_m[i] <= 0.0) EXPECT_EQ(r.force_n[i], 0.0);
+    if (r.chip_thickness_m[i] <= 0.0) {
+      EXPECT_EQ(r.force_n[i], 0.0);
+    }
     EXPECT_TRUE(std::isfinite(r.displacement_m[i]));
   }
 }

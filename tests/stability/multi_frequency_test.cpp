@@ -12,13 +12,16 @@ using testing::table2_conventional;
 using testing::table2_vibration;
 
 TEST(MultiFrequency, ConstantCoefficientIsTlusty) {
+  // Every 15 rpm over 500–5000: two independent root searches (phase condition on a
+  // frequency grid; eigenvalue crossings of the scan) must find the same boundary.
   const TurningModel m = table2_conventional();
-  for (double rpm : {520.0, 1400.0, 2950.0, 4800.0}) {
+  for (double rpm = 500.0; rpm <= 5000.0; rpm += 15.0) {
     MultiFrequencyOptions o;
     const CriticalDepth mf = multi_frequency_critical_depth(turning_system(m, rpm), o);
     const auto exact = tlusty_critical_depth(m.modal, Direction::kX, m.kt_pa, 60.0 / rpm, 0.03);
-    EXPECT_NEAR(mf.depth_m, exact.boundary.depth_m, 1e-9 * exact.boundary.depth_m);
-    EXPECT_NEAR(mf.chatter_hz, exact.boundary.chatter_hz, 1e-6);
+    ASSERT_EQ(mf.found, exact.boundary.found) << "rpm " << rpm;
+    EXPECT_NEAR(mf.depth_m, exact.boundary.depth_m, 1e-9 * exact.boundary.depth_m) << "rpm " << rpm;
+    EXPECT_NEAR(mf.chatter_hz, exact.boundary.chatter_hz, 1e-6) << "rpm " << rpm;
   }
 }
 

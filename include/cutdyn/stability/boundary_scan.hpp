@@ -25,8 +25,10 @@ struct BoundaryScanOptions {
   double theta_step = 0.0;       // grid spacing, > 0
   double min_eigenvalue = 0.0;   // ignore λ below this (depths above 1/min_eigenvalue)
   /// Refine only candidates whose interpolated depth is within this factor of the smallest
-  /// one (the others cannot be the critical depth). Use +inf to refine every crossing.
-  double refine_factor = 1.05;
+  /// refined one (the others cannot be the critical depth). Near a sharp resonance the
+  /// eigenvalue moves on a curved path and the straight-line estimate can be off by several
+  /// per cent, hence the generous default. Use +inf to refine every crossing.
+  double refine_factor = 1.5;
   double theta_tol = 1e-13;      // relative to the bracket size after Brent
   /// Also take real eigenvalues at the end points θ_min and θ_max (where K is real for the
   /// Floquet methods: multipliers +1 and −1).

@@ -68,6 +68,11 @@ struct TurningBoundary {
   int lobe = 0;             // whole chatter waves per revolution
 };
 
+/// Throws cutdyn::InvalidInput if `rpm` is not positive, or so slow that one revolution
+/// spans more than 20 000 periods of the highest mode or 500 000 vibration periods (the
+/// scans' work grows with that number).
+void check_speed_domain(const TurningModel& model, double rpm);
+
 TurningBoundary turning_critical_depth(const TurningModel& model, double rpm,
                                        const TurningStabilityOptions& options);
 

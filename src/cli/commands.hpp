@@ -1,0 +1,50 @@
+// The commands of the `cutdyn` program. Each returns the exit code; errors are thrown
+// (cutdyn::InvalidInput → exit 2, anything else → exit 1) and reported by app.cpp.
+#pragma once
+
+#include <optional>
+#include <ostream>
+#include <string>
+
+namespace cutdyn::cli {
+
+struct Outputs {
+  std::string csv;   // --out
+  std::string json;  // --json
+  std::string plot;  // --plot
+};
+
+struct LobesArgs {
+  std::string case_path;
+  Outputs outputs;
+  std::string method;  // empty: the case's [lobes].method
+  int threads = 0;
+};
+int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err);
+
+struct CheckArgs {
+  std::string case_path;
+  double rpm = 0.0;
+  double depth_mm = 0.0;
+  std::string json;
+  std::string method;
+};
+int run_check(const CheckArgs& args, std::ostream& out, std::ostream& err);
+
+struct SimulateArgs {
+  std::string case_path;
+  Outputs outputs;
+  std::optional<double> rpm;
+  std::optional<double> depth_mm;
+  std::optional<double> duration_s;
+};
+int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err);
+
+struct ForceArgs {
+  std::string case_path;
+  std::string json;
+  std::string plot;
+};
+int run_force(const ForceArgs& args, std::ostream& out, std::ostream& err);
+
+}  // namespace cutdyn::cli

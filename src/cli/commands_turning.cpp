@@ -1,0 +1,584 @@
+// `cutdyn lobes`, `check`, `simulate` and `force` for turning, conventional and
+// vibration-assisted.
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "cli/commands.hpp"
+#include "cli/common.hpp"
+#include "cutdyn/core/error.hpp"
+#include "cutdyn/core/units.hpp"
+#include "cutdyn/forces/duty_cycle.hpp"
+#include "cutdyn/io/output.hpp"
+#include "cutdyn/io/plot.hpp"
+#include "cutdyn/simulate/turning_simulation.hpp"
+#include "cutdyn/stability/lobes.hpp"
+
+namespace cutdyn::cli {
+namespace {
+
+using nlohmann::json;
+using units::m_to_mm;
+using units::mm_to_m;
+
+constexpr std::string_view kDefaultTurningCase = "turning-ultrasonic";
+constexpr std::string_view kDefaultForceCase = "ultrasonic-force";
+
+// The method: --method, else the case's [lobes].method; "auto" picks the exact closed form
+// for conventional turning and the full discretization with vibration.
+TurningMethod resolve_method(const io::Case& c, const TurningModel& m, const std::string& flag) {
+  io::StabilityMethod method = c.lobes.method;
+  if (!flag.empty()) {
+    if (flag == "auto") method = io::StabilityMethod::kAuto;
+    else if (flag == "closed-form") method = io::StabilityMethod::kClosedForm;
+    else if (flag == "multi-frequency") method = io::StabilityMethod::kMultiFrequency;
+    else if (flag == "full-discretization") method = io::StabilityMethod::kFullDiscretization;
+    else if (flag == "full-discretization-dense") return TurningMethod::kFullDiscretizationDense;
+    else
+      throw InvalidInput({"--method = \"" + flag +
+                          "\": must be auto, closed-form, multi-frequency, full-discretization or "
+                          "full-discretization-dense"},
+                         "command line");
+  }
+  switch (method) {
+    case io::StabilityMethod::kClosedForm: return TurningMethod::kClosedForm;
+    case io::StabilityMethod::kMultiFrequency: return TurningMethod::kMultiFrequency;
+    case io::StabilityMethod::kFullDiscretization: return TurningMethod::kFullDiscretization;
+    case io::StabilityMethod::kAuto: break;
+  }
+  return m.vibration ? TurningMethod::kFullDiscretization : TurningMethod::kClosedForm;
+}
+
+TurningStabilityOptions stability_options(const io::Case& c, TurningMethod method) {
+  TurningStabilityOptions o;
+  o.method = method;
+  o.depth_max_m = c.lobes.depth_max_m;
+  o.harmonics = c.lobes.harmonics;
+  o.fd.steps_per_period = c.lobes.steps_per_period;
+  return o;
+}
+
+std::string describe_model(const TurningModel& m) {
+  std::string s = fmt::format("turning, {} mode{} in x, Kt = {} N/mm²", m.modal.modes.size(),
+                              m.modal.modes.size() == 1 ? "" : "s",
+                              human(units::pa_to_n_per_mm2(m.kt_pa)));
+  if (m.vibration) {
+    s += fmt::format("; vibration {} Hz", human(m.vibration->frequency_hz));
+    if (m.vibration->duty_cycle) {
+      s += fmt::format(", duty cycle {} (fixed)", human(*m.vibration->duty_cycle));
+    } else {
+      s += fmt::format(", {} µm on a {} mm workpiece (duty cycle from the speed)",
+                       human(units::m_to_um(m.vibration->amplitude_m)),
+                       human(m_to_mm(*m.vibration->workpiece_diameter_m)));
+    }
+  }
+  return s;
+}
+
+// An output must go to an existing folder; checked before any work is done.
+void check_output_folder(Validator& v, const char* flag, const std::string& path) {
+  if (path.empty()) return;
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  if (!parent.empty() && !std::filesystem::is_directory(parent))
+    v.add(std::string(flag) + " = " + path + ": the folder " + parent.string() + " does not exist");
+}
+
+void check_outputs(const Outputs& o) {
+  if (!o.plot.empty()) io::check_figure_path(o.plot);
+  Validator v;
+  check_output_folder(v, "--out", o.csv);
+  check_output_folder(v, "--json", o.json);
+  check_output_folder(v, "--plot", o.plot);
+  const auto same = [](const std::string& a, const std::string& b) {
+    return !a.empty() && !b.empty() &&
+           std::filesystem::weakly_canonical(a) == std::filesystem::weakly_canonical(b);
+  };
+  if (same(o.csv, o.json) || same(o.csv, o.plot) || same(o.json, o.plot))
+    v.add("--out, --json and --plot must name different files");
+  v.throw_if_any("command line");
+}
+
+// Speeds of the stable pockets: local maxima of the critical depth, deepest first.
+std::vector<std::size_t> stable_pockets(const std::vector<LobePoint>& p, std::size_t count) {
+  std::vector<std::size_t> peaks;
+  for (std::size_t i = 1; i + 1 < p.size(); ++i) {
+    const double d = p[i].boundary.depth_m;
+    if (d >= p[i - 1].boundary.depth_m && d > p[i + 1].boundary.depth_m) peaks.push_back(i);
+  }
+  std::sort(peaks.begin(), peaks.end(), [&](std::size_t a, std::size_t b) {
+    return p[a].boundary.depth_m > p[b].boundary.depth_m;
+  });
+  if (peaks.size() > count) peaks.resize(count);
+  return peaks;
+}
+
+// Runs `check`; an InvalidInput it throws is rethrown naming `where` and `key`.
+template <typename F>
+void rethrow_as(const std::string& where, const std::string& key, F&& check) {
+  try {
+    check();
+  } catch (const InvalidInput& e) {
+    std::vector<std::string> problems;
+    for (const std::string& p : e.problems()) problems.push_back(key + ": " + p);
+    throw InvalidInput(problems, where);
+  }
+}
+
+std::string depth_text(const CriticalDepth& b) {
+  return b.found ? human(m_to_mm(b.depth_m)) + " mm" : "> " + human(m_to_mm(b.depth_m)) + " mm";
+}
+
+}  // namespace
+
+int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
+  check_outputs(args.outputs);
+  const io::Case c = load_case(args.case_path, kDefaultTurningCase);
+  const TurningModel model = turning_model(c, "lobes");
+  const TurningMethod method = resolve_method(c, model, args.method);
+  const TurningStabilityOptions options = stability_options(c, method);
+  if (const auto problems = options.validate(); !problems.empty())
+    throw InvalidInput(problems, c.source);
+  LobesOptions grid;
+  grid.rpm_min = c.lobes.rpm_min;
+  grid.rpm_max = c.lobes.rpm_max;
+  grid.rpm_steps = c.lobes.rpm_steps;
+  grid.threads = args.threads;
+  if (const auto problems = grid.validate(); !problems.empty())
+    throw InvalidInput(problems, c.source);
+
+  rethrow_as(c.source, "lobes.rpm_min", [&] { check_speed_domain(model, grid.rpm_min); });
+  const bool assisted = model.vibration.has_value();
+  const LobesReport report = trace_lobes(
+      [&](double rpm) {
+        const TurningBoundary b = turning_critical_depth(model, rpm, options);
+        return LobePoint{rpm, b.boundary, b.duty_cycle, b.lobe};
+      },
+      grid, progress_reporter(err, "lobes"));
+  // With vibration, the conventional lobes beside them (exact closed form, cheap).
+  std::vector<CriticalDepth> reference;
+  if (assisted) {
+    TurningStabilityOptions exact = options;
+    exact.method = TurningMethod::kClosedForm;
+    const TurningModel conventional = model.conventional();
+    const LobesReport conv = trace_lobes(
+        [&](double rpm) {
+          return LobePoint{rpm, turning_critical_depth(conventional, rpm, exact).boundary, 1.0, 0};
+        },
+        grid);
+    for (const LobePoint& p : conv.points) reference.push_back(p.boundary);
+  }
+
+  // Summary for people.
+  const auto& pts = report.points;
+  std::size_t lowest = 0;
+  for (std::size_t i = 1; i < pts.size(); ++i)
+    if (pts[i].boundary.depth_m < pts[lowest].boundary.depth_m) lowest = i;
+  out << "cutdyn lobes: " << c.source << "\n";
+  out << "  " << describe_model(model) << "\n";
+  out << fmt::format("  method {}, {} speeds {}–{} rpm, depth limit {} mm, {:.2f} s\n",
+                     to_string(method), grid.rpm_steps, human(grid.rpm_min), human(grid.rpm_max),
+                     human(m_to_mm(options.depth_max_m)), report.seconds);
+  out << "\n";
+  std::string header = fmt::format("  {:>11}  {:>17}  {:>10}  {:>4}", "spindle_rpm",
+                                   "critical_depth_mm", "chatter_hz", "lobe");
+  if (assisted) header += fmt::format("  {:>10}  {:>21}", "duty_cycle", "conventional_depth_mm");
+  out << header << "\n";
+  const std::size_t stride = std::max<std::size_t>(1, (pts.size() + 19) / 20);
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    if (i % stride != 0 && i + 1 != pts.size()) continue;
+    const LobePoint& p = pts[i];
+    std::string row = fmt::format("  {:>11.1f}  {:>16.4f}{}  {:>10.2f}  {:>4}", p.rpm,
+                                  m_to_mm(p.boundary.depth_m), p.boundary.found ? ' ' : '+',
+                                  p.boundary.chatter_hz, p.lobe);
+    if (assisted)
+      row += fmt::format("  {:>10.4f}  {:>20.4f}{}", p.duty_cycle, m_to_mm(reference[i].depth_m),
+                         reference[i].found ? ' ' : '+');
+    out << row << "\n";
+  }
+  if (stride > 1) out << "  (every " << stride << "th speed shown; --out F.csv writes them all)\n";
+  if (std::any_of(pts.begin(), pts.end(), [](const LobePoint& p) { return !p.boundary.found; }))
+    out << "  + stable up to the depth limit at that speed\n";
+  out << "\n  lowest critical depth " << depth_text(pts[lowest].boundary) << " at "
+      << human(pts[lowest].rpm) << " rpm\n";
+  const auto pockets = stable_pockets(pts, 3);
+  if (!pockets.empty()) {
+    out << "  stable pockets (local maxima):";
+    for (std::size_t k = 0; k < pockets.size(); ++k)
+      out << (k ? ";" : "") << " " << human(pts[pockets[k]].rpm) << " rpm, "
+          << depth_text(pts[pockets[k]].boundary);
+    out << "\n";
+  }
+
+  io::OutputTransaction outputs;
+  if (!args.outputs.csv.empty()) {
+    std::vector<std::string> columns{"spindle_rpm", "critical_depth_mm", "chatter_hz", "lobe",
+                                     "beyond_limit"};
+    if (assisted)
+      columns.insert(columns.end(), {"duty_cycle", "conventional_depth_mm", "conventional_chatter_hz"});
+    io::CsvWriter csv(outputs.open(args.outputs.csv), columns);
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const LobePoint& p = pts[i];
+      std::vector<io::CsvCell> row{p.rpm, m_to_mm(p.boundary.depth_m), p.boundary.chatter_hz,
+                                   static_cast<long long>(p.lobe),
+                                   static_cast<long long>(p.boundary.found ? 0 : 1)};
+      if (assisted) {
+        row.insert(row.end(), {p.duty_cycle, m_to_mm(reference[i].depth_m), reference[i].chatter_hz});
+      }
+      csv.row(row);
+    }
+  }
+  if (!args.outputs.json.empty()) {
+    json points = json::array();
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const LobePoint& p = pts[i];
+      json j{{"spindle_rpm", p.rpm},
+             {"critical_depth_mm", m_to_mm(p.boundary.depth_m)},
+             {"chatter_hz", p.boundary.chatter_hz},
+             {"lobe", p.lobe},
+             {"beyond_limit", !p.boundary.found}};
+      if (assisted) {
+        j["duty_cycle"] = p.duty_cycle;
+        j["conventional_depth_mm"] = m_to_mm(reference[i].depth_m);
+        j["conventional_chatter_hz"] = reference[i].chatter_hz;
+      }
+      points.push_back(std::move(j));
+    }
+    json doc{{"command", "lobes"},
+             {"case", io::to_json(c)},
+             {"source", c.source},
+             {"method", to_string(method)},
+             {"seconds", report.seconds},
+             {"evaluations", report.evaluations},
+             {"lowest", {{"spindle_rpm", pts[lowest].rpm},
+                         {"critical_depth_mm", m_to_mm(pts[lowest].boundary.depth_m)}}},
+             {"points", std::move(points)}};
+    io::write_json(outputs.open(args.outputs.json), doc);
+  }
+  if (!args.outputs.plot.empty()) {
+    io::PlotSpec spec;
+    spec.title = assisted ? "Stability lobes: vibration-assisted and conventional turning"
+                          : "Stability lobes: turning";
+    spec.x_label = "spindle speed (rpm)";
+    spec.y_label = "critical depth of cut (mm)";
+    spec.y_min = 0.0;
+    spec.y_max = m_to_mm(options.depth_max_m);
+    io::PlotSeries main{assisted ? fmt::format("vibration-assisted ({})", to_string(method))
+                                 : fmt::format("conventional ({})", to_string(method)),
+                        {}, {}, "stable-region"};
+    io::PlotSeries ref{"conventional (closed form)", {}, {}, "lines"};
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      main.x.push_back(pts[i].rpm);
+      main.y.push_back(m_to_mm(pts[i].boundary.depth_m));
+      if (assisted) {
+        ref.x.push_back(pts[i].rpm);
+        ref.y.push_back(m_to_mm(reference[i].depth_m));
+      }
+    }
+    spec.series.push_back(std::move(main));
+    if (assisted) spec.series.push_back(std::move(ref));
+    io::write_plot(spec, args.outputs.plot, outputs);
+  }
+  outputs.commit();
+  for (const std::string* f : {&args.outputs.csv, &args.outputs.json, &args.outputs.plot})
+    if (!f->empty()) out << "  wrote " << *f << "\n";
+  return 0;
+}
+
+int run_check(const CheckArgs& args, std::ostream& out, std::ostream&) {
+  const io::Case c = load_case(args.case_path, kDefaultTurningCase);
+  const TurningModel model = turning_model(c, "check");
+  Validator v;
+  check_output_folder(v, "--json", args.json);
+  v.require_positive("--rpm", args.rpm, "rpm");
+  v.require_positive("--depth-mm", args.depth_mm, "mm");
+  v.throw_if_any("command line");
+  rethrow_as("command line", "--rpm", [&] { check_speed_domain(model, args.rpm); });
+  const TurningMethod method = resolve_method(c, model, args.method);
+  TurningStabilityOptions options = stability_options(c, method);
+  // Search far enough above the requested depth to say how much margin there is.
+  options.depth_max_m = std::max(options.depth_max_m, 4.0 * mm_to_m(args.depth_mm));
+  if (const auto problems = options.validate(); !problems.empty())
+    throw InvalidInput(problems, c.source);
+  const TurningBoundary b = turning_critical_depth(model, args.rpm, options);
+  const double depth = mm_to_m(args.depth_mm);
+  const bool stable = !b.boundary.found || depth < b.boundary.depth_m;
+  const double margin = (b.boundary.depth_m - depth) / b.boundary.depth_m;
+
+  out << "cutdyn check: " << c.source << " at " << human(args.rpm) << " rpm, depth "
+      << human(args.depth_mm) << " mm\n";
+  out << "  " << describe_model(model) << "\n";
+  out << "  " << (stable ? "STABLE" : "UNSTABLE (chatter)") << "\n";
+  out << "  critical depth " << depth_text(b.boundary) << " (" << to_string(method) << ")";
+  if (b.boundary.found)
+    out << ", chatter at " << human(b.boundary.chatter_hz, 5) << " Hz, lobe " << b.lobe;
+  out << "\n  depth margin " << human(100.0 * margin, 3) << " % of the critical depth";
+  if (model.vibration) out << "; duty cycle " << human(b.duty_cycle);
+  out << "\n";
+  json conventional;
+  if (model.vibration) {
+    TurningStabilityOptions exact = options;
+    exact.method = TurningMethod::kClosedForm;
+    const TurningBoundary cb = turning_critical_depth(model.conventional(), args.rpm, exact);
+    const bool conv_stable = !cb.boundary.found || depth < cb.boundary.depth_m;
+    out << "  conventional turning: critical depth " << depth_text(cb.boundary) << ", "
+        << (conv_stable ? "stable" : "unstable") << " at this depth\n";
+    conventional = {{"critical_depth_mm", m_to_mm(cb.boundary.depth_m)},
+                    {"chatter_hz", cb.boundary.chatter_hz},
+                    {"stable", conv_stable}};
+  }
+  if (!args.json.empty()) {
+    io::OutputTransaction outputs;
+    json doc{{"command", "check"},
+             {"case", io::to_json(c)},
+             {"source", c.source},
+             {"method", to_string(method)},
+             {"spindle_rpm", args.rpm},
+             {"depth_mm", args.depth_mm},
+             {"stable", stable},
+             {"critical_depth_mm", m_to_mm(b.boundary.depth_m)},
+             {"beyond_limit", !b.boundary.found},
+             {"margin", margin},
+             {"chatter_hz", b.boundary.chatter_hz},
+             {"lobe", b.lobe},
+             {"duty_cycle", b.duty_cycle}};
+    if (!conventional.is_null()) doc["conventional"] = conventional;
+    io::write_json(outputs.open(args.json), doc);
+    outputs.commit();
+    out << "  wrote " << args.json << "\n";
+  }
+  return 0;
+}
+
+int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream&) {
+  check_outputs(args.outputs);
+  const io::Case c = load_case(args.case_path, kDefaultTurningCase);
+  const TurningModel model = turning_model(c, "simulate");
+  Validator v;
+  TurningSimulationOptions o;
+  const auto rpm = args.rpm ? args.rpm : c.simulate.rpm;
+  const auto depth_m = args.depth_mm ? std::optional(mm_to_m(*args.depth_mm)) : c.simulate.depth_m;
+  if (!rpm) v.add("simulate.rpm: missing (give it in the case or as --rpm)");
+  if (!depth_m) v.add("simulate.depth_mm: missing (give it in the case or as --depth-mm)");
+  if (!c.cutting.uncut_chip_thickness_m)
+    v.add("cutting.uncut_chip_thickness_mm: missing (required by `cutdyn simulate`: the feed per "
+          "revolution)");
+  v.throw_if_any(c.source);
+  o.rpm = *rpm;
+  o.depth_m = *depth_m;
+  o.feed_m = *c.cutting.uncut_chip_thickness_m;
+  o.duration_s = args.duration_s.value_or(c.simulate.duration_s);
+  o.initial_displacement_m = c.simulate.initial_displacement_m;
+  if (const auto problems = o.validate(); !problems.empty()) {
+    std::vector<std::string> named;
+    for (const auto& p : problems) named.push_back("simulate: " + p);
+    throw InvalidInput(named, args.rpm || args.depth_mm || args.duration_s ? "command line" : c.source);
+  }
+
+  const bool from_flags = args.rpm || args.depth_mm || args.duration_s;
+  const std::string where = from_flags ? "command line" : c.source;
+  rethrow_as(where, "simulate", [&] { check_speed_domain(model, o.rpm); });
+  struct Run {
+    std::string name;
+    TurningModel model;
+    TurningSimulationResult result;
+    TurningBoundary predicted;
+  };
+  std::vector<Run> runs;
+  runs.push_back({model.vibration ? "vibration-assisted" : "conventional", model, {}, {}});
+  if (model.vibration) runs.push_back({"conventional", model.conventional(), {}, {}});
+  TurningStabilityOptions so = stability_options(c, TurningMethod::kFullDiscretization);
+  so.depth_max_m = std::max(so.depth_max_m, 4.0 * o.depth_m);
+  for (Run& r : runs) {
+    rethrow_as(where, "simulate", [&] { r.result = simulate_turning(r.model, o); });
+    so.method = r.model.vibration ? TurningMethod::kFullDiscretization : TurningMethod::kClosedForm;
+    r.predicted = turning_critical_depth(r.model, o.rpm, so);
+  }
+
+  out << "cutdyn simulate: " << c.source << " at " << human(o.rpm) << " rpm, depth "
+      << human(m_to_mm(o.depth_m)) << " mm, feed " << human(m_to_mm(o.feed_m)) << " mm/rev, "
+      << human(o.duration_s) << " s\n";
+  out << "  " << describe_model(model) << "\n";
+  for (const Run& r : runs) {
+    const auto& s = r.result;
+    out << fmt::format("  {:<19} {:<9} growth rate {:+.3g} 1/s; amplitude {} → {} µm over {} revolutions{}\n",
+                       r.name + ":", s.chatter ? "GROWS" : "decays", s.growth_rate_per_s,
+                       human(units::m_to_um(s.revolution_amplitude_m.empty() ? 0.0 : s.revolution_amplitude_m.front()), 3),
+                       human(units::m_to_um(s.revolution_amplitude_m.empty() ? 0.0 : s.revolution_amplitude_m.back()), 3),
+                       s.revolution_amplitude_m.size(),
+                       s.lost_contact ? fmt::format("; tool left the cut at {:.3f} s", s.contact_loss_time_s) : "");
+    out << "  " << std::string(20, ' ') << "predicted critical depth " << depth_text(r.predicted.boundary)
+        << " → depth is " << human(100.0 * o.depth_m / r.predicted.boundary.depth_m, 3)
+        << " % of it\n";
+  }
+
+  io::OutputTransaction outputs;
+  if (!args.outputs.csv.empty()) {
+    io::CsvWriter csv(outputs.open(args.outputs.csv),
+                      {"process", "time_s", "displacement_um", "force_n", "chip_thickness_um"});
+    for (const Run& r : runs)
+      for (std::size_t i = 0; i < r.result.time_s.size(); ++i)
+        csv.row({r.name, r.result.time_s[i], units::m_to_um(r.result.displacement_m[i]),
+                 r.result.force_n[i], units::m_to_um(r.result.chip_thickness_m[i])});
+  }
+  if (!args.outputs.json.empty()) {
+    json results = json::array();
+    for (const Run& r : runs) {
+      const auto& s = r.result;
+      results.push_back({{"process", r.name},
+                         {"chatter", s.chatter},
+                         {"growth_rate_per_s", s.growth_rate_per_s},
+                         {"lost_contact", s.lost_contact},
+                         {"contact_loss_time_s", s.contact_loss_time_s},
+                         {"duty_cycle", s.duty_cycle},
+                         {"static_deflection_um", units::m_to_um(s.static_deflection_m)},
+                         {"first_revolution_amplitude_um", units::m_to_um(s.revolution_amplitude_m.front())},
+                         {"last_revolution_amplitude_um", units::m_to_um(s.revolution_amplitude_m.back())},
+                         {"predicted_critical_depth_mm", m_to_mm(r.predicted.boundary.depth_m)},
+                         {"step_s", s.step_s},
+                         {"steps", s.steps}});
+    }
+    json doc{{"command", "simulate"}, {"case", io::to_json(c)}, {"source", c.source},
+             {"spindle_rpm", o.rpm}, {"depth_mm", m_to_mm(o.depth_m)},
+             {"feed_mm", m_to_mm(o.feed_m)}, {"duration_s", o.duration_s},
+             {"results", std::move(results)}};
+    io::write_json(outputs.open(args.outputs.json), doc);
+  }
+  if (!args.outputs.plot.empty()) {
+    io::PlotSpec spec;
+    spec.title = fmt::format("Tool vibration at {} rpm, depth {} mm", human(o.rpm),
+                             human(m_to_mm(o.depth_m)));
+    spec.x_label = "time (s)";
+    spec.y_label = "tool displacement in the feed direction (µm)";
+    for (auto it = runs.rbegin(); it != runs.rend(); ++it) {  // the case's own process on top
+      const Run& r = *it;
+      io::PlotSeries s{r.name, r.result.time_s, {}, "lines"};
+      for (double y : r.result.displacement_m) s.y.push_back(units::m_to_um(y));
+      spec.series.push_back(std::move(s));
+    }
+    io::write_plot(spec, args.outputs.plot, outputs);
+  }
+  outputs.commit();
+  for (const std::string* f : {&args.outputs.csv, &args.outputs.json, &args.outputs.plot})
+    if (!f->empty()) out << "  wrote " << *f << "\n";
+  return 0;
+}
+
+int run_force(const ForceArgs& args, std::ostream& out, std::ostream&) {
+  check_outputs({"", args.json, args.plot});
+  const io::Case c = load_case(args.case_path, kDefaultForceCase);
+  require_turning(c, "force");
+  Validator v;
+  const auto need = [&](const std::optional<double>& x, const char* key) {
+    if (!x) v.add(std::string("cutting.") + key + ": missing (required by `cutdyn force`)");
+  };
+  need(c.cutting.kc_pa, "kc_n_per_mm2");
+  need(c.cutting.kt_pa, "kt_n_per_mm2");
+  need(c.cutting.uncut_chip_thickness_m, "uncut_chip_thickness_mm");
+  need(c.cutting.width_m, "width_mm");
+  if (c.vibration && !c.vibration->duty_cycle && !c.cutting.speed_m_per_s)
+    v.add("cutting.speed_m_per_min: missing (required by `cutdyn force` to compute the duty cycle; "
+          "or give vibration.duty_cycle)");
+  v.throw_if_any(c.source);
+
+  DutyCycle dc;  // conventional: r = 1
+  if (c.vibration) {
+    dc = c.vibration->duty_cycle
+             ? fixed_duty_cycle(*c.vibration->duty_cycle, c.vibration->frequency_hz)
+             : duty_cycle(*c.cutting.speed_m_per_s, c.vibration->frequency_hz,
+                          *c.vibration->amplitude_m);
+  }
+  const double h = *c.cutting.uncut_chip_thickness_m, w = *c.cutting.width_m;
+  const PulsedForces f = pulsed_forces(*c.cutting.kc_pa, *c.cutting.kt_pa, h, w, dc.ratio);
+
+  out << "cutdyn force: " << c.source << "\n";
+  out << "  Kc = " << human(units::pa_to_n_per_mm2(*c.cutting.kc_pa)) << " N/mm², Kt = "
+      << human(units::pa_to_n_per_mm2(*c.cutting.kt_pa)) << " N/mm²; h = " << human(m_to_mm(h))
+      << " mm, w = " << human(m_to_mm(w)) << " mm";
+  if (c.cutting.speed_m_per_s)
+    out << ", v = " << human(units::m_per_s_to_m_per_min(*c.cutting.speed_m_per_s)) << " m/min";
+  out << "\n";
+  json vib;
+  if (c.vibration) {
+    const double T = dc.period_s;
+    out << "  vibration " << human(c.vibration->frequency_hz) << " Hz";
+    if (c.vibration->amplitude_m) {
+      out << ", " << human(units::m_to_um(*c.vibration->amplitude_m)) << " µm: critical speed 2πfA = "
+          << human(units::m_per_s_to_m_per_min(dc.critical_speed_m_per_s)) << " m/min";
+    }
+    out << "\n  duty cycle r = " << human(dc.ratio) << "; period " << human(T * 1e6) << " µs: "
+        << human(dc.ratio * T * 1e6) << " µs in contact, " << human((1.0 - dc.ratio) * T * 1e6)
+        << " µs separated\n";
+    if (dc.separates && !c.vibration->duty_cycle) {
+      out << "  separation starts at phase " << human(units::rad_to_deg(dc.separation_phase_rad))
+          << "°, contact resumes at " << human(units::rad_to_deg(dc.contact_phase_rad)) << "° (ρ = v/2πfA = "
+          << human(dc.rho) << ")\n";
+    } else if (!dc.separates) {
+      out << "  no separation: the cutting speed is at or above 2πfA\n";
+    }
+    vib = {{"duty_cycle", dc.ratio},
+           {"period_s", T},
+           {"contact_time_s", dc.ratio * T},
+           {"separation_time_s", (1.0 - dc.ratio) * T},
+           {"separates", dc.separates}};
+    if (c.vibration->amplitude_m && !c.vibration->duty_cycle) {
+      vib["critical_speed_m_per_min"] = units::m_per_s_to_m_per_min(dc.critical_speed_m_per_s);
+      vib["rho"] = dc.rho;
+      if (dc.separates) {
+        vib["separation_phase_deg"] = units::rad_to_deg(dc.separation_phase_rad);
+        vib["contact_phase_deg"] = units::rad_to_deg(dc.contact_phase_rad);
+      }
+    }
+  }
+  out << "  cutting force " << human(f.peak_cutting_n) << " N while cutting, mean "
+      << human(f.mean_cutting_n) << " N\n";
+  out << "  thrust force  " << human(f.peak_thrust_n) << " N while cutting, mean "
+      << human(f.mean_thrust_n) << " N\n";
+
+  io::OutputTransaction outputs;
+  if (!args.json.empty()) {
+    json doc{{"command", "force"},
+             {"case", io::to_json(c)},
+             {"source", c.source},
+             {"kc_n_per_mm2", units::pa_to_n_per_mm2(*c.cutting.kc_pa)},
+             {"kt_n_per_mm2", units::pa_to_n_per_mm2(*c.cutting.kt_pa)},
+             {"cutting_force_n", f.peak_cutting_n},
+             {"thrust_force_n", f.peak_thrust_n},
+             {"mean_cutting_force_n", f.mean_cutting_n},
+             {"mean_thrust_force_n", f.mean_thrust_n},
+             {"duty_cycle", dc.ratio}};
+    if (!vib.is_null()) doc["vibration"] = vib;
+    io::write_json(outputs.open(args.json), doc);
+  }
+  if (!args.plot.empty()) {
+    // Three vibration periods of the pulsed forces g(t)·K·h·w (or a flat line).
+    const ContactWindow g = dc.window();
+    const double T = c.vibration ? dc.period_s : 1e-3;
+    io::PlotSpec spec;
+    spec.title = c.vibration ? "Pulsed cutting forces of vibration-assisted turning" : "Cutting forces";
+    spec.x_label = "time (µs)";
+    spec.y_label = "force (N)";
+    spec.y_min = 0.0;
+    spec.y_max = 1.15 * std::max(f.peak_cutting_n, f.peak_thrust_n);
+    io::PlotSeries fc{"cutting force", {}, {}, "lines"}, ft{"thrust force", {}, {}, "lines"};
+    const int n = 1500;
+    for (int i = 0; i <= n; ++i) {
+      const double t = 3.0 * T * i / n;
+      const double on = g.in_contact(t) ? 1.0 : 0.0;
+      fc.x.push_back(t * 1e6);
+      fc.y.push_back(on * f.peak_cutting_n);
+      ft.x.push_back(t * 1e6);
+      ft.y.push_back(on * f.peak_thrust_n);
+    }
+    spec.series = {fc, ft};
+    io::write_plot(spec, args.plot, outputs);
+  }
+  outputs.commit();
+  for (const std::string* file : {&args.json, &args.plot})
+    if (!file->empty()) out << "  wrote " << *file << "\n";
+  return 0;
+}
+
+}  // namespace cutdyn::cli

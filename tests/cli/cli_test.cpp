@@ -1,0 +1,277 @@
+// The `cutdyn` command line, run in-process through cli::run (and once as a real process).
+#include "cli/app.hpp"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "cutdyn/io/case_file.hpp"
+
+namespace cutdyn::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int code;
+  std::string out;
+  std::string err;
+};
+
+Result cutdyn(std::vector<std::string> args) {
+  std::ostringstream out, err;
+  const int code = run(args, out, err);
+  return {code, out.str(), err.str()};
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("cutdyn-cli-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path(name)) << text;
+    return path(name);
+  }
+  // The default example with one line replaced.
+  std::string variant(const std::string& from, const std::string& to) const {
+    std::string text(*io::example_text("turning-ultrasonic"));
+    const auto at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+    return write("case.toml", text);
+  }
+  std::vector<std::string> files() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+  // A run that must fail with exit 2, name `needle` on stderr and leave no output file.
+  void expect_rejected(std::vector<std::string> args, const std::string& needle) {
+    const auto before = files();
+    const Result r = cutdyn(args);
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find(needle), std::string::npos) << "stderr: " << r.err;
+    EXPECT_EQ(r.err.rfind("cutdyn: error: ", 0), 0u) << r.err;
+    EXPECT_EQ(files(), before) << "a rejected run wrote files";
+  }
+
+  fs::path dir_;
+};
+
+std::vector<std::string> csv_lines(const std::string& file) {
+  std::ifstream in(file);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+TEST_F(Cli, VersionHelpAndExamples) {
+  EXPECT_EQ(cutdyn({"--version"}).out.rfind("cutdyn ", 0), 0u);
+  const Result help = cutdyn({"--help"});
+  EXPECT_EQ(help.code, 0);
+  for (const char* cmd : {"example", "lobes", "check", "simulate", "force"})
+    EXPECT_NE(help.out.find(cmd), std::string::npos) << cmd;
+  EXPECT_NE(cutdyn({"lobes", "--help"}).out.find("--plot"), std::string::npos);
+  const Result list = cutdyn({"example", "--list"});
+  EXPECT_NE(list.out.find("turning-ultrasonic"), std::string::npos);
+  const Result text = cutdyn({"example", "turning-ultrasonic"});
+  EXPECT_EQ(text.out, std::string(*io::example_text("turning-ultrasonic")));
+  // The printed example is a valid case file.
+  EXPECT_NO_THROW(io::parse_case(text.out, "printed"));
+}
+
+TEST_F(Cli, LobesWritesCsvJsonAndPlotForTheDefaultCase) {
+  const Result r = cutdyn({"lobes", "--out", path("l.csv"), "--json", path("l.json"), "--plot",
+                           path("l.svg")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(files(), (std::vector<std::string>{"l.csv", "l.dat", "l.gp", "l.json", "l.svg"}));
+  const auto lines = csv_lines(path("l.csv"));
+  ASSERT_EQ(lines.size(), 201u);  // header + 200 speeds
+  EXPECT_EQ(lines[0].rfind("spindle_rpm,critical_depth_mm,chatter_hz,lobe", 0), 0u);
+  double previous = 0.0;
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const double rpm = std::stod(lines[i]);
+    EXPECT_GT(rpm, previous);
+    previous = rpm;
+    EXPECT_EQ(lines[i].find("nan"), std::string::npos);
+  }
+  const auto doc = nlohmann::json::parse(std::ifstream(path("l.json")));
+  EXPECT_EQ(doc["method"], "full-discretization");
+  EXPECT_EQ(doc["case"]["vibration"]["duty_cycle"], 0.6);
+  ASSERT_EQ(doc["points"].size(), 200u);
+  // At 500 rpm: vibration-assisted = conventional / r (f ≫ fn), conventional = Tlusty.
+  const auto& first = doc["points"][0];
+  EXPECT_NEAR(first["spindle_rpm"].get<double>(), 500.0, 1e-9);
+  EXPECT_NEAR(first["conventional_depth_mm"].get<double>(), 5.3778, 1e-3);
+  EXPECT_NEAR(first["critical_depth_mm"].get<double>(), 5.3778 / 0.6, 0.02);
+  EXPECT_NEAR(first["chatter_hz"].get<double>(), 231.2, 0.1);
+  EXPECT_NE(r.out.find("lowest critical depth"), std::string::npos);
+}
+
+TEST_F(Cli, LobesMethodsAgreeOnTheConventionalCase) {
+  const std::string conventional(*io::example_text("turning-conventional"));
+  const auto file = write("c.toml", conventional);
+  std::vector<nlohmann::json> docs;
+  for (const char* method : {"closed-form", "full-discretization", "multi-frequency"}) {
+    const std::string out = path(std::string(method) + ".json");
+    ASSERT_EQ(cutdyn({"lobes", file, "--method", method, "--json", out}).code, 0);
+    docs.push_back(nlohmann::json::parse(std::ifstream(out)));
+  }
+  for (std::size_t i = 0; i < 200; i += 7) {
+    const double exact = docs[0]["points"][i]["critical_depth_mm"];
+    EXPECT_NEAR(docs[1]["points"][i]["critical_depth_mm"].get<double>(), exact, 0.01 * exact);
+    EXPECT_NEAR(docs[2]["points"][i]["critical_depth_mm"].get<double>(), exact, 1e-6 * exact);
+  }
+}
+
+TEST_F(Cli, CheckReportsStabilityAndMargin) {
+  const Result stable = cutdyn({"check", "--rpm", "1400", "--depth-mm", "10", "--json", path("c.json")});
+  ASSERT_EQ(stable.code, 0) << stable.err;
+  EXPECT_NE(stable.out.find("STABLE"), std::string::npos);
+  const auto doc = nlohmann::json::parse(std::ifstream(path("c.json")));
+  EXPECT_TRUE(doc["stable"].get<bool>());
+  EXPECT_NEAR(doc["critical_depth_mm"].get<double>(), 6.7364 / 0.6, 0.02);
+  EXPECT_NEAR(doc["margin"].get<double>(), 1.0 - 10.0 / doc["critical_depth_mm"].get<double>(), 1e-12);
+  EXPECT_FALSE(doc["conventional"]["stable"].get<bool>());  // 10 mm > 6.74 mm
+  const Result unstable = cutdyn({"check", "--rpm", "1400", "--depth-mm", "12"});
+  EXPECT_NE(unstable.out.find("UNSTABLE"), std::string::npos);
+}
+
+TEST_F(Cli, SimulateComparesBothProcesses) {
+  const Result r = cutdyn({"simulate", "--duration-s", "1", "--out", path("s.csv"), "--json",
+                           path("s.json"), "--plot", path("s.png")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(std::ifstream(path("s.json")));
+  ASSERT_EQ(doc["results"].size(), 2u);
+  // 10 mm at 1400 rpm: below the vibration-assisted boundary (11.2 mm), above the
+  // conventional one (6.7 mm).
+  EXPECT_EQ(doc["results"][0]["process"], "vibration-assisted");
+  EXPECT_FALSE(doc["results"][0]["chatter"].get<bool>());
+  EXPECT_EQ(doc["results"][1]["process"], "conventional");
+  EXPECT_TRUE(doc["results"][1]["chatter"].get<bool>());
+  const auto lines = csv_lines(path("s.csv"));
+  EXPECT_EQ(lines[0], "process,time_s,displacement_um,force_n,chip_thickness_um");
+  EXPECT_GT(lines.size(), 1000u);
+}
+
+TEST_F(Cli, ForceReportsTheSourceTable1Values) {
+  const Result r = cutdyn({"force", "--json", path("f.json")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(std::ifstream(path("f.json")));
+  EXPECT_NEAR(doc["duty_cycle"].get<double>(), 0.4095, 5e-4);
+  EXPECT_NEAR(doc["mean_cutting_force_n"].get<double>(), 25.8, 0.05);
+  EXPECT_NEAR(doc["mean_thrust_force_n"].get<double>(), 14.7, 0.05);
+  EXPECT_NEAR(doc["cutting_force_n"].get<double>(), 63.0, 1e-9);
+  EXPECT_NEAR(doc["vibration"]["period_s"].get<double>(), 50e-6, 1e-15);
+  EXPECT_NEAR(doc["vibration"]["critical_speed_m_per_min"].get<double>(), 150.796, 1e-3);
+}
+
+// One test per kind of bad input in product.md: exit 2, the key named, no output file.
+TEST_F(Cli, RejectsMissingKey) {
+  const auto file = variant("kt_n_per_mm2 = 850", "");
+  expect_rejected({"lobes", file, "--out", path("o.csv")}, "cutting.kt_n_per_mm2: missing");
+}
+
+TEST_F(Cli, RejectsWrongType) {
+  const auto file = variant("natural_hz = 228.8", "natural_hz = \"228.8\"");
+  expect_rejected({"lobes", file, "--out", path("o.csv")}, "modes[0].natural_hz = \"228.8\"");
+}
+
+TEST_F(Cli, RejectsNegativeMass) {
+  const auto file = variant("stiffness_n_per_m = 2.26e8", "mass_kg = -0.1");
+  expect_rejected({"lobes", file, "--json", path("o.json")}, "modes[0].mass_kg = -0.1");
+}
+
+TEST_F(Cli, RejectsDampingOfOneOrMore) {
+  const auto file = variant("damping_ratio = 0.01", "damping_ratio = 1.0");
+  expect_rejected({"lobes", file, "--out", path("o.csv")}, "modes[0].damping_ratio = 1.0");
+}
+
+TEST_F(Cli, RejectsZeroImmersion) {
+  const auto file = variant("[lobes]", "[operation]\nradial_immersion = 0\n\n[lobes]");
+  expect_rejected({"lobes", file, "--out", path("o.csv")}, "operation.radial_immersion = 0");
+}
+
+TEST_F(Cli, RejectsRpmMinNotBelowRpmMax) {
+  const auto file = variant("rpm_min = 500", "rpm_min = 5000");
+  expect_rejected({"lobes", file, "--out", path("o.csv")}, "lobes.rpm_max = 5000");
+}
+
+TEST_F(Cli, RejectsNan) {
+  const auto file = variant("kt_n_per_mm2 = 850", "kt_n_per_mm2 = nan");
+  expect_rejected({"lobes", file, "--plot", path("o.png")}, "cutting.kt_n_per_mm2 = nan");
+}
+
+TEST_F(Cli, RejectsUnknownKey) {
+  const auto file = variant("rpm_steps = 200", "rpm_stepz = 200");
+  expect_rejected({"lobes", file, "--out", path("o.csv")}, "lobes.rpm_stepz: unknown key (did you mean rpm_steps?)");
+}
+
+TEST_F(Cli, RejectsAbsurdGrid) {
+  const auto file = variant("rpm_steps = 200", "rpm_steps = 50000000");
+  expect_rejected({"lobes", file, "--out", path("o.csv")}, "lobes.rpm_steps = 50000000");
+  const auto slow = variant("rpm_min = 500", "rpm_min = 0.01");
+  expect_rejected({"lobes", slow, "--out", path("o.csv")}, "lobes.rpm_min: spindle speed = 0.01 rpm");
+}
+
+TEST_F(Cli, RejectsSyntaxErrorWithLine) {
+  const auto file = write("bad.toml", "process = \"turning\"\n[[modes]\n");
+  expect_rejected({"lobes", file, "--out", path("o.csv")}, "bad.toml: line 2");
+}
+
+TEST_F(Cli, RejectsBadCommandLine) {
+  expect_rejected({"lobes", "--method", "fast", "--out", path("o.csv")}, "--method = \"fast\"");
+  expect_rejected({"lobes", "--plot", path("o.jpg")}, "unsupported figure format");
+  expect_rejected({"lobes", "--out", path("missing/o.csv")}, "does not exist");
+  expect_rejected({"check", "--depth-mm", "3"}, "--rpm is required");
+  expect_rejected({"check", "--rpm", "-5", "--depth-mm", "3"}, "--rpm = -5");
+  expect_rejected({"lobes", path("none.toml")}, "cannot read the file");
+  expect_rejected({"example", "nope"}, "available: ");
+  expect_rejected({"frobnicate"}, "frobnicate");
+}
+
+TEST_F(Cli, RejectsMissingFeedForSimulation) {
+  const auto file = variant("uncut_chip_thickness_mm = 0.05", "");
+  expect_rejected({"simulate", file, "--out", path("o.csv")}, "cutting.uncut_chip_thickness_mm: missing");
+}
+
+TEST_F(Cli, RejectsMillingForNow) {
+  const auto file = variant("process = \"turning\"", "process = \"milling\"");
+  expect_rejected({"lobes", file, "--out", path("o.csv")}, "process = \"milling\"");
+}
+
+TEST_F(Cli, RealProcessExitCodesAndStreams) {
+  const std::string bin = CUTDYN_BINARY;
+  const auto file = variant("damping_ratio = 0.01", "damping_ratio = -1");
+  const std::string cmd = bin + " lobes " + file + " --out " + path("o.csv") + " 2>" + path("err.txt") +
+                          " >" + path("out.txt");
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 2);
+  std::ifstream err(path("err.txt"));
+  std::string line;
+  std::getline(err, line);
+  EXPECT_EQ(line, "cutdyn: error: " + file + ": modes[0].damping_ratio = -1: must be at least 0 and less than 1");
+  EXPECT_FALSE(fs::exists(path("o.csv")));
+}
+
+}  // namespace
+}  // namespace cutdyn::cli
