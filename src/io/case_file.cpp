@@ -342,17 +342,14 @@ class TableReader {
   std::vector<std::string_view> known_;
 };
 
-// ---- unit conversions at the file's edge -------------------------------------------------
-// Divisions rather than products with 1e-3 etc., so that e.g. 30 mm is exactly the double
-// nearest 0.03 m.
-double mm_to_m(double mm) { return mm / 1e3; }
-double um_to_m(double um) { return um / 1e6; }
-double m_to_mm(double m) { return m * 1e3; }
-double m_to_um(double m) { return m * 1e6; }
-double n_per_mm2_to_pa(double v) { return v * 1e6; }
-double pa_to_n_per_mm2(double v) { return v / 1e6; }
-double m_per_min_to_m_per_s(double v) { return v / 60.0; }
-double m_per_s_to_m_per_min(double v) { return v * 60.0; }
+using units::m_per_min_to_m_per_s;
+using units::m_per_s_to_m_per_min;
+using units::m_to_mm;
+using units::m_to_um;
+using units::mm_to_m;
+using units::n_per_mm2_to_pa;
+using units::pa_to_n_per_mm2;
+using units::um_to_m;
 
 // ---- sections ----------------------------------------------------------------------------
 
