@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cutdyn/io/case_file.hpp"
+#include "support/temp_dir.hpp"
 
 namespace cutdyn::cli {
 namespace {
@@ -33,17 +34,8 @@ Result cutdyn(std::vector<std::string> args) {
   return {code, out.str(), err.str()};
 }
 
-class Cli : public ::testing::Test {
+class Cli : public testing::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("cutdyn-cli-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
   std::string write(const std::string& name, const std::string& text) const {
     std::ofstream(path(name)) << text;
@@ -57,12 +49,7 @@ class Cli : public ::testing::Test {
     text.replace(at, from.size(), to);
     return write("case.toml", text);
   }
-  std::vector<std::string> files() const {
-    std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
-    std::sort(names.begin(), names.end());
-    return names;
-  }
+  std::vector<std::string> files() const { return testing::listing(dir_); }
   // A run that must fail with exit 2, name `needle` on stderr and leave no output file.
   void expect_rejected(std::vector<std::string> args, const std::string& needle) {
     const auto before = files();
@@ -72,8 +59,6 @@ class Cli : public ::testing::Test {
     EXPECT_EQ(r.err.rfind("cutdyn: error: ", 0), 0u) << r.err;
     EXPECT_EQ(files(), before) << "a rejected run wrote files";
   }
-
-  fs::path dir_;
 };
 
 std::vector<std::string> csv_lines(const std::string& file) {
