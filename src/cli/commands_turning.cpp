@@ -171,6 +171,7 @@ int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
     for (const LobePoint& p : conv.points) reference.push_back(p.boundary);
   }
 
+  if (report.status != LobesStatus::kSuccess) err << "cutdyn: warning: " << report.message << "\n";
   // Summary for people.
   const auto& pts = report.points;
   std::size_t lowest = 0;

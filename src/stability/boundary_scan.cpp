@@ -130,7 +130,10 @@ BoundaryScanReport scan_boundary(const MatrixFunction& evaluate,
     };
     const auto root = brent_root([&](double theta) { return follow(theta).imag(); }, c.theta_a,
                                  c.theta_b, o.theta_tol * (c.theta_b - c.theta_a), 100);
-    if (!root) continue;
+    if (!root || !root->converged) {
+      ++report.unresolved;
+      continue;
+    }
     const double t = (root->x - c.theta_a) / (c.theta_b - c.theta_a);
     auto [lambda, vec] = ev.nearest(root->x, c.lambda_a + t * (c.lambda_b - c.lambda_a));
     if (!(lambda.real() >= o.min_eigenvalue)) continue;

@@ -6,6 +6,7 @@
 
 #include <unsupported/Eigen/MatrixFunctions>
 
+#include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/stability/boundary_scan.hpp"
 #include "cutdyn/stability/lobes.hpp"
@@ -140,7 +141,20 @@ double shortest_structural_period(const DelayedSystem& s) {
 
 }  // namespace
 
+std::vector<std::string> FdOptions::validate() const {
+  Validator v;
+  v.require(max_step_fraction > 0.0 && max_step_fraction <= 0.5, "max_step_fraction",
+            max_step_fraction, "", "must be greater than 0 and at most 0.5");
+  v.require(steps_per_period >= 0 && steps_per_period <= 100000, "steps_per_period",
+            steps_per_period, "", "must be 0 (automatic) to 100000");
+  v.require_positive("depth_max_m", depth_max_m, "m");
+  v.require(samples_per_turn >= 4.0 && samples_per_turn <= 1000.0, "samples_per_turn",
+            samples_per_turn, "", "must be 4 to 1000");
+  return v.problems();
+}
+
 FdGrid fd_grid(const DelayedSystem& s, const FdOptions& o) {
+  require_valid(s, o.validate());
   FdGrid grid;
   double h_max = o.max_step_fraction * shortest_structural_period(s);
   h_max = std::min(h_max, s.delay_s);  // the delayed value of a step's end must be known
@@ -368,6 +382,7 @@ CriticalDepth fd_critical_depth(const DelayedSystem& s, const FdOptions& o) {
   scan.real_at_ends = true;
   const BoundaryScanReport report = scan_boundary(evaluate, scan);
   result.evaluations = report.evaluations;
+  result.unresolved = report.unresolved;
   if (report.points.empty()) return result;
 
   const BoundaryPoint& best = report.points.front();

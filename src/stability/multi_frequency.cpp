@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/stability/boundary_scan.hpp"
 
@@ -36,8 +37,25 @@ double response_limit_rad_s(const DelayedSystem& system, double coefficient_norm
   return w;
 }
 
+std::vector<std::string> MultiFrequencyOptions::validate() const {
+  Validator v;
+  v.require(harmonics >= 0 && harmonics <= 50, "harmonics", harmonics, "", "must be 0 to 50");
+  v.require_positive("depth_max_m", depth_max_m, "m");
+  v.require(samples_per_turn >= 4.0 && samples_per_turn <= 1000.0, "samples_per_turn",
+            samples_per_turn, "", "must be 4 to 1000");
+  return v.problems();
+}
+
+void require_valid(const DelayedSystem& system, const std::vector<std::string>& option_problems) {
+  Validator v;
+  v.merge(system.validate());
+  v.merge(option_problems);
+  v.throw_if_any("stability analysis");
+}
+
 CriticalDepth multi_frequency_critical_depth(const DelayedSystem& system,
                                              const MultiFrequencyOptions& o) {
+  require_valid(system, o.validate());
   const int r = system.outputs();
   const bool periodic = !system.H.constant && o.harmonics > 0;
   const int P = periodic ? o.harmonics : 0;
@@ -89,6 +107,7 @@ CriticalDepth multi_frequency_critical_depth(const DelayedSystem& system,
   CriticalDepth result;
   result.depth_m = o.depth_max_m;
   result.evaluations = report.evaluations;
+  result.unresolved = report.unresolved;
   if (report.points.empty()) return result;
   const BoundaryPoint& best = report.points.front();
   result.found = true;

@@ -109,7 +109,10 @@ TlustyResult tlusty_critical_depth(const ModalModel& model, Direction direction,
     if (result.boundary.found && b.estimate > 1.5 * result.boundary.depth_m) break;
     const auto root = brent_root([&](double w) { return phase(w) - b.lobe; }, b.lo, b.hi,
                                  1e-13 * b.hi);
-    if (!root) continue;
+    if (!root || !root->converged) {
+      ++result.boundary.unresolved;
+      continue;
+    }
     result.boundary.evaluations += root->evaluations;
     const auto g = frf(model, direction, root->x);
     if (!(g.real() < 0.0)) continue;

@@ -81,10 +81,7 @@ std::vector<std::string> TurningStabilityOptions::validate() const {
   Validator v;
   v.require_positive("depth_max_m", depth_max_m, "m");
   v.require(harmonics >= 0 && harmonics <= 50, "harmonics", harmonics, "", "must be 0 to 50");
-  v.require(fd.steps_per_period >= 0 && fd.steps_per_period <= 100000, "fd.steps_per_period",
-            fd.steps_per_period, "", "must be 0 (automatic) to 100000");
-  v.require(fd.max_step_fraction > 0.0 && fd.max_step_fraction <= 0.5, "fd.max_step_fraction",
-            fd.max_step_fraction, "", "must be greater than 0 and at most 0.5");
+  for (const std::string& p : fd.validate()) v.add("fd." + p);
   return v.problems();
 }
 
@@ -123,6 +120,10 @@ void check_speed_domain(const TurningModel& model, double rpm) {
 
 TurningBoundary turning_critical_depth(const TurningModel& model, double rpm,
                                        const TurningStabilityOptions& o) {
+  Validator v;
+  v.merge(model.validate());
+  v.merge(o.validate());
+  v.throw_if_any("turning stability");
   check_speed_domain(model, rpm);
   TurningBoundary out;
   out.duty_cycle = model.vibration ? model.vibration->at_rpm(rpm).ratio : 1.0;

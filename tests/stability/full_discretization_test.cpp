@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "cutdyn/core/error.hpp"
 #include "cutdyn/stability/multi_frequency.hpp"
 #include "cutdyn/stability/tlusty.hpp"
 #include "support/reference_cases.hpp"
@@ -130,6 +131,24 @@ TEST(FullDiscretization, LowFrequencyVibrationAgreesWithMultiFrequency) {
     const double a = turning_critical_depth(m, rpm, fd).boundary.depth_m;
     const double b = turning_critical_depth(m, rpm, mf).boundary.depth_m;
     EXPECT_NEAR(a, b, 0.02 * b) << "rpm " << rpm;
+  }
+}
+
+TEST(FullDiscretization, RejectsAnUndampedStructureAndBadOptions) {
+  TurningModel m = table2_conventional();
+  DelayedSystem s = turning_system(m, 2000.0);
+  s.A0(1, 1) = 0.0;  // no damping: not asymptotically stable alone
+  EXPECT_THROW(fd_critical_depth(s, FdOptions{}), InvalidInput);
+  FdOptions bad;
+  bad.max_step_fraction = 0.0;
+  EXPECT_THROW(fd_critical_depth(turning_system(m, 2000.0), bad), InvalidInput);
+  try {
+    MultiFrequencyOptions o;
+    o.harmonics = -1;
+    multi_frequency_critical_depth(turning_system(m, 2000.0), o);
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("harmonics = -1"), std::string::npos) << e.what();
   }
 }
 

@@ -45,6 +45,10 @@ struct BoundaryPoint {
 struct BoundaryScanReport {
   std::vector<BoundaryPoint> points;  // refined crossings, by increasing depth
   long long evaluations = 0;          // number of K evaluations
+  /// Candidates that could have been the smallest depth but whose crossing Brent's method
+  /// could not pin down (the followed eigenvalue did not change sign on the bracket); the
+  /// result may then be too deep. Zero in every case the tests know.
+  int unresolved = 0;
 };
 
 /// `evaluate(θ, K)` fills K (it may reuse K's storage). Returning false means "no

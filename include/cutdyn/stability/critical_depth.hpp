@@ -13,6 +13,9 @@ struct CriticalDepth {
   bool found = false;
   /// Work done: matrix evaluations, eigenvalue problems or stability tests.
   long long evaluations = 0;
+  /// Boundary candidates the method could not resolve (see BoundaryScanReport); when
+  /// non-zero the depth may be too large. Reported by the lobe tracer as a warning.
+  int unresolved = 0;
 };
 
 }  // namespace cutdyn

@@ -22,6 +22,7 @@
 //   multiplier of the same Φ crosses the unit circle, exactly, without forming Φ.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "cutdyn/stability/critical_depth.hpp"
@@ -40,6 +41,8 @@ struct FdOptions {
   int steps_per_period = 0;
   double depth_max_m = 0.03;     // search limit
   double samples_per_turn = 16;  // multiplier-angle samples per 2π of μ^(−τ/T) phase
+
+  std::vector<std::string> validate() const;
 };
 
 /// The time grid of one period.
@@ -50,6 +53,8 @@ struct FdGrid {
 };
 
 FdGrid fd_grid(const DelayedSystem& system, const FdOptions& options);
+
+// The functions below throw cutdyn::InvalidInput if the system or the options are invalid.
 
 /// Transition matrix Φ over one period at width of cut `depth_m` (dense, textbook form).
 Eigen::MatrixXd fd_transition_matrix(const DelayedSystem& system, const FdGrid& grid,

@@ -27,11 +27,16 @@ struct LobePoint {
   int lobe = 0;
 };
 
-enum class LobesStatus { kSuccess, kFailed };
+enum class LobesStatus {
+  kSuccess,
+  /// At some speeds a boundary candidate could not be resolved (CriticalDepth::unresolved);
+  /// those depths may be too large. `message` lists the speeds.
+  kUnresolvedCrossings,
+};
 
 struct LobesReport {
   LobesStatus status = LobesStatus::kSuccess;
-  std::string message;
+  std::string message;  // empty on success
   std::vector<LobePoint> points;  // ascending speed
   double seconds = 0.0;
   long long evaluations = 0;

@@ -13,6 +13,9 @@
 // every frequency at which the structure can respond enough to reach the depth limit.
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "cutdyn/stability/critical_depth.hpp"
 #include "cutdyn/stability/delayed_system.hpp"
 
@@ -22,7 +25,11 @@ struct MultiFrequencyOptions {
   int harmonics = 5;            // P; 0 = averaged
   double depth_max_m = 0.03;    // search limit
   double samples_per_turn = 16; // frequency samples per 2π of delay phase
+
+  std::vector<std::string> validate() const;
 };
+
+/// Throws cutdyn::InvalidInput if the system or the options are invalid.
 
 CriticalDepth multi_frequency_critical_depth(const DelayedSystem& system,
                                              const MultiFrequencyOptions& options);
@@ -31,6 +38,10 @@ CriticalDepth multi_frequency_critical_depth(const DelayedSystem& system,
 /// times twice the largest coefficient is too small there.
 double response_limit_rad_s(const DelayedSystem& system, double coefficient_norm,
                             double depth_max_m);
+
+/// Throws cutdyn::InvalidInput (where = "stability analysis") listing the system's and the
+/// options' problems, if any.
+void require_valid(const DelayedSystem& system, const std::vector<std::string>& option_problems);
 
 /// min over the structure's poles of −Re(pole): the half-bandwidth of the sharpest
 /// resonance (rad/s), which sets how finely a frequency or multiplier grid must sample.
