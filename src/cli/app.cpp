@@ -1,9 +1,8 @@
 #include "cli/app.hpp"
 
+#include <CLI/CLI.hpp>
 #include <exception>
 #include <iostream>
-
-#include <CLI/CLI.hpp>
 
 #include "cli/commands.hpp"
 #include "cutdyn/core/error.hpp"
@@ -42,7 +41,8 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
 
   // lobes
   LobesArgs lobes;
-  auto* lobes_cmd = app.add_subcommand("lobes", "stability lobes: critical depth against spindle speed");
+  auto* lobes_cmd =
+      app.add_subcommand("lobes", "stability lobes: critical depth against spindle speed");
   lobes_cmd->add_option("CASE", lobes.case_path, "case file (TOML)");
   add_outputs(lobes_cmd, lobes.outputs,
               "write the lobes as CSV: spindle_rpm,critical_depth_mm,chatter_hz,lobe,...");
@@ -68,12 +68,14 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   add_outputs(sim_cmd, sim.outputs,
               "write the traces as CSV: process,time_s,displacement_um,force_n,chip_thickness_um");
   sim_cmd->add_option("--rpm", sim.rpm, "spindle speed (rpm), overrides [simulate].rpm");
-  sim_cmd->add_option("--depth-mm", sim.depth_mm, "depth of cut (mm), overrides [simulate].depth_mm");
+  sim_cmd->add_option("--depth-mm", sim.depth_mm,
+                      "depth of cut (mm), overrides [simulate].depth_mm");
   sim_cmd->add_option("--duration-s", sim.duration_s, "simulated time (s)");
 
   // force
   ForceArgs force;
-  auto* force_cmd = app.add_subcommand("force", "cutting forces, duty cycle of vibration-assisted cutting");
+  auto* force_cmd =
+      app.add_subcommand("force", "cutting forces, duty cycle of vibration-assisted cutting");
   force_cmd->add_option("CASE", force.case_path, "case file (TOML)");
   force_cmd->add_option("--json", force.json, "write the results as JSON");
   force_cmd->add_option("--plot", force.plot, "draw the force pulses over three vibration periods");

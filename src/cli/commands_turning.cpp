@@ -1,11 +1,11 @@
 // `cutdyn lobes`, `check`, `simulate` and `force` for turning, conventional and
 // vibration-assisted.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
-
-#include <fmt/format.h>
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
@@ -32,11 +32,16 @@ constexpr std::string_view kDefaultForceCase = "ultrasonic-force";
 TurningMethod resolve_method(const io::Case& c, const TurningModel& m, const std::string& flag) {
   io::StabilityMethod method = c.lobes.method;
   if (!flag.empty()) {
-    if (flag == "auto") method = io::StabilityMethod::kAuto;
-    else if (flag == "closed-form") method = io::StabilityMethod::kClosedForm;
-    else if (flag == "multi-frequency") method = io::StabilityMethod::kMultiFrequency;
-    else if (flag == "full-discretization") method = io::StabilityMethod::kFullDiscretization;
-    else if (flag == "full-discretization-dense") return TurningMethod::kFullDiscretizationDense;
+    if (flag == "auto")
+      method = io::StabilityMethod::kAuto;
+    else if (flag == "closed-form")
+      method = io::StabilityMethod::kClosedForm;
+    else if (flag == "multi-frequency")
+      method = io::StabilityMethod::kMultiFrequency;
+    else if (flag == "full-discretization")
+      method = io::StabilityMethod::kFullDiscretization;
+    else if (flag == "full-discretization-dense")
+      return TurningMethod::kFullDiscretizationDense;
     else
       throw InvalidInput({"--method = \"" + flag +
                           "\": must be auto, closed-form, multi-frequency, full-discretization or "
@@ -44,10 +49,14 @@ TurningMethod resolve_method(const io::Case& c, const TurningModel& m, const std
                          "command line");
   }
   switch (method) {
-    case io::StabilityMethod::kClosedForm: return TurningMethod::kClosedForm;
-    case io::StabilityMethod::kMultiFrequency: return TurningMethod::kMultiFrequency;
-    case io::StabilityMethod::kFullDiscretization: return TurningMethod::kFullDiscretization;
-    case io::StabilityMethod::kAuto: break;
+    case io::StabilityMethod::kClosedForm:
+      return TurningMethod::kClosedForm;
+    case io::StabilityMethod::kMultiFrequency:
+      return TurningMethod::kMultiFrequency;
+    case io::StabilityMethod::kFullDiscretization:
+      return TurningMethod::kFullDiscretization;
+    case io::StabilityMethod::kAuto:
+      break;
   }
   return m.vibration ? TurningMethod::kFullDiscretization : TurningMethod::kClosedForm;
 }
@@ -62,9 +71,9 @@ TurningStabilityOptions stability_options(const io::Case& c, TurningMethod metho
 }
 
 std::string describe_model(const TurningModel& m) {
-  std::string s = fmt::format("turning, {} mode{} in x, Kt = {} N/mm²", m.modal.modes.size(),
-                              m.modal.modes.size() == 1 ? "" : "s",
-                              human(units::pa_to_n_per_mm2(m.kt_pa)));
+  std::string s =
+      fmt::format("turning, {} mode{} in x, Kt = {} N/mm²", m.modal.modes.size(),
+                  m.modal.modes.size() == 1 ? "" : "s", human(units::pa_to_n_per_mm2(m.kt_pa)));
   if (m.vibration) {
     s += fmt::format("; vibration {} Hz", human(m.vibration->frequency_hz));
     if (m.vibration->duty_cycle) {
@@ -218,7 +227,8 @@ int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
     std::vector<std::string> columns{"spindle_rpm", "critical_depth_mm", "chatter_hz", "lobe",
                                      "beyond_limit"};
     if (assisted)
-      columns.insert(columns.end(), {"duty_cycle", "conventional_depth_mm", "conventional_chatter_hz"});
+      columns.insert(columns.end(),
+                     {"duty_cycle", "conventional_depth_mm", "conventional_chatter_hz"});
     io::CsvWriter csv(outputs.open(args.outputs.csv), columns);
     for (std::size_t i = 0; i < pts.size(); ++i) {
       const LobePoint& p = pts[i];
@@ -226,7 +236,8 @@ int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
                                    static_cast<long long>(p.lobe),
                                    static_cast<long long>(p.boundary.found ? 0 : 1)};
       if (assisted) {
-        row.insert(row.end(), {p.duty_cycle, m_to_mm(reference[i].depth_m), reference[i].chatter_hz});
+        row.insert(row.end(),
+                   {p.duty_cycle, m_to_mm(reference[i].depth_m), reference[i].chatter_hz});
       }
       csv.row(row);
     }
@@ -253,8 +264,9 @@ int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
              {"method", to_string(method)},
              {"seconds", report.seconds},
              {"evaluations", report.evaluations},
-             {"lowest", {{"spindle_rpm", pts[lowest].rpm},
-                         {"critical_depth_mm", m_to_mm(pts[lowest].boundary.depth_m)}}},
+             {"lowest",
+              {{"spindle_rpm", pts[lowest].rpm},
+               {"critical_depth_mm", m_to_mm(pts[lowest].boundary.depth_m)}}},
              {"points", std::move(points)}};
     io::write_json(outputs.open(args.outputs.json), doc);
   }
@@ -268,7 +280,9 @@ int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
     spec.y_max = m_to_mm(options.depth_max_m);
     io::PlotSeries main{assisted ? fmt::format("vibration-assisted ({})", to_string(method))
                                  : fmt::format("conventional ({})", to_string(method)),
-                        {}, {}, "stable-region"};
+                        {},
+                        {},
+                        "stable-region"};
     io::PlotSeries ref{"conventional (closed form)", {}, {}, "lines"};
     for (std::size_t i = 0; i < pts.size(); ++i) {
       main.x.push_back(pts[i].rpm);
@@ -364,8 +378,9 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream&) {
   if (!rpm) v.add("simulate.rpm: missing (give it in the case or as --rpm)");
   if (!depth_m) v.add("simulate.depth_mm: missing (give it in the case or as --depth-mm)");
   if (!c.cutting.uncut_chip_thickness_m)
-    v.add("cutting.uncut_chip_thickness_mm: missing (required by `cutdyn simulate`: the feed per "
-          "revolution)");
+    v.add(
+        "cutting.uncut_chip_thickness_mm: missing (required by `cutdyn simulate`: the feed per "
+        "revolution)");
   v.throw_if_any(c.source);
   o.rpm = *rpm;
   o.depth_m = *depth_m;
@@ -375,7 +390,8 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream&) {
   if (const auto problems = o.validate(); !problems.empty()) {
     std::vector<std::string> named;
     for (const auto& p : problems) named.push_back("simulate: " + p);
-    throw InvalidInput(named, args.rpm || args.depth_mm || args.duration_s ? "command line" : c.source);
+    throw InvalidInput(named,
+                       args.rpm || args.depth_mm || args.duration_s ? "command line" : c.source);
   }
 
   const bool from_flags = args.rpm || args.depth_mm || args.duration_s;
@@ -404,15 +420,21 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream&) {
   out << "  " << describe_model(model) << "\n";
   for (const Run& r : runs) {
     const auto& s = r.result;
-    out << fmt::format("  {:<19} {:<9} growth rate {:+.3g} 1/s; amplitude {} → {} µm over {} revolutions{}\n",
-                       r.name + ":", s.chatter ? "GROWS" : "decays", s.growth_rate_per_s,
-                       human(units::m_to_um(s.revolution_amplitude_m.empty() ? 0.0 : s.revolution_amplitude_m.front()), 3),
-                       human(units::m_to_um(s.revolution_amplitude_m.empty() ? 0.0 : s.revolution_amplitude_m.back()), 3),
-                       s.revolution_amplitude_m.size(),
-                       s.lost_contact ? fmt::format("; tool left the cut at {:.3f} s", s.contact_loss_time_s) : "");
-    out << "  " << std::string(20, ' ') << "predicted critical depth " << depth_text(r.predicted.boundary)
-        << " → depth is " << human(100.0 * o.depth_m / r.predicted.boundary.depth_m, 3)
-        << " % of it\n";
+    out << fmt::format(
+        "  {:<19} {:<9} growth rate {:+.3g} 1/s; amplitude {} → {} µm over {} revolutions{}\n",
+        r.name + ":", s.chatter ? "GROWS" : "decays", s.growth_rate_per_s,
+        human(units::m_to_um(s.revolution_amplitude_m.empty() ? 0.0
+                                                              : s.revolution_amplitude_m.front()),
+              3),
+        human(units::m_to_um(s.revolution_amplitude_m.empty() ? 0.0
+                                                              : s.revolution_amplitude_m.back()),
+              3),
+        s.revolution_amplitude_m.size(),
+        s.lost_contact ? fmt::format("; tool left the cut at {:.3f} s", s.contact_loss_time_s)
+                       : "");
+    out << "  " << std::string(20, ' ') << "predicted critical depth "
+        << depth_text(r.predicted.boundary) << " → depth is "
+        << human(100.0 * o.depth_m / r.predicted.boundary.depth_m, 3) << " % of it\n";
   }
 
   io::OutputTransaction outputs;
@@ -428,22 +450,27 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream&) {
     json results = json::array();
     for (const Run& r : runs) {
       const auto& s = r.result;
-      results.push_back({{"process", r.name},
-                         {"chatter", s.chatter},
-                         {"growth_rate_per_s", s.growth_rate_per_s},
-                         {"lost_contact", s.lost_contact},
-                         {"contact_loss_time_s", s.contact_loss_time_s},
-                         {"duty_cycle", s.duty_cycle},
-                         {"static_deflection_um", units::m_to_um(s.static_deflection_m)},
-                         {"first_revolution_amplitude_um", units::m_to_um(s.revolution_amplitude_m.front())},
-                         {"last_revolution_amplitude_um", units::m_to_um(s.revolution_amplitude_m.back())},
-                         {"predicted_critical_depth_mm", m_to_mm(r.predicted.boundary.depth_m)},
-                         {"step_s", s.step_s},
-                         {"steps", s.steps}});
+      results.push_back(
+          {{"process", r.name},
+           {"chatter", s.chatter},
+           {"growth_rate_per_s", s.growth_rate_per_s},
+           {"lost_contact", s.lost_contact},
+           {"contact_loss_time_s", s.contact_loss_time_s},
+           {"duty_cycle", s.duty_cycle},
+           {"static_deflection_um", units::m_to_um(s.static_deflection_m)},
+           {"first_revolution_amplitude_um", units::m_to_um(s.revolution_amplitude_m.front())},
+           {"last_revolution_amplitude_um", units::m_to_um(s.revolution_amplitude_m.back())},
+           {"predicted_critical_depth_mm", m_to_mm(r.predicted.boundary.depth_m)},
+           {"step_s", s.step_s},
+           {"steps", s.steps}});
     }
-    json doc{{"command", "simulate"}, {"case", io::to_json(c)}, {"source", c.source},
-             {"spindle_rpm", o.rpm}, {"depth_mm", m_to_mm(o.depth_m)},
-             {"feed_mm", m_to_mm(o.feed_m)}, {"duration_s", o.duration_s},
+    json doc{{"command", "simulate"},
+             {"case", io::to_json(c)},
+             {"source", c.source},
+             {"spindle_rpm", o.rpm},
+             {"depth_mm", m_to_mm(o.depth_m)},
+             {"feed_mm", m_to_mm(o.feed_m)},
+             {"duration_s", o.duration_s},
              {"results", std::move(results)}};
     io::write_json(outputs.open(args.outputs.json), doc);
   }
@@ -480,8 +507,9 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream&) {
   need(c.cutting.uncut_chip_thickness_m, "uncut_chip_thickness_mm");
   need(c.cutting.width_m, "width_mm");
   if (c.vibration && !c.vibration->duty_cycle && !c.cutting.speed_m_per_s)
-    v.add("cutting.speed_m_per_min: missing (required by `cutdyn force` to compute the duty cycle; "
-          "or give vibration.duty_cycle)");
+    v.add(
+        "cutting.speed_m_per_min: missing (required by `cutdyn force` to compute the duty cycle; "
+        "or give vibration.duty_cycle)");
   v.throw_if_any(c.source);
 
   DutyCycle dc;  // conventional: r = 1
@@ -495,9 +523,9 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream&) {
   const PulsedForces f = pulsed_forces(*c.cutting.kc_pa, *c.cutting.kt_pa, h, w, dc.ratio);
 
   out << "cutdyn force: " << c.source << "\n";
-  out << "  Kc = " << human(units::pa_to_n_per_mm2(*c.cutting.kc_pa)) << " N/mm², Kt = "
-      << human(units::pa_to_n_per_mm2(*c.cutting.kt_pa)) << " N/mm²; h = " << human(m_to_mm(h))
-      << " mm, w = " << human(m_to_mm(w)) << " mm";
+  out << "  Kc = " << human(units::pa_to_n_per_mm2(*c.cutting.kc_pa))
+      << " N/mm², Kt = " << human(units::pa_to_n_per_mm2(*c.cutting.kt_pa))
+      << " N/mm²; h = " << human(m_to_mm(h)) << " mm, w = " << human(m_to_mm(w)) << " mm";
   if (c.cutting.speed_m_per_s)
     out << ", v = " << human(units::m_per_s_to_m_per_min(*c.cutting.speed_m_per_s)) << " m/min";
   out << "\n";
@@ -506,16 +534,17 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream&) {
     const double T = dc.period_s;
     out << "  vibration " << human(c.vibration->frequency_hz) << " Hz";
     if (c.vibration->amplitude_m) {
-      out << ", " << human(units::m_to_um(*c.vibration->amplitude_m)) << " µm: critical speed 2πfA = "
+      out << ", " << human(units::m_to_um(*c.vibration->amplitude_m))
+          << " µm: critical speed 2πfA = "
           << human(units::m_per_s_to_m_per_min(dc.critical_speed_m_per_s)) << " m/min";
     }
-    out << "\n  duty cycle r = " << human(dc.ratio) << "; period " << human(T * 1e6) << " µs: "
-        << human(dc.ratio * T * 1e6) << " µs in contact, " << human((1.0 - dc.ratio) * T * 1e6)
-        << " µs separated\n";
+    out << "\n  duty cycle r = " << human(dc.ratio) << "; period " << human(T * 1e6)
+        << " µs: " << human(dc.ratio * T * 1e6) << " µs in contact, "
+        << human((1.0 - dc.ratio) * T * 1e6) << " µs separated\n";
     if (dc.separates && !c.vibration->duty_cycle) {
       out << "  separation starts at phase " << human(units::rad_to_deg(dc.separation_phase_rad))
-          << "°, contact resumes at " << human(units::rad_to_deg(dc.contact_phase_rad)) << "° (ρ = v/2πfA = "
-          << human(dc.rho) << ")\n";
+          << "°, contact resumes at " << human(units::rad_to_deg(dc.contact_phase_rad))
+          << "° (ρ = v/2πfA = " << human(dc.rho) << ")\n";
     } else if (!dc.separates) {
       out << "  no separation: the cutting speed is at or above 2πfA\n";
     }
@@ -558,7 +587,8 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream&) {
     const ContactWindow g = dc.window();
     const double T = c.vibration ? dc.period_s : 1e-3;
     io::PlotSpec spec;
-    spec.title = c.vibration ? "Pulsed cutting forces of vibration-assisted turning" : "Cutting forces";
+    spec.title =
+        c.vibration ? "Pulsed cutting forces of vibration-assisted turning" : "Cutting forces";
     spec.x_label = "time (µs)";
     spec.y_label = "force (N)";
     spec.y_min = 0.0;

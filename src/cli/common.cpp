@@ -17,10 +17,11 @@ io::Case load_case(const std::string& path, std::string_view default_example) {
 
 void require_turning(const io::Case& c, std::string_view command) {
   if (c.process != io::Process::kTurning) {
-    throw InvalidInput({"process = \"" + std::string(io::to_string(c.process)) + "\": `cutdyn " +
-                        std::string(command) +
-                        "` handles turning in this version (milling stability is not available yet)"},
-                       c.source);
+    throw InvalidInput(
+        {"process = \"" + std::string(io::to_string(c.process)) + "\": `cutdyn " +
+         std::string(command) +
+         "` handles turning in this version (milling stability is not available yet)"},
+        c.source);
   }
 }
 
@@ -30,8 +31,9 @@ TurningModel turning_model(const io::Case& c, std::string_view command) {
   if (!c.cutting.kt_pa)
     v.add("cutting.kt_n_per_mm2: missing (required by `cutdyn " + std::string(command) + "`)");
   if (c.vibration && !c.vibration->duty_cycle && !c.vibration->workpiece_diameter_m)
-    v.add("vibration.workpiece_diameter_mm: missing (required to compute the duty cycle at each "
-          "spindle speed; or give vibration.duty_cycle)");
+    v.add(
+        "vibration.workpiece_diameter_mm: missing (required to compute the duty cycle at each "
+        "spindle speed; or give vibration.duty_cycle)");
   v.throw_if_any(c.source);
   TurningModel m;
   m.modal = c.modal;

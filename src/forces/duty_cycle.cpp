@@ -20,7 +20,8 @@ bool ContactWindow::in_contact(double t) const {
 
 double ContactWindow::mean(double t0, double t1) const {
   if (duty_cycle >= 1.0) return 1.0;
-  // Contact time in [start, s) measured from a period start: C(s) = T·floor(s/T)·r + min(s mod T, rT).
+  // Contact time in [start, s) measured from a period start: C(s) = T·floor(s/T)·r + min(s mod T,
+  // rT).
   const auto contact_until = [&](double t) {
     const double s = t - start_s;
     const double periods = std::floor(s / period_s);

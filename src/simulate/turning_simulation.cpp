@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "cutdyn/core/error.hpp"
@@ -54,12 +53,12 @@ TurningSimulationResult simulate_turning(const TurningModel& model,
   const auto steps = static_cast<long long>(std::ceil(o.duration_s / h));
   constexpr long long kMaxSteps = 200'000'000;
   if (steps > kMaxSteps || per_rev > kMaxSteps / 10) {
-    throw InvalidInput({"duration_s = " + format_value(o.duration_s) + " s at " +
-                        format_value(o.rpm) + " rpm: needs " + std::to_string(steps) +
-                        " steps of " + format_value(h) + " s (and " + std::to_string(per_rev) +
-                        " per revolution); the limit is " + std::to_string(kMaxSteps) +
-                        " (shorten the run or raise the speed)"},
-                       "turning simulation");
+    throw InvalidInput(
+        {"duration_s = " + format_value(o.duration_s) + " s at " + format_value(o.rpm) +
+         " rpm: needs " + std::to_string(steps) + " steps of " + format_value(h) + " s (and " +
+         std::to_string(per_rev) + " per revolution); the limit is " + std::to_string(kMaxSteps) +
+         " (shorten the run or raise the speed)"},
+        "turning simulation");
   }
 
   // Exact zero-order-hold step: x+ = Φ·x + Γ·F, from e^([[A, B], [0, 0]]·h).

@@ -54,8 +54,7 @@ struct Candidate {
 
 }  // namespace
 
-BoundaryScanReport scan_boundary(const MatrixFunction& evaluate,
-                                 const BoundaryScanOptions& o) {
+BoundaryScanReport scan_boundary(const MatrixFunction& evaluate, const BoundaryScanOptions& o) {
   BoundaryScanReport report;
   Evaluator ev(evaluate, report.evaluations);
   const double span = o.theta_max - o.theta_min;

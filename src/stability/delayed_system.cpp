@@ -28,7 +28,7 @@ PeriodicCoefficient windowed_coefficient(const Eigen::MatrixXd& h0, double perio
   h.period_s = period_s;
   const double T = period_s;
   const double a = std::fmod(std::fmod(start_s, T) + T, T);  // contact start in [0, T)
-  const double b = a + duty_cycle * T;                        // contact end, may pass T
+  const double b = a + duty_cycle * T;                       // contact end, may pass T
   h.breakpoints_s = {a};
   if (b < T) {
     h.breakpoints_s.push_back(b);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "cutdyn/core/error.hpp"
@@ -123,7 +122,8 @@ double dominant_frequency_hz(double theta, double period, const std::vector<doub
   for (int k = -kmax; k <= kmax; ++k) {
     const double w = (theta + kTwoPi * k) / period;
     cplx acc{0.0, 0.0};
-    for (std::size_t i = 0; i < times.size(); ++i) acc += values[i] * std::exp(cplx(0.0, -w * times[i]));
+    for (std::size_t i = 0; i < times.size(); ++i)
+      acc += values[i] * std::exp(cplx(0.0, -w * times[i]));
     if (std::abs(acc) > best_score) {
       best_score = std::abs(acc);
       best_w = w;
@@ -228,7 +228,8 @@ Eigen::MatrixXd fd_transition_matrix(const DelayedSystem& s, const FdGrid& grid,
       const Eigen::MatrixXd wh0 = depth * st.w0E * st.H;
       const Eigen::MatrixXd wh1 = depth * st.w1E * st.H;
       const Eigen::MatrixXd nmat = Eigen::MatrixXd::Identity(d, d) + wh1 * s.C;
-      const Eigen::MatrixXd rhs = (st.phi0 - wh0 * s.C) * x + wh0 * delayed_rows(phi, j, disc.ref(j)) +
+      const Eigen::MatrixXd rhs = (st.phi0 - wh0 * s.C) * x +
+                                  wh0 * delayed_rows(phi, j, disc.ref(j)) +
                                   wh1 * delayed_rows(phi, j, disc.ref(j + 1));
       next.topRows(d) = nmat.partialPivLu().solve(rhs);
     } else {
@@ -249,9 +250,9 @@ double fd_spectral_radius(const DelayedSystem& s, const FdGrid& grid, double dep
 CriticalDepth fd_critical_depth_dense(const DelayedSystem& s, const FdOptions& o, double rel_tol,
                                       int coarse_steps) {
   const FdGrid grid = fd_grid(s, o);
-  CriticalDepth result = critical_depth_by_bisection(
-      [&](double w) { return fd_spectral_radius(s, grid, w) >= 1.0; }, o.depth_max_m,
-      coarse_steps, rel_tol);
+  CriticalDepth result =
+      critical_depth_by_bisection([&](double w) { return fd_spectral_radius(s, grid, w) >= 1.0; },
+                                  o.depth_max_m, coarse_steps, rel_tol);
   if (!result.found) return result;
   const double hi = result.depth_m * (1.0 + 0.5 * rel_tol);
   // Chatter frequency from the dominant multiplier's eigenvector: its history holds y over
@@ -376,8 +377,8 @@ CriticalDepth fd_critical_depth(const DelayedSystem& s, const FdOptions& o) {
   scan.theta_min = 0.0;
   scan.theta_max = kPi;
   const double resonance = 0.25 * sharpest_half_bandwidth(s) * grid.period_s;
-  scan.theta_step = std::min(kTwoPi / (o.samples_per_turn * static_cast<double>(delay_periods + 1)),
-                             resonance);
+  scan.theta_step =
+      std::min(kTwoPi / (o.samples_per_turn * static_cast<double>(delay_periods + 1)), resonance);
   scan.min_eigenvalue = min_eigenvalue;
   scan.real_at_ends = true;
   const BoundaryScanReport report = scan_boundary(evaluate, scan);

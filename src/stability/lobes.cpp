@@ -1,11 +1,11 @@
 #include "cutdyn/stability/lobes.hpp"
 
+#include <omp.h>
+
 #include <atomic>
 #include <chrono>
 #include <exception>
 #include <mutex>
-
-#include <omp.h>
 
 #include "cutdyn/core/error.hpp"
 
@@ -62,15 +62,16 @@ LobesReport trace_lobes(const std::function<LobePoint(double)>& at_speed, const 
   for (const LobePoint& p : report.points) {
     report.evaluations += p.boundary.evaluations;
     if (p.boundary.unresolved > 0) {
-      if (++unresolved_count <= 10) unresolved += (unresolved.empty() ? "" : ", ") + format_value(p.rpm);
+      if (++unresolved_count <= 10)
+        unresolved += (unresolved.empty() ? "" : ", ") + format_value(p.rpm);
     }
   }
   if (unresolved_count > 0) {
     report.status = LobesStatus::kUnresolvedCrossings;
     report.message = std::to_string(unresolved_count) +
                      " speed(s) with a boundary candidate that could not be resolved (the "
-                     "critical depth there may be too large): " + unresolved +
-                     (unresolved_count > 10 ? ", ..." : "") + " rpm";
+                     "critical depth there may be too large): " +
+                     unresolved + (unresolved_count > 10 ? ", ..." : "") + " rpm";
   }
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;

@@ -89,9 +89,9 @@ CriticalDepth multi_frequency_critical_depth(const DelayedSystem& system,
     K.resize(size, size);
     for (int p = -P; p <= P; ++p) {
       for (int q = -P; q <= P; ++q) {
-        K.block((p + P) * r, (q + P) * r, r, r) =
-            G[static_cast<std::size_t>(p + P)] * Hk[static_cast<std::size_t>(p - q + 2 * P)] *
-            regen[static_cast<std::size_t>(q + P)];
+        K.block((p + P) * r, (q + P) * r, r, r) = G[static_cast<std::size_t>(p + P)] *
+                                                  Hk[static_cast<std::size_t>(p - q + 2 * P)] *
+                                                  regen[static_cast<std::size_t>(q + P)];
       }
     }
     return K.norm() >= 0.5 * min_eigenvalue;  // as the scan's own margin

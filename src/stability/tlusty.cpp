@@ -45,8 +45,7 @@ TlustyLobePoint tlusty_lobe_point(const ModalModel& model, Direction direction,
                                   double coefficient_pa, double omega_rad_s, int lobe) {
   const auto g = frf(model, direction, omega_rad_s);
   if (!(g.real() < 0.0)) return {std::numeric_limits<double>::infinity(), 0.0};
-  return {-1.0 / (2.0 * coefficient_pa * g.real()),
-          (kTwoPi * lobe + epsilon(g)) / omega_rad_s};
+  return {-1.0 / (2.0 * coefficient_pa * g.real()), (kTwoPi * lobe + epsilon(g)) / omega_rad_s};
 }
 
 TlustyResult tlusty_critical_depth(const ModalModel& model, Direction direction,
@@ -107,8 +106,8 @@ TlustyResult tlusty_critical_depth(const ModalModel& model, Direction direction,
   for (const Bracket& b : brackets) {
     if (b.lobe < 0) continue;
     if (result.boundary.found && b.estimate > 1.5 * result.boundary.depth_m) break;
-    const auto root = brent_root([&](double w) { return phase(w) - b.lobe; }, b.lo, b.hi,
-                                 1e-13 * b.hi);
+    const auto root =
+        brent_root([&](double w) { return phase(w) - b.lobe; }, b.lo, b.hi, 1e-13 * b.hi);
     if (!root || !root->converged) {
       ++result.boundary.unresolved;
       continue;

@@ -21,7 +21,8 @@ std::vector<std::string> TurningModel::validate() const {
   v.merge(modal.validate());
   for (std::size_t i = 0; i < modal.modes.size(); ++i) {
     if (modal.modes[i].direction != Direction::kX)
-      v.add("modes[" + std::to_string(i) + "].direction = y: turning models the feed direction x only");
+      v.add("modes[" + std::to_string(i) +
+            "].direction = y: turning models the feed direction x only");
     v.require(modal.modes[i].damping_ratio > 0.0, "modes[" + std::to_string(i) + "].damping_ratio",
               modal.modes[i].damping_ratio, "", "must be positive for a stability analysis");
   }
@@ -69,10 +70,14 @@ DelayedSystem turning_system(const TurningModel& model, double rpm) {
 
 const char* to_string(TurningMethod method) {
   switch (method) {
-    case TurningMethod::kClosedForm: return "closed-form";
-    case TurningMethod::kMultiFrequency: return "multi-frequency";
-    case TurningMethod::kFullDiscretization: return "full-discretization";
-    case TurningMethod::kFullDiscretizationDense: return "full-discretization-dense";
+    case TurningMethod::kClosedForm:
+      return "closed-form";
+    case TurningMethod::kMultiFrequency:
+      return "multi-frequency";
+    case TurningMethod::kFullDiscretization:
+      return "full-discretization";
+    case TurningMethod::kFullDiscretizationDense:
+      return "full-discretization-dense";
   }
   return "?";
 }
@@ -147,8 +152,9 @@ TurningBoundary turning_critical_depth(const TurningModel& model, double rpm,
       FdOptions fd = o.fd;
       fd.depth_max_m = o.depth_max_m;
       const DelayedSystem s = turning_system(model, rpm);
-      out.boundary = o.method == TurningMethod::kFullDiscretization ? fd_critical_depth(s, fd)
-                                                                    : fd_critical_depth_dense(s, fd);
+      out.boundary = o.method == TurningMethod::kFullDiscretization
+                         ? fd_critical_depth(s, fd)
+                         : fd_critical_depth_dense(s, fd);
       break;
     }
   }

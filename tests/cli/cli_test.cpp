@@ -1,19 +1,17 @@
 // The `cutdyn` command line, run in-process through cli::run (and once as a real process).
-#include "cli/app.hpp"
-
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-
+#include "cli/app.hpp"
 #include "cutdyn/io/case_file.hpp"
 #include "support/temp_dir.hpp"
 
@@ -84,8 +82,8 @@ TEST_F(Cli, VersionHelpAndExamples) {
 }
 
 TEST_F(Cli, LobesWritesCsvJsonAndPlotForTheDefaultCase) {
-  const Result r = cutdyn({"lobes", "--out", path("l.csv"), "--json", path("l.json"), "--plot",
-                           path("l.svg")});
+  const Result r =
+      cutdyn({"lobes", "--out", path("l.csv"), "--json", path("l.json"), "--plot", path("l.svg")});
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(files(), (std::vector<std::string>{"l.csv", "l.dat", "l.gp", "l.json", "l.svg"}));
   const auto lines = csv_lines(path("l.csv"));
@@ -128,13 +126,15 @@ TEST_F(Cli, LobesMethodsAgreeOnTheConventionalCase) {
 }
 
 TEST_F(Cli, CheckReportsStabilityAndMargin) {
-  const Result stable = cutdyn({"check", "--rpm", "1400", "--depth-mm", "10", "--json", path("c.json")});
+  const Result stable =
+      cutdyn({"check", "--rpm", "1400", "--depth-mm", "10", "--json", path("c.json")});
   ASSERT_EQ(stable.code, 0) << stable.err;
   EXPECT_NE(stable.out.find("STABLE"), std::string::npos);
   const auto doc = nlohmann::json::parse(std::ifstream(path("c.json")));
   EXPECT_TRUE(doc["stable"].get<bool>());
   EXPECT_NEAR(doc["critical_depth_mm"].get<double>(), 6.7364 / 0.6, 0.02);
-  EXPECT_NEAR(doc["margin"].get<double>(), 1.0 - 10.0 / doc["critical_depth_mm"].get<double>(), 1e-12);
+  EXPECT_NEAR(doc["margin"].get<double>(), 1.0 - 10.0 / doc["critical_depth_mm"].get<double>(),
+              1e-12);
   EXPECT_FALSE(doc["conventional"]["stable"].get<bool>());  // 10 mm > 6.74 mm
   const Result unstable = cutdyn({"check", "--rpm", "1400", "--depth-mm", "12"});
   EXPECT_NE(unstable.out.find("UNSTABLE"), std::string::npos);
@@ -207,14 +207,16 @@ TEST_F(Cli, RejectsNan) {
 
 TEST_F(Cli, RejectsUnknownKey) {
   const auto file = variant("rpm_steps = 200", "rpm_stepz = 200");
-  expect_rejected({"lobes", file, "--out", path("o.csv")}, "lobes.rpm_stepz: unknown key (did you mean rpm_steps?)");
+  expect_rejected({"lobes", file, "--out", path("o.csv")},
+                  "lobes.rpm_stepz: unknown key (did you mean rpm_steps?)");
 }
 
 TEST_F(Cli, RejectsAbsurdGrid) {
   const auto file = variant("rpm_steps = 200", "rpm_steps = 50000000");
   expect_rejected({"lobes", file, "--out", path("o.csv")}, "lobes.rpm_steps = 50000000");
   const auto slow = variant("rpm_min = 500", "rpm_min = 0.01");
-  expect_rejected({"lobes", slow, "--out", path("o.csv")}, "lobes.rpm_min: spindle speed = 0.01 rpm");
+  expect_rejected({"lobes", slow, "--out", path("o.csv")},
+                  "lobes.rpm_min: spindle speed = 0.01 rpm");
 }
 
 TEST_F(Cli, RejectsSyntaxErrorWithLine) {
@@ -235,7 +237,8 @@ TEST_F(Cli, RejectsBadCommandLine) {
 
 TEST_F(Cli, RejectsMissingFeedForSimulation) {
   const auto file = variant("uncut_chip_thickness_mm = 0.05", "");
-  expect_rejected({"simulate", file, "--out", path("o.csv")}, "cutting.uncut_chip_thickness_mm: missing");
+  expect_rejected({"simulate", file, "--out", path("o.csv")},
+                  "cutting.uncut_chip_thickness_mm: missing");
 }
 
 TEST_F(Cli, RejectsMillingForNow) {
@@ -246,15 +249,16 @@ TEST_F(Cli, RejectsMillingForNow) {
 TEST_F(Cli, RealProcessExitCodesAndStreams) {
   const std::string bin = CUTDYN_BINARY;
   const auto file = variant("damping_ratio = 0.01", "damping_ratio = -1");
-  const std::string cmd = bin + " lobes " + file + " --out " + path("o.csv") + " 2>" + path("err.txt") +
-                          " >" + path("out.txt");
+  const std::string cmd = bin + " lobes " + file + " --out " + path("o.csv") + " 2>" +
+                          path("err.txt") + " >" + path("out.txt");
   const int status = std::system(cmd.c_str());
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 2);
   std::ifstream err(path("err.txt"));
   std::string line;
   std::getline(err, line);
-  EXPECT_EQ(line, "cutdyn: error: " + file + ": modes[0].damping_ratio = -1: must be at least 0 and less than 1");
+  EXPECT_EQ(line, "cutdyn: error: " + file +
+                      ": modes[0].damping_ratio = -1: must be at least 0 and less than 1");
   EXPECT_FALSE(fs::exists(path("o.csv")));
 }
 

@@ -1,8 +1,8 @@
 #include "cutdyn/core/roots.hpp"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "cutdyn/core/error.hpp"
 

@@ -1,8 +1,8 @@
 #include "cutdyn/forces/duty_cycle.hpp"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"

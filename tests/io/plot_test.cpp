@@ -1,5 +1,6 @@
 #include "cutdyn/io/plot.hpp"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -14,11 +15,8 @@
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
-#include "support/temp_dir.hpp"
-
 #include "cutdyn/core/error.hpp"
+#include "support/temp_dir.hpp"
 
 namespace cutdyn::io {
 namespace {

@@ -1,9 +1,9 @@
 #include "cutdyn/modal/modal_model.hpp"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <complex>
-
-#include <gtest/gtest.h>
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "cutdyn/core/units.hpp"
@@ -49,12 +49,11 @@ TEST(ModalStateSpace, TransferFunctionEqualsFrf) {
   const auto ss = modal_state_space(model, {Direction::kX, Direction::kY});
   ASSERT_EQ(ss.A.rows(), 6);
   for (double w : {0.0, 500.0, 1437.6, 3770.0, 10000.0}) {
-    const Eigen::MatrixXcd h =
-        ss.C.cast<std::complex<double>>() *
-        (std::complex<double>(0.0, w) * Eigen::MatrixXcd::Identity(6, 6) -
-         ss.A.cast<std::complex<double>>())
-            .inverse() *
-        ss.B.cast<std::complex<double>>();
+    const Eigen::MatrixXcd h = ss.C.cast<std::complex<double>>() *
+                               (std::complex<double>(0.0, w) * Eigen::MatrixXcd::Identity(6, 6) -
+                                ss.A.cast<std::complex<double>>())
+                                   .inverse() *
+                               ss.B.cast<std::complex<double>>();
     const auto gx = frf(model, Direction::kX, w);
     const auto gy = frf(model, Direction::kY, w);
     EXPECT_NEAR(std::abs(h(0, 0) - gx), 0.0, 1e-9 * std::abs(gx));

@@ -1,8 +1,8 @@
 #include "cutdyn/simulate/turning_simulation.hpp"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "cutdyn/core/error.hpp"
 #include "support/reference_cases.hpp"
@@ -61,8 +61,8 @@ TEST(TurningSimulation, FreeVibrationMatchesTheAnalyticSolution) {
   double worst = 0.0;
   for (std::size_t i = 0; i < r.time_s.size(); ++i) {
     const double t = r.time_s[i];
-    const double exact = 1e-6 * std::exp(-zeta * wn * t) *
-                         (std::cos(wd * t) + zeta * wn / wd * std::sin(wd * t));
+    const double exact =
+        1e-6 * std::exp(-zeta * wn * t) * (std::cos(wd * t) + zeta * wn / wd * std::sin(wd * t));
     worst = std::max(worst, std::abs(r.displacement_m[i] - r.static_deflection_m - exact));
   }
   EXPECT_LT(worst, 1e-9 * 1e-6);

@@ -1,8 +1,8 @@
 #include "cutdyn/stability/full_discretization.hpp"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/stability/multi_frequency.hpp"
@@ -32,9 +32,9 @@ TEST(FullDiscretization, ZeroDepthSpectralRadiusIsTheStructuresDecay) {
     int steps;
   };
   // Dense Φ of dimension 2 + L, L = delay / step: kept to a few hundred here.
-  for (const Case& c : {Case{table2_conventional(), 3000.0, 0}, Case{table2_conventional(), 3000.0, 30},
-                        Case{table2_vibration(20000.0), 5000.0, 0},
-                        Case{table2_vibration(700.0), 3000.0, 0}}) {
+  for (const Case& c :
+       {Case{table2_conventional(), 3000.0, 0}, Case{table2_conventional(), 3000.0, 30},
+        Case{table2_vibration(20000.0), 5000.0, 0}, Case{table2_vibration(700.0), 3000.0, 0}}) {
     const DelayedSystem s = turning_system(c.model, c.rpm);
     FdOptions o;
     o.steps_per_period = c.steps;
@@ -90,10 +90,9 @@ TEST(FullDiscretization, ReducedFormEqualsDenseTransitionMatrix) {
     double rpm;
     int steps;
   };
-  for (const Case& c : {Case{table2_conventional(), 3000.0, 30},
-                        Case{table2_conventional(), 4700.0, 24},
-                        Case{table2_vibration(1000.0), 3000.0, 0},
-                        Case{table2_vibration(700.0), 4000.0, 0}}) {
+  for (const Case& c :
+       {Case{table2_conventional(), 3000.0, 30}, Case{table2_conventional(), 4700.0, 24},
+        Case{table2_vibration(1000.0), 3000.0, 0}, Case{table2_vibration(700.0), 4000.0, 0}}) {
     const DelayedSystem s = turning_system(c.model, c.rpm);
     FdOptions o;
     o.steps_per_period = c.steps;

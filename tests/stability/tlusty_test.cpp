@@ -1,9 +1,9 @@
 #include "cutdyn/stability/tlusty.hpp"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <complex>
-
-#include <gtest/gtest.h>
 
 #include "support/reference_cases.hpp"
 
@@ -41,7 +41,8 @@ TEST(Tlusty, SatisfiesTheCharacteristicEquationAndNeverGoesBelowTheMinimum) {
     const double w = units::hz_to_rad_per_s(r.boundary.chatter_hz);
     const std::complex<double> g = frf(m.modal, Direction::kX, w);
     const std::complex<double> residual =
-        1.0 + m.kt_pa * r.boundary.depth_m * g * (1.0 - std::exp(std::complex<double>(0, -w * tau)));
+        1.0 +
+        m.kt_pa * r.boundary.depth_m * g * (1.0 - std::exp(std::complex<double>(0, -w * tau)));
     EXPECT_LT(std::abs(residual), 1e-8) << "rpm " << rpm;
     // Lobe number: whole chatter waves per revolution.
     EXPECT_EQ(r.lobe, static_cast<int>(std::floor(r.boundary.chatter_hz * tau)));

@@ -13,7 +13,7 @@ namespace cutdyn::testing {
 inline constexpr double kTable2NaturalHz = 228.8;
 inline constexpr double kTable2Stiffness = 2.26e8;  // N/m
 inline constexpr double kTable2Damping = 0.01;
-inline constexpr double kTable2Kt = 850e6;          // N/m²
+inline constexpr double kTable2Kt = 850e6;  // N/m²
 inline constexpr double kTable2DutyCycle = 0.6;
 
 inline TurningModel table2_conventional() {

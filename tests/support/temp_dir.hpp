@@ -1,6 +1,7 @@
 // A fresh folder per test, removed afterwards, and a sorted listing of a folder.
 #pragma once
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -8,8 +9,6 @@
 #include <string>
 #include <system_error>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 namespace cutdyn::testing {
 

@@ -24,13 +24,13 @@ struct ContactWindow {
 };
 
 struct DutyCycle {
-  double ratio = 1.0;                    // r
-  double period_s = 0.0;                 // T = 1/f
-  double critical_speed_m_per_s = 0.0;   // 2πfA: no separation at or above it
-  double rho = 0.0;                      // v / (2πfA)
-  bool separates = false;                // ρ < 1
-  double separation_phase_rad = 0.0;     // u1 (only meaningful when separates)
-  double contact_phase_rad = 0.0;        // u2 (only meaningful when separates)
+  double ratio = 1.0;                   // r
+  double period_s = 0.0;                // T = 1/f
+  double critical_speed_m_per_s = 0.0;  // 2πfA: no separation at or above it
+  double rho = 0.0;                     // v / (2πfA)
+  bool separates = false;               // ρ < 1
+  double separation_phase_rad = 0.0;    // u1 (only meaningful when separates)
+  double contact_phase_rad = 0.0;       // u2 (only meaningful when separates)
 
   /// The window with its phase origin at u = 0 of the tool motion: contact from u2 − 2π
   /// to u1.

@@ -12,13 +12,12 @@
 #pragma once
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "cutdyn/modal/modal_model.hpp"
 
@@ -34,10 +33,11 @@ const char* to_string(StabilityMethod method);  // "auto", "closed-form", ...
 
 /// [cutting]. Which keys a command needs is checked by that command.
 struct CuttingSection {
-  std::optional<double> kt_pa;  // kt_n_per_mm2: turning feed-direction coefficient; milling tangential
-  std::optional<double> kc_pa;  // kc_n_per_mm2: turning cutting-direction coefficient
-  std::optional<double> kr_pa;  // kr_n_per_mm2: milling radial coefficient
-  std::optional<double> speed_m_per_s;           // speed_m_per_min
+  std::optional<double>
+      kt_pa;  // kt_n_per_mm2: turning feed-direction coefficient; milling tangential
+  std::optional<double> kc_pa;          // kc_n_per_mm2: turning cutting-direction coefficient
+  std::optional<double> kr_pa;          // kr_n_per_mm2: milling radial coefficient
+  std::optional<double> speed_m_per_s;  // speed_m_per_min
   std::optional<double> uncut_chip_thickness_m;  // uncut_chip_thickness_mm (turning: feed/rev)
   std::optional<double> width_m;                 // width_mm (turning: depth of cut)
 };
@@ -58,34 +58,34 @@ struct OperationSection {
 /// [vibration]: vibration-assisted cutting along the cutting direction.
 struct VibrationSection {
   double frequency_hz = 0.0;
-  std::optional<double> amplitude_m;            // amplitude_um
-  std::optional<double> workpiece_diameter_m;   // workpiece_diameter_mm: speed from rpm
-  std::optional<double> duty_cycle;             // fixed duty cycle, 0 < r <= 1
+  std::optional<double> amplitude_m;           // amplitude_um
+  std::optional<double> workpiece_diameter_m;  // workpiece_diameter_mm: speed from rpm
+  std::optional<double> duty_cycle;            // fixed duty cycle, 0 < r <= 1
 };
 
 /// [lobes]: the spindle-speed grid and the depth search range.
 struct LobesSection {
   double rpm_min = 500.0;
   double rpm_max = 5000.0;
-  int rpm_steps = 200;             // number of speeds, >= 2, <= 100000
-  double depth_max_m = 0.03;       // depth_max_mm
+  int rpm_steps = 200;        // number of speeds, >= 2, <= 100000
+  double depth_max_m = 0.03;  // depth_max_mm
   StabilityMethod method = StabilityMethod::kAuto;
-  int harmonics = 5;               // multi-frequency: harmonics kept each side, 0..50
-  int steps_per_period = 0;        // full discretization: 0 = automatic, else 1..100000
+  int harmonics = 5;         // multi-frequency: harmonics kept each side, 0..50
+  int steps_per_period = 0;  // full discretization: 0 = automatic, else 1..100000
 };
 
 /// [simulate]: one time-domain run (command-line flags override these).
 struct SimulateSection {
   std::optional<double> rpm;
-  std::optional<double> depth_m;                 // depth_mm
-  double duration_s = 1.0;                       // 0 < . <= 1000
-  double initial_displacement_m = 1e-6;          // initial_displacement_um, >= 0
+  std::optional<double> depth_m;         // depth_mm
+  double duration_s = 1.0;               // 0 < . <= 1000
+  double initial_displacement_m = 1e-6;  // initial_displacement_um, >= 0
 };
 
 struct Case {
   std::string source;  // file path as given, or "example NAME"
   Process process = Process::kTurning;
-  ModalModel modal;    // from [[modes]], SI
+  ModalModel modal;  // from [[modes]], SI
   CuttingSection cutting;
   std::optional<ToolSection> tool;
   std::optional<OperationSection> operation;

@@ -5,11 +5,10 @@
 // of its modes' q. Several modes per direction are allowed.
 #pragma once
 
+#include <Eigen/Dense>
 #include <complex>
 #include <string>
 #include <vector>
-
-#include <Eigen/Dense>
 
 namespace cutdyn {
 

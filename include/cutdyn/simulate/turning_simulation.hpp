@@ -20,14 +20,14 @@ namespace cutdyn {
 
 struct TurningSimulationOptions {
   double rpm = 0.0;
-  double depth_m = 0.0;                 // width of cut w
-  double feed_m = 0.0;                  // h0, uncut chip thickness per revolution
+  double depth_m = 0.0;  // width of cut w
+  double feed_m = 0.0;   // h0, uncut chip thickness per revolution
   double duration_s = 1.0;
-  double initial_displacement_m = 1e-6; // added to the static deflection at t = 0
+  double initial_displacement_m = 1e-6;  // added to the static deflection at t = 0
   /// Step as a fraction of the shortest structural period (and at most 1/16 of the
   /// vibration period).
   double max_step_fraction = 1.0 / 256.0;
-  int max_recorded_samples = 20000;     // traces are thinned to at most this many samples
+  int max_recorded_samples = 20000;  // traces are thinned to at most this many samples
 
   std::vector<std::string> validate() const;
 };
@@ -35,18 +35,18 @@ struct TurningSimulationOptions {
 struct TurningSimulationResult {
   // Traces (thinned).
   std::vector<double> time_s;
-  std::vector<double> displacement_m;   // y
-  std::vector<double> force_n;          // F
-  std::vector<double> chip_thickness_m; // h (may be negative when out of the cut)
+  std::vector<double> displacement_m;    // y
+  std::vector<double> force_n;           // F
+  std::vector<double> chip_thickness_m;  // h (may be negative when out of the cut)
   // Per revolution: half the peak-to-peak of y.
   std::vector<double> revolution_time_s;
   std::vector<double> revolution_amplitude_m;
   /// Exponential growth rate of the per-revolution amplitude (1/s), fitted by least squares
   /// on its logarithm over the revolutions before the tool first leaves the cut.
   double growth_rate_per_s = 0.0;
-  bool lost_contact = false;            // h <= 0 happened (the tool jumped out of the cut)
-  double contact_loss_time_s = 0.0;     // first time it did
-  bool chatter = false;                 // growth_rate > 0 or lost contact
+  bool lost_contact = false;         // h <= 0 happened (the tool jumped out of the cut)
+  double contact_loss_time_s = 0.0;  // first time it did
+  bool chatter = false;              // growth_rate > 0 or lost contact
   double static_deflection_m = 0.0;
   double duty_cycle = 1.0;
   double step_s = 0.0;

@@ -11,25 +11,24 @@
 // enough that eigenvalues move little between grid points (each method chooses it).
 #pragma once
 
+#include <Eigen/Dense>
 #include <complex>
 #include <functional>
 #include <vector>
-
-#include <Eigen/Dense>
 
 namespace cutdyn {
 
 struct BoundaryScanOptions {
   double theta_min = 0.0;
   double theta_max = 0.0;
-  double theta_step = 0.0;       // grid spacing, > 0
-  double min_eigenvalue = 0.0;   // ignore λ below this (depths above 1/min_eigenvalue)
+  double theta_step = 0.0;      // grid spacing, > 0
+  double min_eigenvalue = 0.0;  // ignore λ below this (depths above 1/min_eigenvalue)
   /// Refine only candidates whose interpolated depth is within this factor of the smallest
   /// refined one (the others cannot be the critical depth). Near a sharp resonance the
   /// eigenvalue moves on a curved path and the straight-line estimate can be off by several
   /// per cent, hence the generous default. Use +inf to refine every crossing.
   double refine_factor = 1.5;
-  double theta_tol = 1e-13;      // relative to the bracket size after Brent
+  double theta_tol = 1e-13;  // relative to the bracket size after Brent
   /// Also take real eigenvalues at the end points θ_min and θ_max (where K is real for the
   /// Floquet methods: multipliers +1 and −1).
   bool real_at_ends = false;
@@ -37,9 +36,9 @@ struct BoundaryScanOptions {
 
 struct BoundaryPoint {
   double theta = 0.0;
-  double depth = 0.0;                // 1/λ
-  std::complex<double> eigenvalue;   // λ at the refined θ (imaginary part ~ 0)
-  Eigen::VectorXcd eigenvector;      // of K(θ) for λ
+  double depth = 0.0;               // 1/λ
+  std::complex<double> eigenvalue;  // λ at the refined θ (imaginary part ~ 0)
+  Eigen::VectorXcd eigenvector;     // of K(θ) for λ
 };
 
 struct BoundaryScanReport {
@@ -56,6 +55,7 @@ struct BoundaryScanReport {
 /// skips the eigenvalue problem at that θ.
 using MatrixFunction = std::function<bool(double theta, Eigen::MatrixXcd& k)>;
 
-BoundaryScanReport scan_boundary(const MatrixFunction& evaluate, const BoundaryScanOptions& options);
+BoundaryScanReport scan_boundary(const MatrixFunction& evaluate,
+                                 const BoundaryScanOptions& options);
 
 }  // namespace cutdyn

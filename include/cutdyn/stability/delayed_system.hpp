@@ -11,20 +11,19 @@
 // milling models); the methods never need to know which process it came from.
 #pragma once
 
+#include <Eigen/Dense>
 #include <complex>
 #include <functional>
 #include <string>
 #include <vector>
 
-#include <Eigen/Dense>
-
 namespace cutdyn {
 
 /// H(t), periodic with period T, described by what the methods need of it.
 struct PeriodicCoefficient {
-  int dim = 1;           // r
-  double period_s = 0;   // T; ignored when `constant`
-  bool constant = false; // H(t) = H0 for all t: any period may be used
+  int dim = 1;            // r
+  double period_s = 0;    // T; ignored when `constant`
+  bool constant = false;  // H(t) = H0 for all t: any period may be used
   /// Instants in [0, T) where H jumps (contact windows); time grids put nodes on them.
   std::vector<double> breakpoints_s;
   /// Mean of H over [t0, t1], 0 <= t0 < t1 <= T (r×r).

@@ -36,11 +36,11 @@ enum class LobesStatus {
 
 struct LobesReport {
   LobesStatus status = LobesStatus::kSuccess;
-  std::string message;  // empty on success
+  std::string message;            // empty on success
   std::vector<LobePoint> points;  // ascending speed
   double seconds = 0.0;
   long long evaluations = 0;
-  LobesOptions options;           // as used
+  LobesOptions options;  // as used
 };
 
 /// Calls `at_speed(rpm)` for every speed of the grid, spread over threads, and gathers the

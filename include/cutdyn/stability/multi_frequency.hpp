@@ -22,9 +22,9 @@
 namespace cutdyn {
 
 struct MultiFrequencyOptions {
-  int harmonics = 5;            // P; 0 = averaged
-  double depth_max_m = 0.03;    // search limit
-  double samples_per_turn = 16; // frequency samples per 2π of delay phase
+  int harmonics = 5;             // P; 0 = averaged
+  double depth_max_m = 0.03;     // search limit
+  double samples_per_turn = 16;  // frequency samples per 2π of delay phase
 
   std::vector<std::string> validate() const;
 };

@@ -31,8 +31,8 @@ struct VibrationAssist {
 };
 
 struct TurningModel {
-  ModalModel modal;      // modes in direction x
-  double kt_pa = 0.0;    // feed-direction cutting coefficient, N/m²
+  ModalModel modal;    // modes in direction x
+  double kt_pa = 0.0;  // feed-direction cutting coefficient, N/m²
   std::optional<VibrationAssist> vibration;
 
   std::vector<std::string> validate() const;
