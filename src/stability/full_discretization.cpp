@@ -376,11 +376,24 @@ CriticalDepth fd_critical_depth(const DelayedSystem& s, const FdOptions& o) {
   BoundaryScanOptions scan;
   scan.theta_min = 0.0;
   scan.theta_max = kPi;
+  // A multiplier e^(iθ) stands for the frequencies (±θ + 2πk)/T. When the period is short
+  // against the structure (Ω = 2π/T well above every frequency at which the structure can
+  // respond enough to reach depth_max), only θ/T itself can matter: stop the scan there
+  // instead of sampling the whole half circle.
+  double h_norm = 0.0;
+  for (int j : active) h_norm = std::max(h_norm, disc.step(j).H.norm());
+  const double w_limit = 1.5 * response_limit_rad_s(s, h_norm, o.depth_max_m);
+  const double omega = kTwoPi / grid.period_s;
+  bool partial = false;
+  if (omega > 2.0 * w_limit && w_limit * grid.period_s < kPi) {
+    scan.theta_max = w_limit * grid.period_s;
+    partial = true;
+  }
   const double resonance = 0.25 * sharpest_half_bandwidth(s) * grid.period_s;
   scan.theta_step =
       std::min(kTwoPi / (o.samples_per_turn * static_cast<double>(delay_periods + 1)), resonance);
   scan.min_eigenvalue = min_eigenvalue;
-  scan.real_at_ends = true;
+  scan.real_at_ends = !partial;  // θ = π (multiplier −1) only when the scan reaches it
   const BoundaryScanReport report = scan_boundary(evaluate, scan);
   result.evaluations = report.evaluations;
   result.unresolved = report.unresolved;
