@@ -261,7 +261,7 @@ CriticalDepth fd_critical_depth_dense(const DelayedSystem& s, const FdOptions& o
   Eigen::EigenSolver<Eigen::MatrixXd> eig(phi, true);
   Eigen::Index k = 0;
   eig.eigenvalues().cwiseAbs().maxCoeff(&k);
-  const double theta = std::abs(std::arg(eig.eigenvalues()(k)));
+  const double theta = std::arg(eig.eigenvalues()(k));
   const Eigen::VectorXcd v = eig.eigenvectors().col(k);
   const auto d = s.A0.rows();
   const auto r = s.C.rows();
@@ -274,8 +274,7 @@ CriticalDepth fd_critical_depth_dense(const DelayedSystem& s, const FdOptions& o
     times.push_back(disc.time(-(b + 1)));
     values.push_back(v(d + r * b));
   }
-  result.chatter_hz = dominant_frequency_hz(std::arg(eig.eigenvalues()(k)) >= 0 ? theta : -theta,
-                                            grid.period_s, times, values, grid.steps());
+  result.chatter_hz = dominant_frequency_hz(theta, grid.period_s, times, values, grid.steps());
   return result;
 }
 

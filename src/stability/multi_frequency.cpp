@@ -113,11 +113,11 @@ CriticalDepth multi_frequency_critical_depth(const DelayedSystem& system,
   result.found = true;
   result.depth_m = best.depth;
   // The chatter frequency is the harmonic that carries most of the vibration.
+  // The eigenvector holds the displacement harmonics Yp: take the largest.
   Eigen::Index dominant = P;
   if (P > 0) {
     Eigen::VectorXd weight(2 * P + 1);
     for (int p = 0; p < 2 * P + 1; ++p) weight(p) = best.eigenvector.segment(p * r, r).norm();
-    // Weight by the response G(ω + pΩ)·(force harmonic): the eigenvector holds Y already.
     weight.maxCoeff(&dominant);
   }
   result.chatter_hz =
