@@ -147,4 +147,16 @@ BoundaryScanReport scan_boundary(const MatrixFunction& evaluate, const BoundaryS
   return report;
 }
 
+CriticalDepth critical_depth_from_scan(const BoundaryScanReport& report, double depth_max_m) {
+  CriticalDepth result;
+  result.depth_m = depth_max_m;
+  result.evaluations = report.evaluations;
+  result.unresolved = report.unresolved;
+  if (!report.points.empty()) {
+    result.found = true;
+    result.depth_m = report.points.front().depth;
+  }
+  return result;
+}
+
 }  // namespace cutdyn

@@ -288,9 +288,7 @@ CriticalDepth fd_critical_depth(const DelayedSystem& s, const FdOptions& o) {
   std::vector<int> active;
   for (int j = 0; j < n; ++j)
     if (disc.step(j).active) active.push_back(j);
-  CriticalDepth result;
-  result.depth_m = o.depth_max_m;
-  if (active.empty()) return result;
+  if (active.empty()) return CriticalDepth{o.depth_max_m};  // never in contact: never unstable
   const auto m = static_cast<Eigen::Index>(2 * r * static_cast<Eigen::Index>(active.size()));
 
   // Response of the nodal displacements to the step inputs z = (a_j, b_j) over one period of
@@ -394,13 +392,10 @@ CriticalDepth fd_critical_depth(const DelayedSystem& s, const FdOptions& o) {
   scan.min_eigenvalue = min_eigenvalue;
   scan.real_at_ends = !partial;  // θ = π (multiplier −1) only when the scan reaches it
   const BoundaryScanReport report = scan_boundary(evaluate, scan);
-  result.evaluations = report.evaluations;
-  result.unresolved = report.unresolved;
-  if (report.points.empty()) return result;
+  CriticalDepth result = critical_depth_from_scan(report, o.depth_max_m);
+  if (!result.found) return result;
 
   const BoundaryPoint& best = report.points.front();
-  result.found = true;
-  result.depth_m = best.depth;
   response(best.theta);
   const Eigen::VectorXcd y = T * best.eigenvector;
   std::vector<double> times;

@@ -103,15 +103,9 @@ CriticalDepth multi_frequency_critical_depth(const DelayedSystem& system,
   scan.theta_step = step;
   scan.min_eigenvalue = min_eigenvalue;
   const BoundaryScanReport report = scan_boundary(evaluate, scan);
-
-  CriticalDepth result;
-  result.depth_m = o.depth_max_m;
-  result.evaluations = report.evaluations;
-  result.unresolved = report.unresolved;
-  if (report.points.empty()) return result;
+  CriticalDepth result = critical_depth_from_scan(report, o.depth_max_m);
+  if (!result.found) return result;
   const BoundaryPoint& best = report.points.front();
-  result.found = true;
-  result.depth_m = best.depth;
   // The chatter frequency is the harmonic that carries most of the vibration.
   // The eigenvector holds the displacement harmonics Yp: take the largest.
   Eigen::Index dominant = P;

@@ -6,11 +6,19 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <system_error>
 #include <vector>
 
 namespace cutdyn::testing {
+
+/// The whole content of a file (empty if it cannot be read).
+inline std::string read_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
 
 /// Names in `dir`, sorted, hidden ones included.
 inline std::vector<std::string> listing(const std::filesystem::path& dir) {

@@ -16,6 +16,8 @@
 #include <functional>
 #include <vector>
 
+#include "cutdyn/stability/critical_depth.hpp"
+
 namespace cutdyn {
 
 struct BoundaryScanOptions {
@@ -57,5 +59,10 @@ using MatrixFunction = std::function<bool(double theta, Eigen::MatrixXcd& k)>;
 
 BoundaryScanReport scan_boundary(const MatrixFunction& evaluate,
                                  const BoundaryScanOptions& options);
+
+/// The critical depth a scan found: its smallest boundary point, or the search limit
+/// `depth_max_m` with found = false; work and unresolved counts carried over. The chatter
+/// frequency is left to the method, which knows what θ stands for.
+CriticalDepth critical_depth_from_scan(const BoundaryScanReport& report, double depth_max_m);
 
 }  // namespace cutdyn
