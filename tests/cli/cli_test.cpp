@@ -13,6 +13,8 @@
 
 #include "cli/app.hpp"
 #include "cutdyn/io/case_file.hpp"
+#include "cutdyn/stability/tlusty.hpp"
+#include "support/reference_cases.hpp"
 #include "support/temp_dir.hpp"
 
 namespace cutdyn::cli {
@@ -100,12 +102,19 @@ TEST_F(Cli, LobesWritesCsvJsonAndPlotForTheDefaultCase) {
   EXPECT_EQ(doc["method"], "full-discretization");
   EXPECT_EQ(doc["case"]["vibration"]["duty_cycle"], 0.6);
   ASSERT_EQ(doc["points"].size(), 200u);
-  // At 500 rpm: vibration-assisted = conventional / r (f ≫ fn), conventional = Tlusty.
+  // At 500 rpm against the library's closed forms, in mm and Hz: conventional = Tlusty
+  // exactly, vibration-assisted = averaged theory (Kt → 0.6·Kt, exact for f ≫ fn) within 0.1 %.
+  const TurningModel m = cutdyn::testing::table2_conventional();
+  const auto tlusty = tlusty_critical_depth(m.modal, Direction::kX, m.kt_pa, 60.0 / 500.0, 0.03);
+  const auto averaged =
+      tlusty_critical_depth(m.modal, Direction::kX, 0.6 * m.kt_pa, 60.0 / 500.0, 0.03);
   const auto& first = doc["points"][0];
   EXPECT_NEAR(first["spindle_rpm"].get<double>(), 500.0, 1e-9);
-  EXPECT_NEAR(first["conventional_depth_mm"].get<double>(), 5.3778, 1e-3);
-  EXPECT_NEAR(first["critical_depth_mm"].get<double>(), 5.3778 / 0.6, 0.02);
-  EXPECT_NEAR(first["chatter_hz"].get<double>(), 231.2, 0.1);
+  EXPECT_NEAR(first["conventional_depth_mm"].get<double>(), 1e3 * tlusty.boundary.depth_m, 1e-9);
+  EXPECT_NEAR(first["critical_depth_mm"].get<double>(), 1e3 * averaged.boundary.depth_m,
+              1e-3 * 1e3 * averaged.boundary.depth_m);
+  EXPECT_NEAR(first["chatter_hz"].get<double>(), averaged.boundary.chatter_hz, 0.05);
+  EXPECT_EQ(first["lobe"].get<int>(), averaged.lobe);
   EXPECT_NE(r.out.find("lowest critical depth"), std::string::npos);
 }
 
@@ -132,7 +141,11 @@ TEST_F(Cli, CheckReportsStabilityAndMargin) {
   EXPECT_NE(stable.out.find("STABLE"), std::string::npos);
   const auto doc = nlohmann::json::parse(std::ifstream(path("c.json")));
   EXPECT_TRUE(doc["stable"].get<bool>());
-  EXPECT_NEAR(doc["critical_depth_mm"].get<double>(), 6.7364 / 0.6, 0.02);
+  const TurningModel m = cutdyn::testing::table2_conventional();
+  const double averaged_mm =
+      1e3 * tlusty_critical_depth(m.modal, Direction::kX, 0.6 * m.kt_pa, 60.0 / 1400.0, 0.03)
+                .boundary.depth_m;
+  EXPECT_NEAR(doc["critical_depth_mm"].get<double>(), averaged_mm, 1e-3 * averaged_mm);
   EXPECT_NEAR(doc["margin"].get<double>(), 1.0 - 10.0 / doc["critical_depth_mm"].get<double>(),
               1e-12);
   EXPECT_FALSE(doc["conventional"]["stable"].get<bool>());  // 10 mm > 6.74 mm
