@@ -59,6 +59,23 @@ TEST(FullDiscretization, ConstantCoefficientMatchesClosedFormWithinOnePercent) {
   }
 }
 
+TEST(FullDiscretization, TwoModesMatchTheClosedForm) {
+  // A second, stiffer and more damped mode at 640 Hz: the FRF is the sum of both.
+  TurningModel m = table2_conventional();
+  m.modal.modes.push_back(mode_from_mass(Direction::kX, units::hz_to_rad_per_s(640.0), 0.03, 1.5));
+  TurningStabilityOptions o;
+  o.depth_max_m = kDepthLimit;
+  for (double rpm = 700.0; rpm <= 6000.0; rpm += 265.0) {
+    const TurningBoundary fd = turning_critical_depth(m, rpm, o);
+    const auto exact =
+        tlusty_critical_depth(m.modal, Direction::kX, m.kt_pa, 60.0 / rpm, kDepthLimit);
+    ASSERT_TRUE(fd.boundary.found && exact.boundary.found) << "rpm " << rpm;
+    EXPECT_NEAR(fd.boundary.depth_m, exact.boundary.depth_m, 0.01 * exact.boundary.depth_m)
+        << "rpm " << rpm;
+    EXPECT_NEAR(fd.boundary.chatter_hz, exact.boundary.chatter_hz, 0.5) << "rpm " << rpm;
+  }
+}
+
 TEST(FullDiscretization, SecondOrderConvergenceInTheStep) {
   // Error against the closed form for steps of 1/16 ... 1/256 of the structural period: each
   // halving divides it by four (the table is in docs/models/turning.md).
