@@ -262,6 +262,7 @@ CriticalDepth fd_critical_depth_dense(const DelayedSystem& s, const FdOptions& o
   Eigen::Index k = 0;
   eig.eigenvalues().cwiseAbs().maxCoeff(&k);
   const double theta = std::arg(eig.eigenvalues()(k));
+  result.bifurcation = classify_multiplier(theta);
   const Eigen::VectorXcd v = eig.eigenvectors().col(k);
   const auto d = s.A0.rows();
   const auto r = s.C.rows();
@@ -396,6 +397,7 @@ CriticalDepth fd_critical_depth(const DelayedSystem& s, const FdOptions& o) {
   if (!result.found) return result;
 
   const BoundaryPoint& best = report.points.front();
+  result.bifurcation = classify_multiplier(best.theta);
   response(best.theta);
   const Eigen::VectorXcd y = T * best.eigenvector;
   std::vector<double> times;

@@ -105,6 +105,7 @@ CriticalDepth multi_frequency_critical_depth(const DelayedSystem& system,
   const BoundaryScanReport report = scan_boundary(evaluate, scan);
   CriticalDepth result = critical_depth_from_scan(report, o.depth_max_m);
   if (!result.found) return result;
+  result.bifurcation = Bifurcation::kHopf;
   const BoundaryPoint& best = report.points.front();
   // The chatter frequency is the harmonic that carries most of the vibration.
   // The eigenvector holds the displacement harmonics Yp: take the largest.

@@ -118,6 +118,7 @@ TlustyResult tlusty_critical_depth(const ModalModel& model, Direction direction,
     const double depth = -1.0 / (2.0 * coefficient_pa * g.real());
     if (depth <= depth_max_m && (!result.boundary.found || depth < result.boundary.depth_m)) {
       result.boundary.found = true;
+      result.boundary.bifurcation = Bifurcation::kHopf;
       result.boundary.depth_m = depth;
       result.boundary.chatter_hz = units::rad_per_s_to_hz(root->x);
       result.lobe = b.lobe;

@@ -3,6 +3,16 @@
 
 namespace cutdyn {
 
+/// How stability is lost at the critical depth, from the critical Floquet multiplier μ:
+/// a complex pair crossing the unit circle (secondary Hopf, quasi-periodic chatter), μ = −1
+/// (flip, period doubling) or μ = +1 (fold). Frequency-domain methods see only kHopf.
+enum class Bifurcation { kNone, kHopf, kFlip, kFold };
+
+const char* to_string(Bifurcation b);  // "none", "hopf", "flip", "fold"
+
+/// Classifies a critical multiplier by its argument θ ∈ [−π, π].
+Bifurcation classify_multiplier(double theta);
+
 struct CriticalDepth {
   /// Smallest width of cut (m) at which the process loses stability at this speed; equal to
   /// the search limit when `found` is false.
@@ -11,6 +21,7 @@ struct CriticalDepth {
   double chatter_hz = 0.0;
   /// False when the process stays stable up to the search limit.
   bool found = false;
+  Bifurcation bifurcation = Bifurcation::kNone;  // kNone when not found or not classified
   /// Work done: matrix evaluations, eigenvalue problems or stability tests.
   long long evaluations = 0;
   /// Boundary candidates the method could not resolve (see BoundaryScanReport); when

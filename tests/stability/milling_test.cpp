@@ -1,0 +1,194 @@
+#include "cutdyn/stability/milling.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+
+#include "cutdyn/core/units.hpp"
+#include "cutdyn/stability/full_discretization.hpp"
+#include "cutdyn/stability/multi_frequency.hpp"
+
+namespace cutdyn {
+namespace {
+
+using units::kPi;
+using units::kTwoPi;
+
+// The Insperger–Stépán benchmark [Insperger & Stépán 2004; Ding et al. 2010]: two teeth,
+// Kt = 6e8 N/m², Kr = 2e8 N/m², 922 Hz, ζ = 0.011, modal mass 0.03993 kg, down-milling.
+MillingModel benchmark(double immersion, bool both_directions = true) {
+  MillingModel m;
+  const double wn = units::hz_to_rad_per_s(922.0);
+  m.modal.modes.push_back(mode_from_mass(Direction::kX, wn, 0.011, 0.03993));
+  if (both_directions) m.modal.modes.push_back(mode_from_mass(Direction::kY, wn, 0.011, 0.03993));
+  m.kt_pa = 6e8;
+  m.kr_pa = 2e8;
+  m.teeth = 2;
+  m.radial_immersion = immersion;
+  m.down_milling = true;
+  return m;
+}
+
+// H(t) straight from the force model: Σ over teeth in cut of −(Kt/2)·A(φj).
+Eigen::Matrix2d direct_h(const MillingModel& m, double rpm, double t) {
+  const double spindle = units::rpm_to_rad_per_s(rpm);
+  Eigen::Matrix2d h = Eigen::Matrix2d::Zero();
+  for (int j = 0; j < m.teeth; ++j) {
+    const double phi = std::fmod(spindle * t + kTwoPi * j / m.teeth, kTwoPi);
+    if (phi > m.entry_angle() && phi < m.exit_angle())
+      h += -0.5 * m.kt_pa * milling_directional_matrix(phi, m.kr_pa / m.kt_pa);
+  }
+  return h;
+}
+
+TEST(Milling, EntryAndExitAngles) {
+  MillingModel m = benchmark(1.0);
+  EXPECT_NEAR(m.entry_angle(), 0.0, 1e-12);
+  EXPECT_NEAR(m.exit_angle(), kPi, 1e-12);
+  m.radial_immersion = 0.5;
+  EXPECT_NEAR(m.entry_angle(), kPi / 2, 1e-12);
+  m.down_milling = false;
+  EXPECT_NEAR(m.entry_angle(), 0.0, 1e-12);
+  EXPECT_NEAR(m.exit_angle(), kPi / 2, 1e-12);
+}
+
+TEST(Milling, DirectionalMatrixIsTheForceProjection) {
+  // Fx, Fy of one tooth per unit Kt·a·Δ, from the tangential and radial forces directly.
+  const double kr = 0.3;
+  for (double phi : {0.1, 0.9, 2.0, 2.9}) {
+    const Eigen::Matrix2d a = milling_directional_matrix(phi, kr);
+    for (const Eigen::Vector2d& delta : {Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 1)}) {
+      const double h = delta.x() * std::sin(phi) + delta.y() * std::cos(phi);
+      const double fx = -h * std::cos(phi) - kr * h * std::sin(phi);
+      const double fy = h * std::sin(phi) - kr * h * std::cos(phi);
+      const Eigen::Vector2d f = 0.5 * a * delta;
+      EXPECT_NEAR(f.x(), fx, 1e-14);
+      EXPECT_NEAR(f.y(), fy, 1e-14);
+    }
+  }
+}
+
+TEST(Milling, AverageCoefficientIsAltintasClosedForm) {
+  // [Altintas & Budak 1995]: A0 = (z/2π)·[α], with the integrals evaluated at φst, φex.
+  for (double immersion : {1.0, 0.5, 0.05}) {
+    for (bool down : {true, false}) {
+      MillingModel m = benchmark(immersion);
+      m.down_milling = down;
+      const double kr = m.kr_pa / m.kt_pa, a = m.entry_angle(), b = m.exit_angle();
+      const auto F = [&](auto f) { return 0.5 * (f(b) - f(a)); };
+      const double axx =
+          F([&](double p) { return std::cos(2 * p) - 2 * kr * p + kr * std::sin(2 * p); });
+      const double axy =
+          F([&](double p) { return -std::sin(2 * p) - 2 * p + kr * std::cos(2 * p); });
+      const double ayx =
+          F([&](double p) { return -std::sin(2 * p) + 2 * p + kr * std::cos(2 * p); });
+      const double ayy =
+          F([&](double p) { return -std::cos(2 * p) - 2 * kr * p - kr * std::sin(2 * p); });
+      Eigen::Matrix2d a0;
+      a0 << axx, axy, ayx, ayy;
+      a0 *= m.teeth / kTwoPi;
+      const DelayedSystem s = milling_system(m, 9000.0);
+      const Eigen::MatrixXcd h0 = s.H.fourier(0);
+      EXPECT_NEAR((h0.real() - (-0.5 * m.kt_pa) * a0).norm(), 0.0, 1e-6 * m.kt_pa);
+      EXPECT_NEAR(h0.imag().norm(), 0.0, 1e-6 * m.kt_pa);
+      // The mean over one whole period is the same matrix.
+      EXPECT_NEAR((s.H.mean(0.0, s.H.period_s) - h0.real()).norm(), 0.0, 1e-6 * m.kt_pa);
+    }
+  }
+}
+
+TEST(Milling, StepMeansAndFourierCoefficientsMatchTheForceModel) {
+  const MillingModel m = benchmark(0.3);
+  const double rpm = 7300.0;
+  const DelayedSystem s = milling_system(m, rpm);
+  const double T = s.H.period_s;
+  EXPECT_NEAR(T, 60.0 / (rpm * 2), 1e-15);
+  EXPECT_NEAR(s.delay_s, T, 1e-15);
+  // Mean over a short step ≈ the direct value at its middle (away from the window edges).
+  for (double t : {0.11 * T, 0.37 * T, 0.8 * T}) {
+    const double h = 1e-7 * T;
+    EXPECT_NEAR((s.H.mean(t - h, t + h) - direct_h(m, rpm, t)).norm(), 0.0, 1e-3 * m.kt_pa)
+        << "t/T = " << t / T;
+  }
+  // Fourier coefficients against a midpoint-rule quadrature of the direct H(t).
+  const int n = 200000;
+  for (int p : {1, 2, 5}) {
+    Eigen::Matrix2cd q = Eigen::Matrix2cd::Zero();
+    for (int k = 0; k < n; ++k) {
+      const double t = (k + 0.5) * T / n;
+      q += direct_h(m, rpm, t).cast<std::complex<double>>() *
+           std::exp(std::complex<double>(0.0, -kTwoPi * p * t / T));
+    }
+    q /= n;
+    EXPECT_NEAR((s.H.fourier(p) - Eigen::MatrixXcd(q)).norm(), 0.0, 1e-4 * m.kt_pa) << "p = " << p;
+  }
+}
+
+TEST(Milling, ZeroDepthSpectralRadiusIsTheStructuresDecay) {
+  const MillingModel m = benchmark(1.0);
+  for (double rpm : {6000.0, 17000.0}) {
+    const DelayedSystem s = milling_system(m, rpm);
+    FdOptions o;
+    o.steps_per_period = 40;
+    const double zeta_wn = 0.011 * units::hz_to_rad_per_s(922.0);
+    EXPECT_NEAR(fd_spectral_radius(s, fd_grid(s, o), 0.0), std::exp(-zeta_wn * s.delay_s), 1e-9);
+  }
+}
+
+TEST(Milling, SlottingMethodsAgree) {
+  // Slotting, both directions, 5000–25000 rpm. The full discretization (120 steps per tooth
+  // period) and the multi-frequency solution with 6 harmonics are independent and agree to
+  // 0.5 %; the zero-order solution keeps only the mean coefficient and is within 10 % (within
+  // 5 % except near the lobe peaks at 12 500 and 22 500–25 000 rpm, where it is 6–8 % low).
+  const MillingModel m = benchmark(1.0);
+  for (double rpm = 5000.0; rpm <= 25000.0; rpm += 2500.0) {
+    const DelayedSystem s = milling_system(m, rpm);
+    MultiFrequencyOptions zoa, mf;
+    zoa.harmonics = 0;
+    zoa.depth_max_m = mf.depth_max_m = 0.01;
+    mf.harmonics = 6;
+    FdOptions fd;
+    fd.steps_per_period = 120;
+    fd.depth_max_m = 0.01;
+    const CriticalDepth a = multi_frequency_critical_depth(s, zoa);
+    const CriticalDepth b = fd_critical_depth_dense(s, fd, 1e-5);
+    const CriticalDepth c = multi_frequency_critical_depth(s, mf);
+    ASSERT_TRUE(a.found && b.found && c.found);
+    EXPECT_NEAR(c.depth_m, b.depth_m, 0.005 * b.depth_m) << "rpm " << rpm;
+    EXPECT_NEAR(a.depth_m, b.depth_m, 0.10 * b.depth_m) << "rpm " << rpm;
+    EXPECT_EQ(b.bifurcation, Bifurcation::kHopf);
+    EXPECT_NEAR(c.chatter_hz, b.chatter_hz, 2.0) << "rpm " << rpm;
+  }
+}
+
+TEST(Milling, LowImmersionFlipLobesThatTheZeroOrderSolutionMisses) {
+  // a/D = 0.05 (one direction, as in Insperger & Stépán's figures): at 10 000 and 15 000 rpm
+  // the full discretization finds period-doubling boundaries — chatter at an odd multiple of
+  // half the tooth-passing frequency — far below the zero-order lobes.
+  const MillingModel m = benchmark(0.05, false);
+  for (double rpm : {10000.0, 15000.0}) {
+    const DelayedSystem s = milling_system(m, rpm);
+    MultiFrequencyOptions zoa;
+    zoa.harmonics = 0;
+    zoa.depth_max_m = 0.03;
+    FdOptions fd;
+    fd.steps_per_period = 80;
+    fd.depth_max_m = 0.03;
+    const CriticalDepth a = multi_frequency_critical_depth(s, zoa);
+    const CriticalDepth reduced = fd_critical_depth(s, fd);
+    const CriticalDepth dense = fd_critical_depth_dense(s, fd, 1e-7);
+    ASSERT_TRUE(reduced.found && dense.found);
+    EXPECT_EQ(reduced.bifurcation, Bifurcation::kFlip) << "rpm " << rpm;
+    EXPECT_EQ(dense.bifurcation, Bifurcation::kFlip) << "rpm " << rpm;
+    EXPECT_NEAR(reduced.depth_m, dense.depth_m, 1e-6 * dense.depth_m);
+    const double tooth_hz = rpm / 60.0 * m.teeth;
+    const double harmonic = reduced.chatter_hz / (0.5 * tooth_hz);
+    EXPECT_NEAR(harmonic, std::round(harmonic), 1e-6);
+    EXPECT_EQ(static_cast<long>(std::round(harmonic)) % 2, 1);
+    EXPECT_LT(reduced.depth_m, 0.7 * a.depth_m) << "rpm " << rpm;
+  }
+}
+
+}  // namespace
+}  // namespace cutdyn
