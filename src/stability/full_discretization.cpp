@@ -3,6 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+// GCC 12 reports a false -Wuse-after-free inside Spectra's inlined Eigen code.
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12
+#pragma GCC diagnostic ignored "-Wuse-after-free"
+#endif
+#include <Spectra/GenEigsSolver.h>
+
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "cutdyn/core/error.hpp"
@@ -191,60 +197,135 @@ FdGrid fd_grid(const DelayedSystem& s, const FdOptions& o) {
   return grid;
 }
 
-Eigen::MatrixXd fd_transition_matrix(const DelayedSystem& s, const FdGrid& grid, double depth) {
-  const Discretization disc(s, grid);
-  const int n = disc.n();
-  const auto d = s.A0.rows();
-  const auto r = s.C.rows();
-  // History length: the oldest node any step needs, counted back from that step's node.
-  long long L = 1;
-  for (int j = 0; j < n; ++j) {
-    for (int e : {j, j + 1}) {
-      const DelayRef& ref = disc.ref(e);
-      L = std::max(L, j - ref.g);
-    }
-  }
-  const auto D = d + r * L;
-  Eigen::MatrixXd phi = Eigen::MatrixXd::Identity(D, D);
-  Eigen::MatrixXd next(D, D);
+namespace {
 
-  // Rows of y at global node g, seen from the state at node j (g <= j): C·x(j) rows when
-  // g = j, history block j − g − 1 otherwise.
-  const auto y_rows = [&](const Eigen::MatrixXd& m, int j, long long g) -> Eigen::MatrixXd {
-    const long long back = j - g;
-    if (back == 0) return s.C * m.topRows(d);
-    return m.middleRows(d + r * (back - 1), r);
-  };
-  const auto delayed_rows = [&](const Eigen::MatrixXd& m, int j, const DelayRef& ref) {
-    Eigen::MatrixXd rows = (1.0 - ref.alpha) * y_rows(m, j, ref.g);
-    if (ref.alpha > 0.0) rows += ref.alpha * y_rows(m, j, ref.g + 1);
-    return rows;
-  };
-
-  for (int j = 0; j < n; ++j) {
-    const StepMatrices& st = disc.step(j);
-    const Eigen::MatrixXd x = phi.topRows(d);
-    if (st.active && depth > 0.0) {
+// The transition map over one period at a fixed depth, applicable to any set of columns:
+// the identity gives the dense Φ, a single vector gives the matrix-free product for Arnoldi.
+// The state is z = (x(j), y(j−1), ..., y(j−L)).
+class PeriodMap {
+ public:
+  PeriodMap(const DelayedSystem& s, const FdGrid& grid, double depth)
+      : disc_(s, grid), c_(s.C), d_(s.A0.rows()), r_(s.C.rows()) {
+    const int n = disc_.n();
+    // History length: the oldest node any step needs, counted back from that step's node.
+    for (int j = 0; j < n; ++j)
+      for (int e : {j, j + 1}) L_ = std::max(L_, j - disc_.ref(e).g);
+    steps_.resize(static_cast<std::size_t>(n));
+    for (int j = 0; j < n; ++j) {
+      const StepMatrices& st = disc_.step(j);
+      Step& out = steps_[static_cast<std::size_t>(j)];
+      out.active = st.active && depth > 0.0;
+      if (!out.active) {
+        out.mx = st.phi0;
+        continue;
+      }
+      // (I + wh1·C)·x(j+1) = (Φ0 − wh0·C)·x(j) + wh0·ŷ(j) + wh1·ŷ(j+1)   [Ding2010, eq. 13]
       const Eigen::MatrixXd wh0 = depth * st.w0E * st.H;
       const Eigen::MatrixXd wh1 = depth * st.w1E * st.H;
-      const Eigen::MatrixXd nmat = Eigen::MatrixXd::Identity(d, d) + wh1 * s.C;
-      const Eigen::MatrixXd rhs = (st.phi0 - wh0 * s.C) * x +
-                                  wh0 * delayed_rows(phi, j, disc.ref(j)) +
-                                  wh1 * delayed_rows(phi, j, disc.ref(j + 1));
-      next.topRows(d) = nmat.partialPivLu().solve(rhs);
-    } else {
-      next.topRows(d) = st.phi0 * x;
+      const auto lu = (Eigen::MatrixXd::Identity(d_, d_) + wh1 * c_).partialPivLu();
+      out.mx = lu.solve(st.phi0 - wh0 * c_);
+      out.k0 = lu.solve(wh0);
+      out.k1 = lu.solve(wh1);
     }
-    next.middleRows(d, r) = s.C * x;
-    if (L > 1) next.middleRows(d + r, r * (L - 1)) = phi.middleRows(d, r * (L - 1));
-    phi.swap(next);
   }
+
+  Eigen::Index dim() const { return d_ + r_ * L_; }
+
+  // z ← Φ·z, column by column; `next` is scratch of the same size.
+  void apply(Eigen::MatrixXd& z, Eigen::MatrixXd& next) const {
+    next.resize(z.rows(), z.cols());
+    for (int j = 0; j < disc_.n(); ++j) {
+      const Step& st = steps_[static_cast<std::size_t>(j)];
+      const auto x = z.topRows(d_);
+      next.topRows(d_).noalias() = st.mx * x;
+      if (st.active) {
+        next.topRows(d_).noalias() += st.k0 * delayed(z, j, disc_.ref(j));
+        next.topRows(d_).noalias() += st.k1 * delayed(z, j, disc_.ref(j + 1));
+      }
+      next.middleRows(d_, r_).noalias() = c_ * x;
+      if (L_ > 1) next.middleRows(d_ + r_, r_ * (L_ - 1)) = z.middleRows(d_, r_ * (L_ - 1));
+      z.swap(next);
+    }
+  }
+
+ private:
+  struct Step {
+    Eigen::MatrixXd mx, k0, k1;
+    bool active = false;
+  };
+  // y at global node g seen from the state at node j (g <= j): C·x(j), or history block j − g − 1.
+  Eigen::MatrixXd y_rows(const Eigen::MatrixXd& z, int j, long long g) const {
+    const long long back = j - g;
+    if (back == 0) return c_ * z.topRows(d_);
+    return z.middleRows(d_ + r_ * (back - 1), r_);
+  }
+  Eigen::MatrixXd delayed(const Eigen::MatrixXd& z, int j, const DelayRef& ref) const {
+    Eigen::MatrixXd rows = (1.0 - ref.alpha) * y_rows(z, j, ref.g);
+    if (ref.alpha > 0.0) rows += ref.alpha * y_rows(z, j, ref.g + 1);
+    return rows;
+  }
+
+  Discretization disc_;
+  Eigen::MatrixXd c_;
+  Eigen::Index d_, r_;
+  long long L_ = 1;
+  std::vector<Step> steps_;
+};
+
+// Spectra's operator interface over the matrix-free map.
+class PeriodMapOp {
+ public:
+  using Scalar = double;
+  explicit PeriodMapOp(const PeriodMap& map) : map_(map) {}
+  Eigen::Index rows() const { return map_.dim(); }
+  Eigen::Index cols() const { return map_.dim(); }
+  void perform_op(const double* in, double* out) const {
+    z_ = Eigen::Map<const Eigen::VectorXd>(in, map_.dim());
+    map_.apply(z_, next_);
+    Eigen::Map<Eigen::VectorXd>(out, map_.dim()) = z_;
+  }
+
+ private:
+  const PeriodMap& map_;
+  mutable Eigen::MatrixXd z_, next_;
+};
+
+}  // namespace
+
+Eigen::MatrixXd fd_transition_matrix(const DelayedSystem& s, const FdGrid& grid, double depth) {
+  const PeriodMap map(s, grid, depth);
+  Eigen::MatrixXd phi = Eigen::MatrixXd::Identity(map.dim(), map.dim()), scratch;
+  map.apply(phi, scratch);
   return phi;
 }
 
 double fd_spectral_radius(const DelayedSystem& s, const FdGrid& grid, double depth) {
   const Eigen::MatrixXd phi = fd_transition_matrix(s, grid, depth);
   return phi.eigenvalues().cwiseAbs().maxCoeff();
+}
+
+SpectralRadius fd_spectral_radius_arnoldi(const DelayedSystem& s, const FdGrid& grid,
+                                          double depth) {
+  const PeriodMap map(s, grid, depth);
+  constexpr Eigen::Index kNev = 4, kNcv = 20;
+  SpectralRadius out;
+  if (map.dim() > 3 * kNcv) {
+    PeriodMapOp op(map);
+    Spectra::GenEigsSolver<PeriodMapOp> eigs(op, kNev, kNcv);
+    eigs.init();
+    const Eigen::Index converged = eigs.compute(Spectra::SortRule::LargestMagn, 200, 1e-10);
+    out.operations = eigs.num_operations();
+    if (converged == kNev && eigs.info() == Spectra::CompInfo::Successful) {
+      out.value = eigs.eigenvalues().cwiseAbs().maxCoeff();
+      out.arnoldi = true;
+      return out;
+    }
+  }
+  // Small maps, or Arnoldi did not converge (multipliers crowding the circle): dense.
+  Eigen::MatrixXd phi = Eigen::MatrixXd::Identity(map.dim(), map.dim()), scratch;
+  map.apply(phi, scratch);
+  out.value = phi.eigenvalues().cwiseAbs().maxCoeff();
+  return out;
 }
 
 CriticalDepth fd_critical_depth_dense(const DelayedSystem& s, const FdOptions& o, double rel_tol,

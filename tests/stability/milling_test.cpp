@@ -190,5 +190,21 @@ TEST(Milling, LowImmersionFlipLobesThatTheZeroOrderSolutionMisses) {
   }
 }
 
+TEST(Milling, ArnoldiSpectralRadiusEqualsTheDenseOne) {
+  // Slotting at 5000 rpm with 120 steps per tooth period (a 244-row map): the matrix-free
+  // Arnoldi iteration converges and gives the dense eigenvalues' largest modulus.
+  const MillingModel m = benchmark(1.0);
+  const DelayedSystem s = milling_system(m, 5000.0);
+  FdOptions o;
+  o.steps_per_period = 120;
+  const FdGrid grid = fd_grid(s, o);
+  for (double depth : {0.0, 0.03e-3, 0.048e-3, 0.07e-3}) {
+    const SpectralRadius a = fd_spectral_radius_arnoldi(s, grid, depth);
+    EXPECT_TRUE(a.arnoldi) << "depth " << depth;
+    EXPECT_LT(a.operations, 200);
+    EXPECT_NEAR(a.value, fd_spectral_radius(s, grid, depth), 1e-9) << "depth " << depth;
+  }
+}
+
 }  // namespace
 }  // namespace cutdyn

@@ -63,6 +63,20 @@ Eigen::MatrixXd fd_transition_matrix(const DelayedSystem& system, const FdGrid& 
 /// Largest |eigenvalue| of fd_transition_matrix.
 double fd_spectral_radius(const DelayedSystem& system, const FdGrid& grid, double depth_m);
 
+struct SpectralRadius {
+  double value = 0.0;
+  bool arnoldi = false;      // true: from Arnoldi iteration; false: from the dense matrix
+  long long operations = 0;  // products with the period map in Arnoldi
+};
+
+/// Largest |eigenvalue| of the same map by Arnoldi iteration (Spectra, 4 eigenvalues of
+/// largest modulus, 20 Krylov vectors) on the matrix-free map: O(n·d²) per product instead
+/// of forming Φ. Falls back to the dense eigenvalues for small maps (≤ 60 rows) or when
+/// Arnoldi does not converge (e.g. thousands of multipliers crowding the unit circle in
+/// vibration-assisted turning).
+SpectralRadius fd_spectral_radius_arnoldi(const DelayedSystem& system, const FdGrid& grid,
+                                          double depth_m);
+
 /// Critical depth by the reduced (multiplier-on-the-unit-circle) method.
 CriticalDepth fd_critical_depth(const DelayedSystem& system, const FdOptions& options);
 
