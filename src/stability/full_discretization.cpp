@@ -204,8 +204,8 @@ namespace {
 // The state is z = (x(j), y(j−1), ..., y(j−L)).
 class PeriodMap {
  public:
-  PeriodMap(const DelayedSystem& s, const FdGrid& grid, double depth)
-      : disc_(s, grid), c_(s.C), d_(s.A0.rows()), r_(s.C.rows()) {
+  PeriodMap(const Discretization& disc, const DelayedSystem& s, double depth)
+      : disc_(disc), c_(s.C), d_(s.A0.rows()), r_(s.C.rows()) {
     const int n = disc_.n();
     // History length: the oldest node any step needs, counted back from that step's node.
     for (int j = 0; j < n; ++j)
@@ -231,21 +231,37 @@ class PeriodMap {
 
   Eigen::Index dim() const { return d_ + r_ * L_; }
 
-  // z ← Φ·z, column by column; `next` is scratch of the same size.
+  // z ← Φ·z, column by column; `next` is scratch of the same size. The history is kept as a
+  // ring of L blocks during the period (no shifting), and put back in order at the end.
   void apply(Eigen::MatrixXd& z, Eigen::MatrixXd& next) const {
-    next.resize(z.rows(), z.cols());
+    const Eigen::Index cols = z.cols();
+    xo_.resize(d_, cols);
+    y0_.resize(r_, cols);
+    y1_.resize(r_, cols);
+    long long head = 0;                       // ring block that holds y(j − 1)
+    const auto block = [&](long long back) {  // history block of y(j − back), back >= 1
+      return d_ + r_ * ((head + back - 1) % L_);
+    };
     for (int j = 0; j < disc_.n(); ++j) {
       const Step& st = steps_[static_cast<std::size_t>(j)];
-      const auto x = z.topRows(d_);
-      next.topRows(d_).noalias() = st.mx * x;
+      xo_ = z.topRows(d_);
       if (st.active) {
-        next.topRows(d_).noalias() += st.k0 * delayed(z, j, disc_.ref(j));
-        next.topRows(d_).noalias() += st.k1 * delayed(z, j, disc_.ref(j + 1));
+        delayed(z, j, disc_.ref(j), block, y0_);
+        delayed(z, j, disc_.ref(j + 1), block, y1_);
+        z.topRows(d_).noalias() = st.mx * xo_;
+        z.topRows(d_).noalias() += st.k0 * y0_;
+        z.topRows(d_).noalias() += st.k1 * y1_;
+      } else {
+        z.topRows(d_).noalias() = st.mx * xo_;
       }
-      next.middleRows(d_, r_).noalias() = c_ * x;
-      if (L_ > 1) next.middleRows(d_ + r_, r_ * (L_ - 1)) = z.middleRows(d_, r_ * (L_ - 1));
-      z.swap(next);
+      head = (head + L_ - 1) % L_;  // push y(j) = C·x(j)
+      z.middleRows(d_ + r_ * head, r_).noalias() = c_ * xo_;
     }
+    next.resize(z.rows(), cols);
+    next.topRows(d_) = z.topRows(d_);
+    for (long long b = 1; b <= L_; ++b)
+      next.middleRows(d_ + r_ * (b - 1), r_) = z.middleRows(block(b), r_);
+    z.swap(next);
   }
 
  private:
@@ -253,23 +269,38 @@ class PeriodMap {
     Eigen::MatrixXd mx, k0, k1;
     bool active = false;
   };
-  // y at global node g seen from the state at node j (g <= j): C·x(j), or history block j − g − 1.
-  Eigen::MatrixXd y_rows(const Eigen::MatrixXd& z, int j, long long g) const {
+  // out (=, or += when `add`) weight·y at global node g, seen from step j (g <= j): C·x(j)
+  // when g = j, the history block of y(g) otherwise.
+  template <typename Block>
+  void add_y(const Eigen::MatrixXd& z, int j, long long g, double weight, bool add,
+             const Block& block, Eigen::MatrixXd& out) const {
     const long long back = j - g;
-    if (back == 0) return c_ * z.topRows(d_);
-    return z.middleRows(d_ + r_ * (back - 1), r_);
+    if (back == 0) {
+      if (add)
+        out.noalias() += weight * (c_ * xo_);
+      else
+        out.noalias() = weight * (c_ * xo_);
+    } else {
+      const auto rows = z.middleRows(block(back), r_);
+      if (add)
+        out += weight * rows;
+      else
+        out = weight * rows;
+    }
   }
-  Eigen::MatrixXd delayed(const Eigen::MatrixXd& z, int j, const DelayRef& ref) const {
-    Eigen::MatrixXd rows = (1.0 - ref.alpha) * y_rows(z, j, ref.g);
-    if (ref.alpha > 0.0) rows += ref.alpha * y_rows(z, j, ref.g + 1);
-    return rows;
+  template <typename Block>
+  void delayed(const Eigen::MatrixXd& z, int j, const DelayRef& ref, const Block& block,
+               Eigen::MatrixXd& out) const {
+    add_y(z, j, ref.g, 1.0 - ref.alpha, false, block, out);
+    if (ref.alpha > 0.0) add_y(z, j, ref.g + 1, ref.alpha, true, block, out);
   }
 
-  Discretization disc_;
+  const Discretization& disc_;
   Eigen::MatrixXd c_;
   Eigen::Index d_, r_;
   long long L_ = 1;
   std::vector<Step> steps_;
+  mutable Eigen::MatrixXd xo_, y0_, y1_;
 };
 
 // Spectra's operator interface over the matrix-free map.
@@ -292,21 +323,36 @@ class PeriodMapOp {
 
 }  // namespace
 
-Eigen::MatrixXd fd_transition_matrix(const DelayedSystem& s, const FdGrid& grid, double depth) {
-  const PeriodMap map(s, grid, depth);
+struct FdDiscretization::Impl {
+  Impl(const DelayedSystem& s, FdGrid g) : system(s), grid(std::move(g)), disc(system, grid) {}
+  DelayedSystem system;
+  FdGrid grid;
+  Discretization disc;  // refers to the two members above
+};
+
+FdDiscretization::FdDiscretization(const DelayedSystem& system, const FdOptions& options)
+    : impl_(std::make_unique<Impl>(system, fd_grid(system, options))) {}
+FdDiscretization::FdDiscretization(const DelayedSystem& system, const FdGrid& grid)
+    : impl_(std::make_unique<Impl>(system, grid)) {}
+FdDiscretization::~FdDiscretization() = default;
+FdDiscretization::FdDiscretization(FdDiscretization&&) noexcept = default;
+FdDiscretization& FdDiscretization::operator=(FdDiscretization&&) noexcept = default;
+
+const FdGrid& FdDiscretization::grid() const { return impl_->grid; }
+
+Eigen::MatrixXd FdDiscretization::transition_matrix(double depth_m) const {
+  const PeriodMap map(impl_->disc, impl_->system, depth_m);
   Eigen::MatrixXd phi = Eigen::MatrixXd::Identity(map.dim(), map.dim()), scratch;
   map.apply(phi, scratch);
   return phi;
 }
 
-double fd_spectral_radius(const DelayedSystem& s, const FdGrid& grid, double depth) {
-  const Eigen::MatrixXd phi = fd_transition_matrix(s, grid, depth);
-  return phi.eigenvalues().cwiseAbs().maxCoeff();
+double FdDiscretization::spectral_radius(double depth_m) const {
+  return transition_matrix(depth_m).eigenvalues().cwiseAbs().maxCoeff();
 }
 
-SpectralRadius fd_spectral_radius_arnoldi(const DelayedSystem& s, const FdGrid& grid,
-                                          double depth) {
-  const PeriodMap map(s, grid, depth);
+SpectralRadius FdDiscretization::spectral_radius_arnoldi(double depth_m) const {
+  const PeriodMap map(impl_->disc, impl_->system, depth_m);
   constexpr Eigen::Index kNev = 4, kNcv = 20;
   SpectralRadius out;
   if (map.dim() > 3 * kNcv) {
@@ -328,36 +374,74 @@ SpectralRadius fd_spectral_radius_arnoldi(const DelayedSystem& s, const FdGrid& 
   return out;
 }
 
-CriticalDepth fd_critical_depth_dense(const DelayedSystem& s, const FdOptions& o, double rel_tol,
-                                      int coarse_steps) {
-  const FdGrid grid = fd_grid(s, o);
-  CriticalDepth result =
-      critical_depth_by_bisection([&](double w) { return fd_spectral_radius(s, grid, w) >= 1.0; },
-                                  o.depth_max_m, coarse_steps, rel_tol);
-  if (!result.found) return result;
-  const double hi = result.depth_m * (1.0 + 0.5 * rel_tol);
-  // Chatter frequency from the dominant multiplier's eigenvector: its history holds y over
-  // the last L nodes.
-  const Eigen::MatrixXd phi = fd_transition_matrix(s, grid, hi);
+Eigen::MatrixXd fd_transition_matrix(const DelayedSystem& s, const FdGrid& grid, double depth) {
+  return FdDiscretization(s, grid).transition_matrix(depth);
+}
+
+double fd_spectral_radius(const DelayedSystem& s, const FdGrid& grid, double depth) {
+  return FdDiscretization(s, grid).spectral_radius(depth);
+}
+
+SpectralRadius fd_spectral_radius_arnoldi(const DelayedSystem& s, const FdGrid& grid,
+                                          double depth) {
+  return FdDiscretization(s, grid).spectral_radius_arnoldi(depth);
+}
+
+namespace {
+
+// The multiplier of largest modulus and its eigenvector (dense or Arnoldi).
+std::pair<cplx, Eigen::VectorXcd> dominant_multiplier(const PeriodMap& map, RadiusSolver solver) {
+  if (solver == RadiusSolver::kArnoldi && map.dim() > 60) {
+    PeriodMapOp op(map);
+    Spectra::GenEigsSolver<PeriodMapOp> eigs(op, 4, 20);
+    eigs.init();
+    if (eigs.compute(Spectra::SortRule::LargestMagn, 200, 1e-10) == 4)
+      return {eigs.eigenvalues()(0), eigs.eigenvectors().col(0)};
+  }
+  Eigen::MatrixXd phi = Eigen::MatrixXd::Identity(map.dim(), map.dim()), scratch;
+  map.apply(phi, scratch);
   Eigen::EigenSolver<Eigen::MatrixXd> eig(phi, true);
   Eigen::Index k = 0;
   eig.eigenvalues().cwiseAbs().maxCoeff(&k);
-  const double theta = std::arg(eig.eigenvalues()(k));
+  return {eig.eigenvalues()(k), eig.eigenvectors().col(k)};
+}
+
+}  // namespace
+
+CriticalDepth fd_critical_depth_by_radius(const DelayedSystem& s, const FdOptions& o,
+                                          RadiusSolver solver, double rel_tol, int coarse_steps) {
+  const FdDiscretization fd(s, o);
+  CriticalDepth result = critical_depth_by_bisection(
+      [&](double w) {
+        const double rho = solver == RadiusSolver::kArnoldi ? fd.spectral_radius_arnoldi(w).value
+                                                            : fd.spectral_radius(w);
+        return rho >= 1.0;
+      },
+      o.depth_max_m, coarse_steps, rel_tol);
+  if (!result.found) return result;
+  // Bifurcation and chatter frequency from the dominant multiplier just above the boundary;
+  // its eigenvector's history holds y over the last L nodes.
+  const Discretization disc(s, fd.grid());
+  const PeriodMap map(disc, s, result.depth_m * (1.0 + 0.5 * rel_tol));
+  const auto [mu, v] = dominant_multiplier(map, solver);
+  const double theta = std::arg(mu);
   result.bifurcation = classify_multiplier(theta);
-  const Eigen::VectorXcd v = eig.eigenvectors().col(k);
   const auto d = s.A0.rows();
   const auto r = s.C.rows();
-  const Discretization disc(s, grid);
-  std::vector<double> times;
-  std::vector<cplx> values;
-  times.push_back(0.0);
-  values.push_back((s.C.cast<cplx>() * v.head(d))(0));
+  std::vector<double> times{0.0};
+  std::vector<cplx> values{(s.C.cast<cplx>() * v.head(d))(0)};
   for (Eigen::Index b = 0; d + r * (b + 1) <= v.size(); ++b) {
     times.push_back(disc.time(-(b + 1)));
     values.push_back(v(d + r * b));
   }
-  result.chatter_hz = dominant_frequency_hz(theta, grid.period_s, times, values, grid.steps());
+  result.chatter_hz =
+      dominant_frequency_hz(theta, fd.grid().period_s, times, values, fd.grid().steps());
   return result;
+}
+
+CriticalDepth fd_critical_depth_dense(const DelayedSystem& s, const FdOptions& o, double rel_tol,
+                                      int coarse_steps) {
+  return fd_critical_depth_by_radius(s, o, RadiusSolver::kDense, rel_tol, coarse_steps);
 }
 
 CriticalDepth fd_critical_depth(const DelayedSystem& s, const FdOptions& o) {

@@ -22,6 +22,7 @@
 //   multiplier of the same Φ crosses the unit circle, exactly, without forming Φ.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -77,8 +78,39 @@ struct SpectralRadius {
 SpectralRadius fd_spectral_radius_arnoldi(const DelayedSystem& system, const FdGrid& grid,
                                           double depth_m);
 
+/// The discretized system at one speed — step matrices and delay references, which do not
+/// depend on the depth. Build it once and evaluate the period map at many depths.
+class FdDiscretization {
+ public:
+  FdDiscretization(const DelayedSystem& system, const FdOptions& options);
+  FdDiscretization(const DelayedSystem& system, const FdGrid& grid);
+  ~FdDiscretization();
+  FdDiscretization(FdDiscretization&&) noexcept;
+  FdDiscretization& operator=(FdDiscretization&&) noexcept;
+
+  const FdGrid& grid() const;
+  Eigen::MatrixXd transition_matrix(double depth_m) const;
+  double spectral_radius(double depth_m) const;                  // dense eigenvalues
+  SpectralRadius spectral_radius_arnoldi(double depth_m) const;  // see below
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 /// Critical depth by the reduced (multiplier-on-the-unit-circle) method.
 CriticalDepth fd_critical_depth(const DelayedSystem& system, const FdOptions& options);
+
+enum class RadiusSolver { kDense, kArnoldi };
+
+/// Critical depth from the spectral radius of the period map: a coarse depth scan brackets
+/// the first unstable depth (so an unstable island above a stable band is not skipped), then
+/// bisection to `rel_tol`. The discretization is built once; each depth costs one spectral
+/// radius, dense or by Arnoldi (with dense fallback). Bifurcation type and chatter frequency
+/// come from the dominant multiplier just above the boundary.
+CriticalDepth fd_critical_depth_by_radius(const DelayedSystem& system, const FdOptions& options,
+                                          RadiusSolver solver, double rel_tol = 1e-6,
+                                          int coarse_steps = 24);
 
 /// Critical depth by the dense method: spectral radius on a coarse depth scan to bracket the
 /// first unstable depth, then bisection to `rel_tol`. For cross-checks at short delays.
