@@ -6,6 +6,10 @@
 #include <ostream>
 #include <string>
 
+namespace cutdyn::io {
+struct Case;
+}
+
 namespace cutdyn::cli {
 
 struct Outputs {
@@ -46,5 +50,10 @@ struct ForceArgs {
   std::string plot;
 };
 int run_force(const ForceArgs& args, std::ostream& out, std::ostream& err);
+
+/// The milling halves of `lobes` and `check` (the commands dispatch on the case's process).
+int run_lobes_milling(const LobesArgs& args, const io::Case& c, std::ostream& out,
+                      std::ostream& err);
+int run_check_milling(const CheckArgs& args, const io::Case& c, std::ostream& out);
 
 }  // namespace cutdyn::cli

@@ -87,64 +87,12 @@ std::string describe_model(const TurningModel& m) {
   return s;
 }
 
-// An output must go to an existing folder; checked before any work is done.
-void check_output_folder(Validator& v, const char* flag, const std::string& path) {
-  if (path.empty()) return;
-  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-  if (!parent.empty() && !std::filesystem::is_directory(parent))
-    v.add(std::string(flag) + " = " + path + ": the folder " + parent.string() + " does not exist");
-}
-
-void check_outputs(const Outputs& o) {
-  if (!o.plot.empty()) io::check_figure_path(o.plot);
-  Validator v;
-  check_output_folder(v, "--out", o.csv);
-  check_output_folder(v, "--json", o.json);
-  check_output_folder(v, "--plot", o.plot);
-  const auto same = [](const std::string& a, const std::string& b) {
-    return !a.empty() && !b.empty() &&
-           std::filesystem::weakly_canonical(a) == std::filesystem::weakly_canonical(b);
-  };
-  if (same(o.csv, o.json) || same(o.csv, o.plot) || same(o.json, o.plot))
-    v.add("--out, --json and --plot must name different files");
-  v.throw_if_any("command line");
-}
-
-// Speeds of the stable pockets: local maxima of the critical depth, deepest first.
-std::vector<std::size_t> stable_pockets(const std::vector<LobePoint>& p, std::size_t count) {
-  std::vector<std::size_t> peaks;
-  for (std::size_t i = 1; i + 1 < p.size(); ++i) {
-    const double d = p[i].boundary.depth_m;
-    if (d >= p[i - 1].boundary.depth_m && d > p[i + 1].boundary.depth_m) peaks.push_back(i);
-  }
-  std::sort(peaks.begin(), peaks.end(), [&](std::size_t a, std::size_t b) {
-    return p[a].boundary.depth_m > p[b].boundary.depth_m;
-  });
-  if (peaks.size() > count) peaks.resize(count);
-  return peaks;
-}
-
-// Runs `check`; an InvalidInput it throws is rethrown naming `where` and `key`.
-template <typename F>
-void rethrow_as(const std::string& where, const std::string& key, F&& check) {
-  try {
-    check();
-  } catch (const InvalidInput& e) {
-    std::vector<std::string> problems;
-    for (const std::string& p : e.problems()) problems.push_back(key + ": " + p);
-    throw InvalidInput(problems, where);
-  }
-}
-
-std::string depth_text(const CriticalDepth& b) {
-  return b.found ? human(m_to_mm(b.depth_m)) + " mm" : "> " + human(m_to_mm(b.depth_m)) + " mm";
-}
-
 }  // namespace
 
 int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
   check_outputs(args.outputs);
   const io::Case c = load_case(args.case_path, kDefaultTurningCase);
+  if (c.process == io::Process::kMilling) return run_lobes_milling(args, c, out, err);
   const TurningModel model = turning_model(c, "lobes");
   const TurningMethod method = resolve_method(c, model, args.method);
   const TurningStabilityOptions options = stability_options(c, method);
@@ -180,136 +128,32 @@ int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
     for (const LobePoint& p : conv.points) reference.push_back(p.boundary);
   }
 
-  if (report.status != LobesStatus::kSuccess) err << "cutdyn: warning: " << report.message << "\n";
-  // Summary for people.
-  const auto& pts = report.points;
-  std::size_t lowest = 0;
-  for (std::size_t i = 1; i < pts.size(); ++i)
-    if (pts[i].boundary.depth_m < pts[lowest].boundary.depth_m) lowest = i;
-  out << "cutdyn lobes: " << c.source << "\n";
-  out << "  " << describe_model(model) << "\n";
-  out << fmt::format("  method {}, {} speeds {}–{} rpm, depth limit {} mm, {:.2f} s\n",
-                     to_string(method), grid.rpm_steps, human(grid.rpm_min), human(grid.rpm_max),
-                     human(m_to_mm(options.depth_max_m)), report.seconds);
-  out << "\n";
-  std::string header = fmt::format("  {:>11}  {:>17}  {:>10}  {:>4}", "spindle_rpm",
-                                   "critical_depth_mm", "chatter_hz", "lobe");
-  if (assisted) header += fmt::format("  {:>10}  {:>21}", "duty_cycle", "conventional_depth_mm");
-  out << header << "\n";
-  const std::size_t stride = std::max<std::size_t>(1, (pts.size() + 19) / 20);
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    if (i % stride != 0 && i + 1 != pts.size()) continue;
-    const LobePoint& p = pts[i];
-    std::string row = fmt::format("  {:>11.1f}  {:>16.4f}{}  {:>10.2f}  {:>4}", p.rpm,
-                                  m_to_mm(p.boundary.depth_m), p.boundary.found ? ' ' : '+',
-                                  p.boundary.chatter_hz, p.lobe);
-    if (assisted)
-      row += fmt::format("  {:>10.4f}  {:>20.4f}{}", p.duty_cycle, m_to_mm(reference[i].depth_m),
-                         reference[i].found ? ' ' : '+');
-    out << row << "\n";
+  LobesView view;
+  view.description = describe_model(model);
+  view.method = to_string(method);
+  view.depth_max_m = options.depth_max_m;
+  view.title = assisted ? "Stability lobes: vibration-assisted and conventional turning"
+                        : "Stability lobes: turning";
+  view.label = assisted ? fmt::format("vibration-assisted ({})", to_string(method))
+                        : fmt::format("conventional ({})", to_string(method));
+  if (assisted) {
+    view.reference = &reference;
+    view.reference_label = "conventional (closed form)";
+    view.duty_cycle = true;
   }
-  if (stride > 1) out << "  (every " << stride << "th speed shown; --out F.csv writes them all)\n";
-  if (std::any_of(pts.begin(), pts.end(), [](const LobePoint& p) { return !p.boundary.found; }))
-    out << "  + stable up to the depth limit at that speed\n";
-  out << "\n  lowest critical depth " << depth_text(pts[lowest].boundary) << " at "
-      << human(pts[lowest].rpm) << " rpm\n";
-  const auto pockets = stable_pockets(pts, 3);
-  if (!pockets.empty()) {
-    out << "  stable pockets (local maxima):";
-    for (std::size_t k = 0; k < pockets.size(); ++k)
-      out << (k ? ";" : "") << " " << human(pts[pockets[k]].rpm) << " rpm, "
-          << depth_text(pts[pockets[k]].boundary);
-    out << "\n";
-  }
-
-  io::OutputTransaction outputs;
-  if (!args.outputs.csv.empty()) {
-    std::vector<std::string> columns{"spindle_rpm", "critical_depth_mm", "chatter_hz", "lobe",
-                                     "beyond_limit"};
-    if (assisted)
-      columns.insert(columns.end(),
-                     {"duty_cycle", "conventional_depth_mm", "conventional_chatter_hz"});
-    io::CsvWriter csv(outputs.open(args.outputs.csv), columns);
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      const LobePoint& p = pts[i];
-      std::vector<io::CsvCell> row{p.rpm, m_to_mm(p.boundary.depth_m), p.boundary.chatter_hz,
-                                   static_cast<long long>(p.lobe),
-                                   static_cast<long long>(p.boundary.found ? 0 : 1)};
-      if (assisted) {
-        row.insert(row.end(),
-                   {p.duty_cycle, m_to_mm(reference[i].depth_m), reference[i].chatter_hz});
-      }
-      csv.row(row);
-    }
-  }
-  if (!args.outputs.json.empty()) {
-    json points = json::array();
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      const LobePoint& p = pts[i];
-      json j{{"spindle_rpm", p.rpm},
-             {"critical_depth_mm", m_to_mm(p.boundary.depth_m)},
-             {"chatter_hz", p.boundary.chatter_hz},
-             {"lobe", p.lobe},
-             {"beyond_limit", !p.boundary.found}};
-      if (assisted) {
-        j["duty_cycle"] = p.duty_cycle;
-        j["conventional_depth_mm"] = m_to_mm(reference[i].depth_m);
-        j["conventional_chatter_hz"] = reference[i].chatter_hz;
-      }
-      points.push_back(std::move(j));
-    }
-    json doc{{"command", "lobes"},
-             {"case", io::to_json(c)},
-             {"source", c.source},
-             {"method", to_string(method)},
-             {"seconds", report.seconds},
-             {"evaluations", report.evaluations},
-             {"lowest",
-              {{"spindle_rpm", pts[lowest].rpm},
-               {"critical_depth_mm", m_to_mm(pts[lowest].boundary.depth_m)}}},
-             {"points", std::move(points)}};
-    io::write_json(outputs.open(args.outputs.json), doc);
-  }
-  if (!args.outputs.plot.empty()) {
-    io::PlotSpec spec;
-    spec.title = assisted ? "Stability lobes: vibration-assisted and conventional turning"
-                          : "Stability lobes: turning";
-    spec.x_label = "spindle speed (rpm)";
-    spec.y_label = "critical depth of cut (mm)";
-    spec.y_min = 0.0;
-    spec.y_max = m_to_mm(options.depth_max_m);
-    io::PlotSeries main{assisted ? fmt::format("vibration-assisted ({})", to_string(method))
-                                 : fmt::format("conventional ({})", to_string(method)),
-                        {},
-                        {},
-                        "stable-region"};
-    io::PlotSeries ref{"conventional (closed form)", {}, {}, "lines"};
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      main.x.push_back(pts[i].rpm);
-      main.y.push_back(m_to_mm(pts[i].boundary.depth_m));
-      if (assisted) {
-        ref.x.push_back(pts[i].rpm);
-        ref.y.push_back(m_to_mm(reference[i].depth_m));
-      }
-    }
-    spec.series.push_back(std::move(main));
-    if (assisted) spec.series.push_back(std::move(ref));
-    io::write_plot(spec, args.outputs.plot, outputs);
-  }
-  outputs.commit();
-  for (const std::string* f : {&args.outputs.csv, &args.outputs.json, &args.outputs.plot})
-    if (!f->empty()) out << "  wrote " << *f << "\n";
+  report_lobes(c, report, view, args.outputs, out, err);
   return 0;
 }
 
 int run_check(const CheckArgs& args, std::ostream& out, std::ostream&) {
-  const io::Case c = load_case(args.case_path, kDefaultTurningCase);
-  const TurningModel model = turning_model(c, "check");
   Validator v;
   check_output_folder(v, "--json", args.json);
   v.require_positive("--rpm", args.rpm, "rpm");
   v.require_positive("--depth-mm", args.depth_mm, "mm");
   v.throw_if_any("command line");
+  const io::Case c = load_case(args.case_path, kDefaultTurningCase);
+  if (c.process == io::Process::kMilling) return run_check_milling(args, c, out);
+  const TurningModel model = turning_model(c, "check");
   rethrow_as("command line", "--rpm", [&] { check_speed_domain(model, args.rpm); });
   const TurningMethod method = resolve_method(c, model, args.method);
   TurningStabilityOptions options = stability_options(c, method);

@@ -1,13 +1,18 @@
 #include "cli/common.hpp"
 
+#include <fmt/format.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
+#include <variant>
 
 #include "cutdyn/core/error.hpp"
+#include "cutdyn/core/units.hpp"
+#include "cutdyn/io/output.hpp"
+#include "cutdyn/io/plot.hpp"
 
 namespace cutdyn::cli {
 
@@ -17,11 +22,9 @@ io::Case load_case(const std::string& path, std::string_view default_example) {
 
 void require_turning(const io::Case& c, std::string_view command) {
   if (c.process != io::Process::kTurning) {
-    throw InvalidInput(
-        {"process = \"" + std::string(io::to_string(c.process)) + "\": `cutdyn " +
-         std::string(command) +
-         "` handles turning in this version (milling stability is not available yet)"},
-        c.source);
+    throw InvalidInput({"process = \"" + std::string(io::to_string(c.process)) + "\": `cutdyn " +
+                        std::string(command) + "` handles turning only in this version"},
+                       c.source);
   }
 }
 
@@ -50,6 +53,201 @@ TurningModel turning_model(const io::Case& c, std::string_view command) {
   // (an undamped mode cannot be analysed for stability).
   if (const auto problems = m.validate(); !problems.empty()) throw InvalidInput(problems, c.source);
   return m;
+}
+
+MillingModel milling_model(const io::Case& c, std::string_view command) {
+  Validator v;
+  if (c.process != io::Process::kMilling)
+    v.add("process = \"" + std::string(io::to_string(c.process)) +
+          "\": this is not a milling case");
+  if (!c.cutting.kt_pa)
+    v.add("cutting.kt_n_per_mm2: missing (required by `cutdyn " + std::string(command) + "`)");
+  if (!c.tool)
+    v.add("tool: missing (required for milling: at least tool.teeth and tool.diameter_mm)");
+  if (c.tool && c.tool->helix_rad != 0.0)
+    v.add("tool.helix_deg = " + human(units::rad_to_deg(c.tool->helix_rad), 6) +
+          ": helical cutters are not supported by the milling stability methods yet (straight "
+          "teeth only; give 0)");
+  v.throw_if_any(c.source);
+  MillingModel m;
+  m.modal = c.modal;
+  m.kt_pa = *c.cutting.kt_pa;
+  m.kr_pa = c.cutting.kr_pa.value_or(0.0);
+  m.teeth = c.tool->teeth;
+  if (c.operation) {
+    m.radial_immersion = c.operation->radial_immersion;
+    m.down_milling = c.operation->down_milling;
+  }
+  if (const auto problems = m.validate(); !problems.empty()) throw InvalidInput(problems, c.source);
+  return m;
+}
+
+void check_output_folder(Validator& v, const char* flag, const std::string& path) {
+  if (path.empty()) return;
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  if (!parent.empty() && !std::filesystem::is_directory(parent))
+    v.add(std::string(flag) + " = " + path + ": the folder " + parent.string() + " does not exist");
+}
+
+void check_outputs(const Outputs& o) {
+  if (!o.plot.empty()) io::check_figure_path(o.plot);
+  Validator v;
+  check_output_folder(v, "--out", o.csv);
+  check_output_folder(v, "--json", o.json);
+  check_output_folder(v, "--plot", o.plot);
+  const auto same = [](const std::string& a, const std::string& b) {
+    return !a.empty() && !b.empty() &&
+           std::filesystem::weakly_canonical(a) == std::filesystem::weakly_canonical(b);
+  };
+  if (same(o.csv, o.json) || same(o.csv, o.plot) || same(o.json, o.plot))
+    v.add("--out, --json and --plot must name different files");
+  v.throw_if_any("command line");
+}
+
+std::string depth_text(const CriticalDepth& b) {
+  const std::string mm = human(units::m_to_mm(b.depth_m)) + " mm";
+  return b.found ? mm : "> " + mm;
+}
+
+namespace {
+
+// Speeds of the stable pockets: local maxima of the critical depth, deepest first.
+std::vector<std::size_t> stable_pockets(const std::vector<LobePoint>& p, std::size_t count) {
+  std::vector<std::size_t> peaks;
+  for (std::size_t i = 1; i + 1 < p.size(); ++i) {
+    const double d = p[i].boundary.depth_m;
+    if (d >= p[i - 1].boundary.depth_m && d > p[i + 1].boundary.depth_m) peaks.push_back(i);
+  }
+  std::sort(peaks.begin(), peaks.end(), [&](std::size_t a, std::size_t b) {
+    return p[a].boundary.depth_m > p[b].boundary.depth_m;
+  });
+  if (peaks.size() > count) peaks.resize(count);
+  return peaks;
+}
+
+}  // namespace
+
+void report_lobes(const io::Case& c, const LobesReport& report, const LobesView& view,
+                  const Outputs& outputs_args, std::ostream& out, std::ostream& err) {
+  using nlohmann::json;
+  using units::m_to_mm;
+  if (report.status != LobesStatus::kSuccess) err << "cutdyn: warning: " << report.message << "\n";
+  const auto& pts = report.points;
+  const auto* ref = view.reference;
+  std::size_t lowest = 0;
+  for (std::size_t i = 1; i < pts.size(); ++i)
+    if (pts[i].boundary.depth_m < pts[lowest].boundary.depth_m) lowest = i;
+
+  out << "cutdyn lobes: " << c.source << "\n";
+  out << "  " << view.description << "\n";
+  out << fmt::format("  method {}, {} speeds {}–{} rpm, depth limit {} mm, {:.2f} s\n", view.method,
+                     pts.size(), human(report.options.rpm_min), human(report.options.rpm_max),
+                     human(m_to_mm(view.depth_max_m)), report.seconds);
+  out << "\n";
+  std::string header = fmt::format("  {:>11}  {:>17}  {:>10}  {:>4}  {:>11}", "spindle_rpm",
+                                   "critical_depth_mm", "chatter_hz", "lobe", "bifurcation");
+  if (view.duty_cycle) header += fmt::format("  {:>10}", "duty_cycle");
+  if (ref) header += fmt::format("  {:>21}", "conventional_depth_mm");
+  out << header << "\n";
+  const std::size_t stride = std::max<std::size_t>(1, (pts.size() + 19) / 20);
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    if (i % stride != 0 && i + 1 != pts.size()) continue;
+    const LobePoint& p = pts[i];
+    std::string row = fmt::format("  {:>11.1f}  {:>16.4f}{}  {:>10.2f}  {:>4}  {:>11}", p.rpm,
+                                  m_to_mm(p.boundary.depth_m), p.boundary.found ? ' ' : '+',
+                                  p.boundary.chatter_hz, p.lobe, to_string(p.boundary.bifurcation));
+    if (view.duty_cycle) row += fmt::format("  {:>10.4f}", p.duty_cycle);
+    if (ref)
+      row += fmt::format("  {:>20.4f}{}", m_to_mm((*ref)[i].depth_m), (*ref)[i].found ? ' ' : '+');
+    out << row << "\n";
+  }
+  if (stride > 1) out << "  (every " << stride << "th speed shown; --out F.csv writes them all)\n";
+  if (std::any_of(pts.begin(), pts.end(), [](const LobePoint& p) { return !p.boundary.found; }))
+    out << "  + stable up to the depth limit at that speed\n";
+  out << "\n  lowest critical depth " << depth_text(pts[lowest].boundary) << " at "
+      << human(pts[lowest].rpm) << " rpm\n";
+  const auto pockets = stable_pockets(pts, 3);
+  if (!pockets.empty()) {
+    out << "  stable pockets (local maxima):";
+    for (std::size_t k = 0; k < pockets.size(); ++k)
+      out << (k ? ";" : "") << " " << human(pts[pockets[k]].rpm) << " rpm, "
+          << depth_text(pts[pockets[k]].boundary);
+    out << "\n";
+  }
+
+  // One row of named values per speed, shared by the CSV and the JSON.
+  std::vector<std::string> columns{"spindle_rpm", "critical_depth_mm", "chatter_hz",
+                                   "lobe",        "bifurcation",       "beyond_limit"};
+  if (view.duty_cycle) columns.push_back("duty_cycle");
+  if (ref) columns.insert(columns.end(), {"conventional_depth_mm", "conventional_chatter_hz"});
+  const auto row = [&](std::size_t i) {
+    const LobePoint& p = pts[i];
+    std::vector<io::CsvCell> cells{p.rpm,
+                                   m_to_mm(p.boundary.depth_m),
+                                   p.boundary.chatter_hz,
+                                   static_cast<long long>(p.lobe),
+                                   std::string(to_string(p.boundary.bifurcation)),
+                                   static_cast<long long>(p.boundary.found ? 0 : 1)};
+    if (view.duty_cycle) cells.emplace_back(p.duty_cycle);
+    if (ref) {
+      cells.emplace_back(m_to_mm((*ref)[i].depth_m));
+      cells.emplace_back((*ref)[i].chatter_hz);
+    }
+    return cells;
+  };
+
+  io::OutputTransaction outputs;
+  if (!outputs_args.csv.empty()) {
+    io::CsvWriter csv(outputs.open(outputs_args.csv), columns);
+    for (std::size_t i = 0; i < pts.size(); ++i) csv.row(row(i));
+  }
+  if (!outputs_args.json.empty()) {
+    json points = json::array();
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      json j = json::object();
+      const auto cells = row(i);
+      for (std::size_t k = 0; k < columns.size(); ++k)
+        std::visit([&](const auto& v) { j[columns[k]] = v; }, cells[k]);
+      j["beyond_limit"] = !pts[i].boundary.found;
+      points.push_back(std::move(j));
+    }
+    json doc{{"command", "lobes"},
+             {"case", io::to_json(c)},
+             {"source", c.source},
+             {"method", view.method},
+             {"seconds", report.seconds},
+             {"evaluations", report.evaluations},
+             {"lowest",
+              {{"spindle_rpm", pts[lowest].rpm},
+               {"critical_depth_mm", m_to_mm(pts[lowest].boundary.depth_m)}}},
+             {"points", std::move(points)}};
+    if (report.status != LobesStatus::kSuccess) doc["warning"] = report.message;
+    io::write_json(outputs.open(outputs_args.json), doc);
+  }
+  if (!outputs_args.plot.empty()) {
+    io::PlotSpec spec;
+    spec.title = view.title;
+    spec.x_label = "spindle speed (rpm)";
+    spec.y_label = "critical depth of cut (mm)";
+    spec.y_min = 0.0;
+    spec.y_max = m_to_mm(view.depth_max_m);
+    io::PlotSeries main{view.label, {}, {}, "stable-region"};
+    io::PlotSeries reference{view.reference_label, {}, {}, "lines"};
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      main.x.push_back(pts[i].rpm);
+      main.y.push_back(m_to_mm(pts[i].boundary.depth_m));
+      if (ref) {
+        reference.x.push_back(pts[i].rpm);
+        reference.y.push_back(m_to_mm((*ref)[i].depth_m));
+      }
+    }
+    spec.series.push_back(std::move(main));
+    if (ref) spec.series.push_back(std::move(reference));
+    io::write_plot(spec, outputs_args.plot, outputs);
+  }
+  outputs.commit();
+  for (const std::string* f : {&outputs_args.csv, &outputs_args.json, &outputs_args.plot})
+    if (!f->empty()) out << "  wrote " << *f << "\n";
 }
 
 std::function<void(int, int)> progress_reporter(std::ostream& err, std::string label) {

@@ -8,7 +8,11 @@
 #include <string>
 #include <string_view>
 
+#include "cli/commands.hpp"
+#include "cutdyn/core/error.hpp"
 #include "cutdyn/io/case_file.hpp"
+#include "cutdyn/stability/lobes.hpp"
+#include "cutdyn/stability/milling.hpp"
 #include "cutdyn/stability/turning.hpp"
 
 namespace cutdyn::cli {
@@ -22,6 +26,47 @@ void require_turning(const io::Case& c, std::string_view command);
 /// The turning model of a case: modes, Kt and vibration. Checks that [cutting].kt_n_per_mm2
 /// is there and, with vibration, that the duty cycle can be had at every speed.
 TurningModel turning_model(const io::Case& c, std::string_view command);
+
+/// The milling model of a case: modes in x and y, Kt and Kr, [tool] and [operation].
+MillingModel milling_model(const io::Case& c, std::string_view command);
+
+/// Checks --out/--json/--plot before any work: figure format, existing folders, distinct files.
+void check_outputs(const Outputs& o);
+/// Adds a problem to `v` if `path`'s folder does not exist.
+void check_output_folder(Validator& v, const char* flag, const std::string& path);
+
+/// Runs `check`; an InvalidInput it throws is rethrown naming `where` and prefixing `key`.
+template <typename F>
+void rethrow_as(const std::string& where, const std::string& key, F&& check) {
+  try {
+    check();
+  } catch (const InvalidInput& e) {
+    std::vector<std::string> problems;
+    for (const std::string& p : e.problems()) problems.push_back(key + ": " + p);
+    throw InvalidInput(problems, where);
+  }
+}
+
+/// "6.736 mm", or "> 30 mm" when no boundary was found below the limit.
+std::string depth_text(const CriticalDepth& b);
+
+/// How `report_lobes` presents a lobe diagram.
+struct LobesView {
+  std::string description;  // one line about the model
+  std::string method;
+  double depth_max_m = 0.0;
+  std::string title;                                      // figure title
+  std::string label;                                      // the main curve's legend
+  const std::vector<CriticalDepth>* reference = nullptr;  // e.g. the conventional lobes
+  std::string reference_label;
+  bool duty_cycle = false;  // add the duty_cycle column
+};
+
+/// Prints the summary table, lowest depth and stable pockets, and writes the CSV
+/// (spindle_rpm,critical_depth_mm,chatter_hz,lobe,bifurcation,beyond_limit,...), JSON and
+/// figure that `outputs` asks for, all or none.
+void report_lobes(const io::Case& c, const LobesReport& report, const LobesView& view,
+                  const Outputs& outputs, std::ostream& out, std::ostream& err);
 
 /// Progress on stderr while it is a terminal ("lobes: 120/200 speeds"); silent otherwise.
 std::function<void(int, int)> progress_reporter(std::ostream& err, std::string label);

@@ -13,6 +13,8 @@
 
 #include "cli/app.hpp"
 #include "cutdyn/io/case_file.hpp"
+#include "cutdyn/stability/full_discretization.hpp"
+#include "cutdyn/stability/milling.hpp"
 #include "cutdyn/stability/tlusty.hpp"
 #include "support/reference_cases.hpp"
 #include "support/temp_dir.hpp"
@@ -254,9 +256,9 @@ TEST_F(Cli, RejectsMissingFeedForSimulation) {
                   "cutting.uncut_chip_thickness_mm: missing");
 }
 
-TEST_F(Cli, RejectsMillingForNow) {
+TEST_F(Cli, RejectsMillingCaseWithoutTool) {
   const auto file = variant("process = \"turning\"", "process = \"milling\"");
-  expect_rejected({"lobes", file, "--out", path("o.csv")}, "process = \"milling\"");
+  expect_rejected({"lobes", file, "--out", path("o.csv")}, "tool: missing");
 }
 
 TEST_F(Cli, RealProcessExitCodesAndStreams) {
@@ -273,6 +275,58 @@ TEST_F(Cli, RealProcessExitCodesAndStreams) {
   EXPECT_EQ(line, "cutdyn: error: " + file +
                       ": modes[0].damping_ratio = -1: must be at least 0 and less than 1");
   EXPECT_FALSE(fs::exists(path("o.csv")));
+}
+
+TEST_F(Cli, MillingLobesAndCheck) {
+  // The Insperger–Stépán slotting benchmark through the command line, against the library.
+  std::string text(*io::example_text("milling-insperger"));
+  text.replace(text.find("rpm_steps = 200"), 15, "rpm_steps = 21");
+  const auto file = write("mill.toml", text);
+  ASSERT_EQ(cutdyn({"lobes", file, "--out", path("m.csv")}).code, 0);
+  const auto lines = csv_lines(path("m.csv"));
+  ASSERT_EQ(lines.size(), 22u);
+  EXPECT_EQ(lines[0].rfind("spindle_rpm,critical_depth_mm,chatter_hz,lobe,bifurcation", 0), 0u);
+  const io::Case c = io::parse_case(text, "mill");
+  MillingModel m;
+  m.modal = c.modal;
+  m.kt_pa = *c.cutting.kt_pa;
+  m.kr_pa = *c.cutting.kr_pa;
+  m.teeth = 2;
+  const DelayedSystem s = milling_system(m, 5000.0);
+  FdOptions o;
+  o.depth_max_m = 1e-3;
+  const CriticalDepth fd = fd_critical_depth_by_radius(s, o, RadiusSolver::kArnoldi, 1e-4, 16);
+  EXPECT_NEAR(std::stod(lines[1].substr(lines[1].find(',') + 1)), 1e3 * fd.depth_m,
+              2e-3 * 1e3 * fd.depth_m);
+  const Result r =
+      cutdyn({"check", file, "--rpm", "5000", "--depth-mm", "0.04", "--json", path("c.json")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(std::ifstream(path("c.json")));
+  EXPECT_TRUE(doc["stable"].get<bool>());
+  EXPECT_EQ(doc["bifurcation"], "hopf");
+  EXPECT_NEAR(doc["critical_depth_mm"].get<double>(), 1e3 * fd.depth_m, 2e-3 * 1e3 * fd.depth_m);
+}
+
+TEST_F(Cli, MillingLowImmersionReportsFlipLobes) {
+  std::string text(*io::example_text("milling-insperger"));
+  text.replace(text.find("radial_immersion = 1.0"), 22, "radial_immersion = 0.05");
+  text.replace(text.find("rpm_steps = 200"), 15, "rpm_steps = 41");
+  text.replace(text.find("depth_max_mm = 1"), 16, "depth_max_mm = 10");
+  const auto file = write("low.toml", text);
+  const Result r = cutdyn({"lobes", file, "--json", path("low.json")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(std::ifstream(path("low.json")));
+  int flips = 0, hopfs = 0;
+  for (const auto& p : doc["points"]) {
+    flips += p["bifurcation"] == "flip";
+    hopfs += p["bifurcation"] == "hopf";
+  }
+  EXPECT_GT(flips, 3);
+  EXPECT_GT(hopfs, 3);
+  const auto file_helix =
+      write("helix.toml", std::string(*io::example_text("milling-insperger"))
+                              .replace(text.find("[tool]"), 6, "[tool]\nhelix_deg = 30"));
+  expect_rejected({"lobes", file_helix, "--out", path("h.csv")}, "tool.helix_deg = 30");
 }
 
 }  // namespace

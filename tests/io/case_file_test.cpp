@@ -65,9 +65,14 @@ TEST(CaseFileExamples, ListIsSortedAndEveryExampleLoads) {
     EXPECT_EQ(example_text(name), text);
     const Case c = load_example(name);
     EXPECT_EQ(c.source, "example " + std::string(name));
-    EXPECT_EQ(c.process, Process::kTurning);
-    expect_table2_mode(c);
     EXPECT_TRUE(c.modal.validate().empty());
+    if (name.rfind("milling", 0) == 0) {
+      EXPECT_EQ(c.process, Process::kMilling);
+      ASSERT_TRUE(c.tool.has_value());
+    } else {
+      EXPECT_EQ(c.process, Process::kTurning);
+      expect_table2_mode(c);
+    }
   }
 }
 
@@ -138,8 +143,9 @@ TEST(CaseFileExamples, UnknownExampleListsTheAvailableNames) {
     EXPECT_EQ(e.where(), "example nope");
     ASSERT_EQ(e.problems().size(), 1u);
     EXPECT_EQ(e.problems()[0],
-              "no built-in example called \"nope\"; available: turning-conventional, "
-              "turning-ultrasonic, turning-ultrasonic-speed, ultrasonic-force");
+              "no built-in example called \"nope\"; available: milling-insperger, "
+              "turning-conventional, turning-ultrasonic, turning-ultrasonic-speed, "
+              "ultrasonic-force");
   }
 }
 

@@ -1,0 +1,187 @@
+// `cutdyn lobes` and `check` for milling (straight teeth, even pitch).
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "cli/commands.hpp"
+#include "cli/common.hpp"
+#include "cutdyn/core/units.hpp"
+#include "cutdyn/io/output.hpp"
+#include "cutdyn/stability/full_discretization.hpp"
+#include "cutdyn/stability/multi_frequency.hpp"
+
+namespace cutdyn::cli {
+namespace {
+
+using units::m_to_mm;
+using units::mm_to_m;
+
+enum class MillingMethod { kZeroOrder, kMultiFrequency, kFullDiscretization, kDense };
+
+const char* to_string(MillingMethod m) {
+  switch (m) {
+    case MillingMethod::kZeroOrder:
+      return "zero-order";
+    case MillingMethod::kMultiFrequency:
+      return "multi-frequency";
+    case MillingMethod::kFullDiscretization:
+      return "full-discretization";
+    case MillingMethod::kDense:
+      return "full-discretization-dense";
+  }
+  return "?";
+}
+
+MillingMethod resolve(const io::Case& c, const std::string& flag) {
+  if (flag.empty()) {
+    switch (c.lobes.method) {
+      case io::StabilityMethod::kClosedForm:
+        return MillingMethod::kZeroOrder;
+      case io::StabilityMethod::kMultiFrequency:
+        return MillingMethod::kMultiFrequency;
+      default:
+        return MillingMethod::kFullDiscretization;
+    }
+  }
+  if (flag == "zero-order" || flag == "closed-form") return MillingMethod::kZeroOrder;
+  if (flag == "multi-frequency") return MillingMethod::kMultiFrequency;
+  if (flag == "auto" || flag == "full-discretization") return MillingMethod::kFullDiscretization;
+  if (flag == "full-discretization-dense") return MillingMethod::kDense;
+  throw InvalidInput({"--method = \"" + flag +
+                      "\": must be auto, zero-order, closed-form, multi-frequency, "
+                      "full-discretization or full-discretization-dense"},
+                     "command line");
+}
+
+// The full discretization's work grows with the structural periods in one tooth period.
+void check_milling_speed(const MillingModel& m, double rpm) {
+  constexpr double kMaxModeCycles = 500.0;
+  Validator v;
+  v.require_positive("spindle speed", rpm, "rpm");
+  v.throw_if_any();
+  const double tooth_period = 60.0 / (rpm * m.teeth);
+  const double f_top = units::rad_per_s_to_hz(m.modal.max_natural_rad_s());
+  if (tooth_period * f_top > kMaxModeCycles) {
+    v.add(
+        fmt::format("spindle speed = {} rpm: one tooth period spans {:.0f} periods of the {} Hz "
+                    "mode; the milling stability methods take at most {:.0f} (raise the speed)",
+                    human(rpm), tooth_period * f_top, human(f_top), kMaxModeCycles));
+  }
+  v.throw_if_any();
+}
+
+struct MillingBoundary {
+  CriticalDepth boundary;
+  int lobe = 0;  // whole chatter waves per tooth period
+};
+
+MillingBoundary critical_depth(const io::Case& c, const MillingModel& m, double rpm,
+                               MillingMethod method, double depth_max_m) {
+  const DelayedSystem s = milling_system(m, rpm);
+  MillingBoundary out;
+  switch (method) {
+    case MillingMethod::kZeroOrder:
+    case MillingMethod::kMultiFrequency: {
+      MultiFrequencyOptions o;
+      o.harmonics = method == MillingMethod::kZeroOrder ? 0 : c.lobes.harmonics;
+      o.depth_max_m = depth_max_m;
+      out.boundary = multi_frequency_critical_depth(s, o);
+      break;
+    }
+    case MillingMethod::kFullDiscretization:
+    case MillingMethod::kDense: {
+      FdOptions o;
+      o.steps_per_period = c.lobes.steps_per_period;
+      o.depth_max_m = depth_max_m;
+      // A coarse scan of 16 depths brackets the first unstable one (islands above a stable
+      // band are not skipped), then bisection to 0.1 %.
+      out.boundary = fd_critical_depth_by_radius(
+          s, o, method == MillingMethod::kDense ? RadiusSolver::kDense : RadiusSolver::kArnoldi,
+          1e-3, 16);
+      break;
+    }
+  }
+  if (out.boundary.found)
+    out.lobe = static_cast<int>(std::floor(out.boundary.chatter_hz * s.delay_s));
+  return out;
+}
+
+std::string describe(const MillingModel& m) {
+  return fmt::format("milling, {} teeth, {} mode{}, Kt = {} N/mm², Kr = {} N/mm², a_e/D = {}, {}",
+                     m.teeth, m.modal.modes.size(), m.modal.modes.size() == 1 ? "" : "s",
+                     human(units::pa_to_n_per_mm2(m.kt_pa)), human(units::pa_to_n_per_mm2(m.kr_pa)),
+                     human(m.radial_immersion), m.down_milling ? "down-milling" : "up-milling");
+}
+
+}  // namespace
+
+int run_lobes_milling(const LobesArgs& args, const io::Case& c, std::ostream& out,
+                      std::ostream& err) {
+  const MillingModel model = milling_model(c, "lobes");
+  const MillingMethod method = resolve(c, args.method);
+  LobesOptions grid;
+  grid.rpm_min = c.lobes.rpm_min;
+  grid.rpm_max = c.lobes.rpm_max;
+  grid.rpm_steps = c.lobes.rpm_steps;
+  grid.threads = args.threads;
+  if (const auto problems = grid.validate(); !problems.empty())
+    throw InvalidInput(problems, c.source);
+  rethrow_as(c.source, "lobes.rpm_min", [&] { check_milling_speed(model, grid.rpm_min); });
+  const LobesReport report = trace_lobes(
+      [&](double rpm) {
+        const MillingBoundary b = critical_depth(c, model, rpm, method, c.lobes.depth_max_m);
+        return LobePoint{rpm, b.boundary, 1.0, b.lobe};
+      },
+      grid, progress_reporter(err, "lobes"));
+  LobesView view;
+  view.description = describe(model);
+  view.method = to_string(method);
+  view.depth_max_m = c.lobes.depth_max_m;
+  view.title = "Stability lobes: milling";
+  view.label = fmt::format("{} teeth, a_e/D = {} ({})", model.teeth, human(model.radial_immersion),
+                           to_string(method));
+  report_lobes(c, report, view, args.outputs, out, err);
+  return 0;
+}
+
+int run_check_milling(const CheckArgs& args, const io::Case& c, std::ostream& out) {
+  const MillingModel model = milling_model(c, "check");
+  rethrow_as("command line", "--rpm", [&] { check_milling_speed(model, args.rpm); });
+  const MillingMethod method = resolve(c, args.method);
+  const double depth = mm_to_m(args.depth_mm);
+  const double limit = std::max(c.lobes.depth_max_m, 4.0 * depth);
+  const MillingBoundary b = critical_depth(c, model, args.rpm, method, limit);
+  const bool stable = !b.boundary.found || depth < b.boundary.depth_m;
+  const double margin = (b.boundary.depth_m - depth) / b.boundary.depth_m;
+  out << "cutdyn check: " << c.source << " at " << human(args.rpm) << " rpm, depth "
+      << human(args.depth_mm) << " mm\n";
+  out << "  " << describe(model) << "\n";
+  out << "  " << (stable ? "STABLE" : "UNSTABLE (chatter)") << "\n";
+  out << "  critical depth " << depth_text(b.boundary) << " (" << to_string(method) << ")";
+  if (b.boundary.found)
+    out << ", " << to_string(b.boundary.bifurcation) << " at " << human(b.boundary.chatter_hz, 5)
+        << " Hz, lobe " << b.lobe;
+  out << "\n  depth margin " << human(100.0 * margin, 3) << " % of the critical depth\n";
+  if (!args.json.empty()) {
+    io::OutputTransaction outputs;
+    nlohmann::json doc{{"command", "check"},
+                       {"case", io::to_json(c)},
+                       {"source", c.source},
+                       {"method", to_string(method)},
+                       {"spindle_rpm", args.rpm},
+                       {"depth_mm", args.depth_mm},
+                       {"stable", stable},
+                       {"critical_depth_mm", m_to_mm(b.boundary.depth_m)},
+                       {"beyond_limit", !b.boundary.found},
+                       {"margin", margin},
+                       {"chatter_hz", b.boundary.chatter_hz},
+                       {"bifurcation", to_string(b.boundary.bifurcation)},
+                       {"lobe", b.lobe}};
+    io::write_json(outputs.open(args.json), doc);
+    outputs.commit();
+    out << "  wrote " << args.json << "\n";
+  }
+  return 0;
+}
+
+}  // namespace cutdyn::cli
