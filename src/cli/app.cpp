@@ -51,6 +51,8 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
                         "full-discretization-dense (overrides [lobes].method)");
   lobes_cmd->add_option("--threads", lobes.threads, "threads (default: all cores)")
       ->check(CLI::Range(0, 1024));
+  lobes_cmd->add_option("--target-depth-mm", lobes.target_depth_mm,
+                        "list the spindle-speed ranges that are stable at this depth");
 
   // check
   CheckArgs check;

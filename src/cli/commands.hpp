@@ -23,6 +23,7 @@ struct LobesArgs {
   Outputs outputs;
   std::string method;  // empty: the case's [lobes].method
   int threads = 0;
+  std::optional<double> target_depth_mm;  // list the speed ranges stable at this depth
 };
 int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err);
 

@@ -140,6 +140,7 @@ int run_lobes_milling(const LobesArgs& args, const io::Case& c, std::ostream& ou
   view.title = "Stability lobes: milling";
   view.label = fmt::format("{} teeth, a_e/D = {} ({})", model.teeth, human(model.radial_immersion),
                            to_string(method));
+  if (args.target_depth_mm) view.target_depth_m = mm_to_m(*args.target_depth_mm);
   report_lobes(c, report, view, args.outputs, out, err);
   return 0;
 }

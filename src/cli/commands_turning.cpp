@@ -91,6 +91,11 @@ std::string describe_model(const TurningModel& m) {
 
 int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
   check_outputs(args.outputs);
+  if (args.target_depth_mm) {
+    Validator v;
+    v.require_positive("--target-depth-mm", *args.target_depth_mm, "mm");
+    v.throw_if_any("command line");
+  }
   const io::Case c = load_case(args.case_path, kDefaultTurningCase);
   if (c.process == io::Process::kMilling) return run_lobes_milling(args, c, out, err);
   const TurningModel model = turning_model(c, "lobes");
@@ -141,6 +146,7 @@ int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
     view.reference_label = "conventional (closed form)";
     view.duty_cycle = true;
   }
+  if (args.target_depth_mm) view.target_depth_m = mm_to_m(*args.target_depth_mm);
   report_lobes(c, report, view, args.outputs, out, err);
   return 0;
 }

@@ -175,6 +175,38 @@ void report_lobes(const io::Case& c, const LobesReport& report, const LobesView&
     out << "\n";
   }
 
+  // Speed ranges stable at the target depth: runs of grid speeds whose critical depth exceeds
+  // it (ends are grid speeds, so a range is known to within one grid step).
+  json ranges = json::array();
+  std::optional<std::size_t> recommended;
+  if (view.target_depth_m) {
+    const double target = *view.target_depth_m;
+    out << "\n  stable at " << human(m_to_mm(target)) << " mm:";
+    std::size_t deepest = pts.size();
+    for (std::size_t i = 0; i < pts.size();) {
+      if (pts[i].boundary.depth_m <= target) {
+        ++i;
+        continue;
+      }
+      std::size_t j = i;
+      while (j + 1 < pts.size() && pts[j + 1].boundary.depth_m > target) ++j;
+      out << (ranges.empty() ? " " : "; ") << human(pts[i].rpm) << "–" << human(pts[j].rpm)
+          << " rpm";
+      ranges.push_back({{"rpm_from", pts[i].rpm}, {"rpm_to", pts[j].rpm}});
+      for (std::size_t k = i; k <= j; ++k)
+        if (deepest == pts.size() || pts[k].boundary.depth_m > pts[deepest].boundary.depth_m)
+          deepest = k;
+      i = j + 1;
+    }
+    if (ranges.empty()) {
+      out << " no speed of the grid\n";
+    } else {
+      recommended = deepest;
+      out << "\n  recommended: " << human(pts[deepest].rpm) << " rpm (largest margin: critical "
+          << "depth " << depth_text(pts[deepest].boundary) << ")\n";
+    }
+  }
+
   // One row of named values per speed, shared by the CSV and the JSON.
   std::vector<std::string> columns{"spindle_rpm", "critical_depth_mm", "chatter_hz",
                                    "lobe",        "bifurcation",       "beyond_limit"};
@@ -222,6 +254,11 @@ void report_lobes(const io::Case& c, const LobesReport& report, const LobesView&
                {"critical_depth_mm", m_to_mm(pts[lowest].boundary.depth_m)}}},
              {"points", std::move(points)}};
     if (report.status != LobesStatus::kSuccess) doc["warning"] = report.message;
+    if (view.target_depth_m) {
+      doc["target_depth_mm"] = m_to_mm(*view.target_depth_m);
+      doc["stable_ranges"] = ranges;
+      if (recommended) doc["recommended_rpm"] = pts[*recommended].rpm;
+    }
     io::write_json(outputs.open(outputs_args.json), doc);
   }
   if (!outputs_args.plot.empty()) {

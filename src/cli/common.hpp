@@ -7,6 +7,7 @@
 #include <ostream>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "cli/commands.hpp"
 #include "cutdyn/core/error.hpp"
@@ -59,7 +60,8 @@ struct LobesView {
   std::string label;                                      // the main curve's legend
   const std::vector<CriticalDepth>* reference = nullptr;  // e.g. the conventional lobes
   std::string reference_label;
-  bool duty_cycle = false;  // add the duty_cycle column
+  bool duty_cycle = false;               // add the duty_cycle column
+  std::optional<double> target_depth_m;  // list the speed ranges stable at this depth
 };
 
 /// Prints the summary table, lowest depth and stable pockets, and writes the CSV

@@ -329,5 +329,34 @@ TEST_F(Cli, MillingLowImmersionReportsFlipLobes) {
   expect_rejected({"lobes", file_helix, "--out", path("h.csv")}, "tool.helix_deg = 30");
 }
 
+TEST_F(Cli, TargetDepthListsTheStableSpeedRanges) {
+  std::string text(*io::example_text("milling-insperger"));
+  text.replace(text.find("rpm_steps = 200"), 15, "rpm_steps = 41");
+  const auto file = write("mill.toml", text);
+  const Result r = cutdyn({"lobes", file, "--target-depth-mm", "0.2", "--json", path("t.json")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("recommended:"), std::string::npos);
+  const auto doc = nlohmann::json::parse(std::ifstream(path("t.json")));
+  ASSERT_FALSE(doc["stable_ranges"].empty());
+  // Every grid speed inside a range is stable at 0.2 mm, every one outside is not, and the
+  // recommended speed has the largest critical depth of all.
+  double deepest = 0.0, deepest_rpm = 0.0;
+  for (const auto& p : doc["points"]) {
+    const double rpm = p["spindle_rpm"], depth = p["critical_depth_mm"];
+    bool inside = false;
+    for (const auto& range : doc["stable_ranges"])
+      inside = inside ||
+               (rpm >= range["rpm_from"].get<double>() && rpm <= range["rpm_to"].get<double>());
+    EXPECT_EQ(inside, depth > 0.2) << "rpm " << rpm;
+    if (depth > deepest) {
+      deepest = depth;
+      deepest_rpm = rpm;
+    }
+  }
+  EXPECT_EQ(doc["recommended_rpm"].get<double>(), deepest_rpm);
+  expect_rejected({"lobes", file, "--target-depth-mm", "0", "--out", path("x.csv")},
+                  "--target-depth-mm = 0");
+}
+
 }  // namespace
 }  // namespace cutdyn::cli

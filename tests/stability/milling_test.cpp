@@ -206,5 +206,22 @@ TEST(Milling, ArnoldiSpectralRadiusEqualsTheDenseOne) {
   }
 }
 
+TEST(Milling, DefaultStepIsConvergedWithinHalfAPercent) {
+  // The default step (1/64 of the structural period) against half of it, slotting, by the
+  // Arnoldi radius: the critical depth moves by less than 0.5 % (issue 3's criterion).
+  const MillingModel m = benchmark(1.0);
+  for (double rpm : {5000.0, 11000.0, 21000.0}) {
+    const DelayedSystem s = milling_system(m, rpm);
+    FdOptions coarse, fine;
+    coarse.depth_max_m = fine.depth_max_m = 1e-3;
+    fine.max_step_fraction = 0.5 * coarse.max_step_fraction;
+    const CriticalDepth a =
+        fd_critical_depth_by_radius(s, coarse, RadiusSolver::kArnoldi, 1e-5, 16);
+    const CriticalDepth b = fd_critical_depth_by_radius(s, fine, RadiusSolver::kArnoldi, 1e-5, 16);
+    ASSERT_TRUE(a.found && b.found);
+    EXPECT_NEAR(a.depth_m, b.depth_m, 0.005 * b.depth_m) << "rpm " << rpm;
+  }
+}
+
 }  // namespace
 }  // namespace cutdyn
