@@ -35,9 +35,9 @@ struct StepMatrices {
   bool active = false;   // H̄ ≠ 0
 };
 
-StepMatrices step_matrices(const DelayedSystem& s, double t0, double t1) {
+// Φ0, W0·E and W1·E for a step of length h (they depend on h only).
+StepMatrices step_integrals(const DelayedSystem& s, double h) {
   const auto d = s.A0.rows();
-  const double h = t1 - t0;
   Eigen::MatrixXd m = Eigen::MatrixXd::Zero(3 * d, 3 * d);
   m.topLeftCorner(d, d) = s.A0 * h;
   m.block(0, d, d, d).setIdentity();
@@ -52,8 +52,6 @@ StepMatrices step_matrices(const DelayedSystem& s, double t0, double t1) {
   out.phi0 = f.topLeftCorner(d, d);
   out.w1E = w1 * s.E;
   out.w0E = (phi1 - w1) * s.E;
-  out.H = s.H.mean(t0, t1);
-  out.active = out.H.norm() > 0.0;
   return out;
 }
 
@@ -75,9 +73,23 @@ class Discretization {
   Discretization(const DelayedSystem& s, const FdGrid& grid) : sys_(s), grid_(grid) {
     const int n = grid.steps();
     steps_.reserve(static_cast<std::size_t>(n));
+    // Grids are uniform within each window segment: one matrix exponential per distinct
+    // step length (to rounding) serves every step of that length.
+    std::vector<std::pair<double, StepMatrices>> by_length;
     for (int j = 0; j < n; ++j) {
-      steps_.push_back(step_matrices(s, grid.nodes_s[static_cast<std::size_t>(j)],
-                                     grid.nodes_s[static_cast<std::size_t>(j + 1)]));
+      const double t0 = grid.nodes_s[static_cast<std::size_t>(j)];
+      const double t1 = grid.nodes_s[static_cast<std::size_t>(j + 1)];
+      const double h = t1 - t0;
+      auto it = std::find_if(by_length.begin(), by_length.end(),
+                             [&](const auto& e) { return std::abs(e.first - h) <= 1e-12 * h; });
+      if (it == by_length.end()) {
+        by_length.emplace_back(h, step_integrals(s, h));
+        it = by_length.end() - 1;
+      }
+      StepMatrices st = it->second;
+      st.H = s.H.mean(t0, t1);
+      st.active = st.H.norm() > 0.0;
+      steps_.push_back(std::move(st));
     }
     refs_.resize(static_cast<std::size_t>(n + 1));
     for (int j = 0; j <= n; ++j) refs_[static_cast<std::size_t>(j)] = delay_ref(j);
@@ -353,7 +365,7 @@ double FdDiscretization::spectral_radius(double depth_m) const {
 
 SpectralRadius FdDiscretization::spectral_radius_arnoldi(double depth_m) const {
   const PeriodMap map(impl_->disc, impl_->system, depth_m);
-  constexpr Eigen::Index kNev = 4, kNcv = 20;
+  constexpr Eigen::Index kNev = 3, kNcv = 10;
   SpectralRadius out;
   if (map.dim() > 3 * kNcv) {
     PeriodMapOp op(map);
