@@ -149,39 +149,13 @@ int run_check_milling(const CheckArgs& args, const io::Case& c, std::ostream& ou
   const MillingModel model = milling_model(c, "check");
   rethrow_as("command line", "--rpm", [&] { check_milling_speed(model, args.rpm); });
   const MillingMethod method = resolve(c, args.method);
-  const double depth = mm_to_m(args.depth_mm);
-  const double limit = std::max(c.lobes.depth_max_m, 4.0 * depth);
+  const double limit = std::max(c.lobes.depth_max_m, 4.0 * mm_to_m(args.depth_mm));
   const MillingBoundary b = critical_depth(c, model, args.rpm, method, limit);
-  const bool stable = !b.boundary.found || depth < b.boundary.depth_m;
-  const double margin = (b.boundary.depth_m - depth) / b.boundary.depth_m;
-  out << "cutdyn check: " << c.source << " at " << human(args.rpm) << " rpm, depth "
-      << human(args.depth_mm) << " mm\n";
-  out << "  " << describe(model) << "\n";
-  out << "  " << (stable ? "STABLE" : "UNSTABLE (chatter)") << "\n";
-  out << "  critical depth " << depth_text(b.boundary) << " (" << to_string(method) << ")";
-  if (b.boundary.found)
-    out << ", " << to_string(b.boundary.bifurcation) << " at " << human(b.boundary.chatter_hz, 5)
-        << " Hz, lobe " << b.lobe;
-  out << "\n  depth margin " << human(100.0 * margin, 3) << " % of the critical depth\n";
-  if (!args.json.empty()) {
-    io::OutputTransaction outputs;
-    nlohmann::json doc{{"command", "check"},
-                       {"case", io::to_json(c)},
-                       {"source", c.source},
-                       {"method", to_string(method)},
-                       {"spindle_rpm", args.rpm},
-                       {"depth_mm", args.depth_mm},
-                       {"stable", stable},
-                       {"critical_depth_mm", m_to_mm(b.boundary.depth_m)},
-                       {"beyond_limit", !b.boundary.found},
-                       {"margin", margin},
-                       {"chatter_hz", b.boundary.chatter_hz},
-                       {"bifurcation", to_string(b.boundary.bifurcation)},
-                       {"lobe", b.lobe}};
-    io::write_json(outputs.open(args.json), doc);
-    outputs.commit();
-    out << "  wrote " << args.json << "\n";
-  }
+  CheckView view;
+  view.description = describe(model);
+  view.method = to_string(method);
+  view.lobe = b.lobe;
+  report_check(c, args, b.boundary, view, out);
   return 0;
 }
 

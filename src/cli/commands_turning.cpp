@@ -168,52 +168,24 @@ int run_check(const CheckArgs& args, std::ostream& out, std::ostream&) {
   if (const auto problems = options.validate(); !problems.empty())
     throw InvalidInput(problems, c.source);
   const TurningBoundary b = turning_critical_depth(model, args.rpm, options);
-  const double depth = mm_to_m(args.depth_mm);
-  const bool stable = !b.boundary.found || depth < b.boundary.depth_m;
-  const double margin = (b.boundary.depth_m - depth) / b.boundary.depth_m;
-
-  out << "cutdyn check: " << c.source << " at " << human(args.rpm) << " rpm, depth "
-      << human(args.depth_mm) << " mm\n";
-  out << "  " << describe_model(model) << "\n";
-  out << "  " << (stable ? "STABLE" : "UNSTABLE (chatter)") << "\n";
-  out << "  critical depth " << depth_text(b.boundary) << " (" << to_string(method) << ")";
-  if (b.boundary.found)
-    out << ", chatter at " << human(b.boundary.chatter_hz, 5) << " Hz, lobe " << b.lobe;
-  out << "\n  depth margin " << human(100.0 * margin, 3) << " % of the critical depth";
-  if (model.vibration) out << "; duty cycle " << human(b.duty_cycle);
-  out << "\n";
-  json conventional;
+  CheckView view;
+  view.description = describe_model(model);
+  view.method = to_string(method);
+  view.lobe = b.lobe;
   if (model.vibration) {
     TurningStabilityOptions exact = options;
     exact.method = TurningMethod::kClosedForm;
     const TurningBoundary cb = turning_critical_depth(model.conventional(), args.rpm, exact);
-    const bool conv_stable = !cb.boundary.found || depth < cb.boundary.depth_m;
-    out << "  conventional turning: critical depth " << depth_text(cb.boundary) << ", "
-        << (conv_stable ? "stable" : "unstable") << " at this depth\n";
-    conventional = {{"critical_depth_mm", m_to_mm(cb.boundary.depth_m)},
-                    {"chatter_hz", cb.boundary.chatter_hz},
-                    {"stable", conv_stable}};
+    const bool conv_stable = !cb.boundary.found || mm_to_m(args.depth_mm) < cb.boundary.depth_m;
+    view.notes.push_back("duty cycle " + human(b.duty_cycle));
+    view.notes.push_back("conventional turning: critical depth " + depth_text(cb.boundary) + ", " +
+                         (conv_stable ? "stable" : "unstable") + " at this depth");
+    view.extra["conventional"] = {{"critical_depth_mm", m_to_mm(cb.boundary.depth_m)},
+                                  {"chatter_hz", cb.boundary.chatter_hz},
+                                  {"stable", conv_stable}};
   }
-  if (!args.json.empty()) {
-    io::OutputTransaction outputs;
-    json doc{{"command", "check"},
-             {"case", io::to_json(c)},
-             {"source", c.source},
-             {"method", to_string(method)},
-             {"spindle_rpm", args.rpm},
-             {"depth_mm", args.depth_mm},
-             {"stable", stable},
-             {"critical_depth_mm", m_to_mm(b.boundary.depth_m)},
-             {"beyond_limit", !b.boundary.found},
-             {"margin", margin},
-             {"chatter_hz", b.boundary.chatter_hz},
-             {"lobe", b.lobe},
-             {"duty_cycle", b.duty_cycle}};
-    if (!conventional.is_null()) doc["conventional"] = conventional;
-    io::write_json(outputs.open(args.json), doc);
-    outputs.commit();
-    out << "  wrote " << args.json << "\n";
-  }
+  view.extra["duty_cycle"] = b.duty_cycle;
+  report_check(c, args, b.boundary, view, out);
   return 0;
 }
 

@@ -287,6 +287,36 @@ void report_lobes(const io::Case& c, const LobesReport& report, const LobesView&
     if (!f->empty()) out << "  wrote " << *f << "\n";
 }
 
+void report_check(const io::Case& c, const CheckArgs& args, const CriticalDepth& b,
+                  const CheckView& view, std::ostream& out) {
+  const double depth = units::mm_to_m(args.depth_mm);
+  const bool stable = !b.found || depth < b.depth_m;
+  const double margin = (b.depth_m - depth) / b.depth_m;
+  out << "cutdyn check: " << c.source << " at " << human(args.rpm) << " rpm, depth "
+      << human(args.depth_mm) << " mm\n";
+  out << "  " << view.description << "\n";
+  out << "  " << (stable ? "STABLE" : "UNSTABLE (chatter)") << "\n";
+  out << "  critical depth " << depth_text(b) << " (" << view.method << ")";
+  if (b.found)
+    out << ", " << to_string(b.bifurcation) << " at " << human(b.chatter_hz, 5) << " Hz, lobe "
+        << view.lobe;
+  out << "\n  depth margin " << human(100.0 * margin, 3) << " % of the critical depth\n";
+  for (const std::string& note : view.notes) out << "  " << note << "\n";
+  if (args.json.empty()) return;
+  io::OutputTransaction outputs;
+  nlohmann::json doc{{"command", "check"},         {"case", io::to_json(c)},
+                     {"source", c.source},         {"method", view.method},
+                     {"spindle_rpm", args.rpm},    {"depth_mm", args.depth_mm},
+                     {"stable", stable},           {"critical_depth_mm", units::m_to_mm(b.depth_m)},
+                     {"beyond_limit", !b.found},   {"margin", margin},
+                     {"chatter_hz", b.chatter_hz}, {"bifurcation", to_string(b.bifurcation)},
+                     {"lobe", view.lobe}};
+  doc.update(view.extra);
+  io::write_json(outputs.open(args.json), doc);
+  outputs.commit();
+  out << "  wrote " << args.json << "\n";
+}
+
 std::function<void(int, int)> progress_reporter(std::ostream& err, std::string label) {
   if (!isatty(STDERR_FILENO)) return {};
   return [&err, label](int done, int total) {

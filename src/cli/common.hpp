@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -69,6 +70,21 @@ struct LobesView {
 /// figure that `outputs` asks for, all or none.
 void report_lobes(const io::Case& c, const LobesReport& report, const LobesView& view,
                   const Outputs& outputs, std::ostream& out, std::ostream& err);
+
+/// What `report_check` adds for one process: the model line, the method, the lobe number,
+/// lines after the margin, and extra JSON fields.
+struct CheckView {
+  std::string description;
+  std::string method;
+  int lobe = 0;
+  std::vector<std::string> notes;
+  nlohmann::json extra = nlohmann::json::object();
+};
+
+/// Prints the verdict of `cutdyn check` (stable?, critical depth, bifurcation and chatter
+/// frequency, margin) and writes --json if asked.
+void report_check(const io::Case& c, const CheckArgs& args, const CriticalDepth& b,
+                  const CheckView& view, std::ostream& out);
 
 /// Progress on stderr while it is a terminal ("lobes: 120/200 speeds"); silent otherwise.
 std::function<void(int, int)> progress_reporter(std::ostream& err, std::string label);
