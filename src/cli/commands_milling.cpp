@@ -6,7 +6,6 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cutdyn/core/units.hpp"
-#include "cutdyn/io/output.hpp"
 #include "cutdyn/stability/full_discretization.hpp"
 #include "cutdyn/stability/multi_frequency.hpp"
 
@@ -119,13 +118,7 @@ int run_lobes_milling(const LobesArgs& args, const io::Case& c, std::ostream& ou
                       std::ostream& err) {
   const MillingModel model = milling_model(c, "lobes");
   const MillingMethod method = resolve(c, args.method);
-  LobesOptions grid;
-  grid.rpm_min = c.lobes.rpm_min;
-  grid.rpm_max = c.lobes.rpm_max;
-  grid.rpm_steps = c.lobes.rpm_steps;
-  grid.threads = args.threads;
-  if (const auto problems = grid.validate(); !problems.empty())
-    throw InvalidInput(problems, c.source);
+  const LobesOptions grid = lobes_grid(c, args.threads);
   rethrow_as(c.source, "lobes.rpm_min", [&] { check_milling_speed(model, grid.rpm_min); });
   const LobesReport report = trace_lobes(
       [&](double rpm) {

@@ -103,13 +103,7 @@ int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
   const TurningStabilityOptions options = stability_options(c, method);
   if (const auto problems = options.validate(); !problems.empty())
     throw InvalidInput(problems, c.source);
-  LobesOptions grid;
-  grid.rpm_min = c.lobes.rpm_min;
-  grid.rpm_max = c.lobes.rpm_max;
-  grid.rpm_steps = c.lobes.rpm_steps;
-  grid.threads = args.threads;
-  if (const auto problems = grid.validate(); !problems.empty())
-    throw InvalidInput(problems, c.source);
+  const LobesOptions grid = lobes_grid(c, args.threads);
 
   rethrow_as(c.source, "lobes.rpm_min", [&] { check_speed_domain(model, grid.rpm_min); });
   const bool assisted = model.vibration.has_value();

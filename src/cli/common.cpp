@@ -82,6 +82,17 @@ MillingModel milling_model(const io::Case& c, std::string_view command) {
   return m;
 }
 
+LobesOptions lobes_grid(const io::Case& c, int threads) {
+  LobesOptions grid;
+  grid.rpm_min = c.lobes.rpm_min;
+  grid.rpm_max = c.lobes.rpm_max;
+  grid.rpm_steps = c.lobes.rpm_steps;
+  grid.threads = threads;
+  if (const auto problems = grid.validate(); !problems.empty())
+    throw InvalidInput(problems, c.source);
+  return grid;
+}
+
 void check_output_folder(Validator& v, const char* flag, const std::string& path) {
   if (path.empty()) return;
   const std::filesystem::path parent = std::filesystem::path(path).parent_path();

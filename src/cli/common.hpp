@@ -32,6 +32,9 @@ TurningModel turning_model(const io::Case& c, std::string_view command);
 /// The milling model of a case: modes in x and y, Kt and Kr, [tool] and [operation].
 MillingModel milling_model(const io::Case& c, std::string_view command);
 
+/// The speed grid of the case's [lobes] table (validated).
+LobesOptions lobes_grid(const io::Case& c, int threads);
+
 /// Checks --out/--json/--plot before any work: figure format, existing folders, distinct files.
 void check_outputs(const Outputs& o);
 /// Adds a problem to `v` if `path`'s folder does not exist.
