@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 // GCC 12 reports a false -Wuse-after-free inside Spectra's inlined Eigen code.
 #if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12
 #pragma GCC diagnostic ignored "-Wuse-after-free"
@@ -420,6 +421,25 @@ std::pair<cplx, Eigen::VectorXcd> dominant_multiplier(const PeriodMap& map, Radi
 
 }  // namespace
 
+std::pair<Bifurcation, double> FdDiscretization::dominant_mode(double depth_m,
+                                                               RadiusSolver solver) const {
+  const DelayedSystem& s = impl_->system;
+  const PeriodMap map(impl_->disc, s, depth_m);
+  const auto [mu, v] = dominant_multiplier(map, solver);
+  const double theta = std::arg(mu);
+  // The eigenvector's history holds y over the last L nodes.
+  const auto d = s.A0.rows();
+  const auto r = s.C.rows();
+  std::vector<double> times{0.0};
+  std::vector<cplx> values{(s.C.cast<cplx>() * v.head(d))(0)};
+  for (Eigen::Index b = 0; d + r * (b + 1) <= v.size(); ++b) {
+    times.push_back(impl_->disc.time(-(b + 1)));
+    values.push_back(v(d + r * b));
+  }
+  return {classify_multiplier(theta),
+          dominant_frequency_hz(theta, impl_->grid.period_s, times, values, impl_->grid.steps())};
+}
+
 CriticalDepth fd_critical_depth_by_radius(const DelayedSystem& s, const FdOptions& o,
                                           RadiusSolver solver, double rel_tol, int coarse_steps) {
   const FdDiscretization fd(s, o);
@@ -431,23 +451,9 @@ CriticalDepth fd_critical_depth_by_radius(const DelayedSystem& s, const FdOption
       },
       o.depth_max_m, coarse_steps, rel_tol);
   if (!result.found) return result;
-  // Bifurcation and chatter frequency from the dominant multiplier just above the boundary;
-  // its eigenvector's history holds y over the last L nodes.
-  const Discretization disc(s, fd.grid());
-  const PeriodMap map(disc, s, result.depth_m * (1.0 + 0.5 * rel_tol));
-  const auto [mu, v] = dominant_multiplier(map, solver);
-  const double theta = std::arg(mu);
-  result.bifurcation = classify_multiplier(theta);
-  const auto d = s.A0.rows();
-  const auto r = s.C.rows();
-  std::vector<double> times{0.0};
-  std::vector<cplx> values{(s.C.cast<cplx>() * v.head(d))(0)};
-  for (Eigen::Index b = 0; d + r * (b + 1) <= v.size(); ++b) {
-    times.push_back(disc.time(-(b + 1)));
-    values.push_back(v(d + r * b));
-  }
-  result.chatter_hz =
-      dominant_frequency_hz(theta, fd.grid().period_s, times, values, fd.grid().steps());
+  // Just above the boundary the dominant multiplier is the critical one.
+  std::tie(result.bifurcation, result.chatter_hz) =
+      fd.dominant_mode(result.depth_m * (1.0 + 0.5 * rel_tol), solver);
   return result;
 }
 

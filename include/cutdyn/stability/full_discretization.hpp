@@ -24,6 +24,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cutdyn/stability/critical_depth.hpp"
@@ -78,6 +79,8 @@ struct SpectralRadius {
 SpectralRadius fd_spectral_radius_arnoldi(const DelayedSystem& system, const FdGrid& grid,
                                           double depth_m);
 
+enum class RadiusSolver { kDense, kArnoldi };
+
 /// The discretized system at one speed — step matrices and delay references, which do not
 /// depend on the depth. Build it once and evaluate the period map at many depths.
 class FdDiscretization {
@@ -92,6 +95,9 @@ class FdDiscretization {
   Eigen::MatrixXd transition_matrix(double depth_m) const;
   double spectral_radius(double depth_m) const;                  // dense eigenvalues
   SpectralRadius spectral_radius_arnoldi(double depth_m) const;  // see below
+  /// The multiplier of largest modulus at `depth_m`: how stability is lost there
+  /// (hopf/flip/fold) and the frequency (Hz) of the harmonic that carries its eigenvector.
+  std::pair<Bifurcation, double> dominant_mode(double depth_m, RadiusSolver solver) const;
 
  private:
   struct Impl;
@@ -100,8 +106,6 @@ class FdDiscretization {
 
 /// Critical depth by the reduced (multiplier-on-the-unit-circle) method.
 CriticalDepth fd_critical_depth(const DelayedSystem& system, const FdOptions& options);
-
-enum class RadiusSolver { kDense, kArnoldi };
 
 /// Critical depth from the spectral radius of the period map: a coarse depth scan brackets
 /// the first unstable depth (so an unstable island above a stable band is not skipped), then
