@@ -93,7 +93,7 @@ MillingBoundary critical_depth(const io::Case& c, const MillingModel& m, double 
       o.steps_per_period = c.lobes.steps_per_period;
       o.depth_max_m = depth_max_m;
       // A coarse scan of 16 depths brackets the first unstable one (islands above a stable
-      // band are not skipped), then bisection to 0.1 %.
+      // band are not skipped), then Brent's method on the spectral radius to 0.1 %.
       out.boundary = fd_critical_depth_by_radius(
           s, o, method == MillingMethod::kDense ? RadiusSolver::kDense : RadiusSolver::kArnoldi,
           1e-3, 16);

@@ -9,9 +9,16 @@ namespace cutdyn {
 // Brent (1973), "Algorithms for Minimization without Derivatives", ch. 4 (zero).
 std::optional<RootResult> brent_root(const std::function<double(double)>& f, double a, double b,
                                      double x_tol, int max_evaluations) {
-  double fa = f(a);
-  double fb = f(b);
-  int evaluations = 2;
+  const double fa = f(a);
+  const double fb = f(b);
+  auto result = brent_root(f, a, fa, b, fb, x_tol, max_evaluations - 2);
+  if (result) result->evaluations += 2;
+  return result;
+}
+
+std::optional<RootResult> brent_root(const std::function<double(double)>& f, double a, double fa,
+                                     double b, double fb, double x_tol, int max_evaluations) {
+  int evaluations = 0;
   if (fa == 0.0) return RootResult{a, fa, evaluations, true};
   if (fb == 0.0) return RootResult{b, fb, evaluations, true};
   if ((fa > 0.0) == (fb > 0.0)) return std::nullopt;

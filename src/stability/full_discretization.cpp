@@ -33,6 +33,8 @@ struct StepMatrices {
   Eigen::MatrixXd w0E;   // W0·E, d×r
   Eigen::MatrixXd w1E;   // W1·E, d×r
   Eigen::MatrixXd H;     // H̄ over the step, r×r
+  Eigen::MatrixXd w0EH;  // W0·E·H̄, d×r
+  Eigen::MatrixXd w1EH;  // W1·E·H̄, d×r
   bool active = false;   // H̄ ≠ 0
 };
 
@@ -90,6 +92,8 @@ class Discretization {
       StepMatrices st = it->second;
       st.H = s.H.mean(t0, t1);
       st.active = st.H.norm() > 0.0;
+      st.w0EH = st.w0E * st.H;
+      st.w1EH = st.w1E * st.H;
       steps_.push_back(std::move(st));
     }
     refs_.resize(static_cast<std::size_t>(n + 1));
@@ -134,21 +138,25 @@ class Discretization {
 };
 
 // The harmonic (θ + 2πk)/T that carries most of a Floquet solution sampled at `times`.
+// The factors e^(−i·ωk·t) are advanced from k to k + 1 by one rotation per sample.
 double dominant_frequency_hz(double theta, double period, const std::vector<double>& times,
                              const std::vector<cplx>& values, int steps) {
-  double best_score = -1.0, best_w = theta / period;
   const int kmax = std::max(0, steps / 2);
-  for (int k = -kmax; k <= kmax; ++k) {
-    const double w = (theta + kTwoPi * k) / period;
-    cplx acc{0.0, 0.0};
-    for (std::size_t i = 0; i < times.size(); ++i)
-      acc += values[i] * std::exp(cplx(0.0, -w * times[i]));
-    if (std::abs(acc) > best_score) {
-      best_score = std::abs(acc);
-      best_w = w;
+  std::vector<cplx> acc(static_cast<std::size_t>(2 * kmax + 1), cplx{0.0, 0.0});
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    const double t = times[i];
+    const cplx rotation = std::polar(1.0, -kTwoPi * t / period);
+    cplx factor = values[i] * std::polar(1.0, -(theta - kTwoPi * kmax) * t / period);
+    for (cplx& a : acc) {
+      a += factor;
+      factor *= rotation;
     }
   }
-  return std::abs(units::rad_per_s_to_hz(best_w));
+  std::size_t best = 0;
+  for (std::size_t k = 1; k < acc.size(); ++k)
+    if (std::abs(acc[k]) > std::abs(acc[best])) best = k;
+  const double w = (theta + kTwoPi * (static_cast<double>(best) - kmax)) / period;
+  return std::abs(units::rad_per_s_to_hz(w));
 }
 
 double shortest_structural_period(const DelayedSystem& s) {
@@ -217,7 +225,19 @@ namespace {
 // The state is z = (x(j), y(j−1), ..., y(j−L)).
 class PeriodMap {
  public:
-  PeriodMap(const Discretization& disc, const DelayedSystem& s, double depth)
+  virtual ~PeriodMap() = default;
+  virtual Eigen::Index dim() const = 0;
+  /// z ← Φ·z, column by column; `next` is scratch of the same size.
+  virtual void apply(Eigen::MatrixXd& z, Eigen::MatrixXd& next) const = 0;
+};
+
+// The map with the state and output sizes D and R fixed at compile time (Eigen::Dynamic for
+// any): the step products are 4×4 for a milling cutter with one mode per direction, and
+// fixed-size kernels make them several times faster than dynamic ones.
+template <int D, int R>
+class PeriodMapT final : public PeriodMap {
+ public:
+  PeriodMapT(const Discretization& disc, const DelayedSystem& s, double depth)
       : disc_(disc), c_(s.C), d_(s.A0.rows()), r_(s.C.rows()) {
     const int n = disc_.n();
     // History length: the oldest node any step needs, counted back from that step's node.
@@ -233,42 +253,73 @@ class PeriodMap {
         continue;
       }
       // (I + wh1·C)·x(j+1) = (Φ0 − wh0·C)·x(j) + wh0·ŷ(j) + wh1·ŷ(j+1)   [Ding2010, eq. 13]
-      const Eigen::MatrixXd wh0 = depth * st.w0E * st.H;
-      const Eigen::MatrixXd wh1 = depth * st.w1E * st.H;
-      const auto lu = (Eigen::MatrixXd::Identity(d_, d_) + wh1 * c_).partialPivLu();
-      out.mx = lu.solve(st.phi0 - wh0 * c_);
-      out.k0 = lu.solve(wh0);
-      out.k1 = lu.solve(wh1);
+      const MatDR wh0 = depth * st.w0EH;
+      const MatDR wh1 = depth * st.w1EH;
+      // I + wh1·C is I plus a term of the order of the step: well conditioned.
+      MatDD lhs = wh1 * c_;
+      lhs.diagonal().array() += 1.0;
+      const MatDD inv = lhs.inverse();
+      out.mx.noalias() = inv * (st.phi0 - wh0 * c_);
+      out.k0.noalias() = inv * wh0;
+      out.k1.noalias() = inv * wh1;
     }
   }
 
-  Eigen::Index dim() const { return d_ + r_ * L_; }
+  Eigen::Index dim() const override { return d_ + r_ * L_; }
 
-  // z ← Φ·z, column by column; `next` is scratch of the same size. The history is kept as a
-  // ring of L blocks during the period (no shifting), and put back in order at the end.
-  void apply(Eigen::MatrixXd& z, Eigen::MatrixXd& next) const {
+  // The history is kept as a ring of L blocks during the period (no shifting), and put back
+  // in order at the end.
+  void apply(Eigen::MatrixXd& z, Eigen::MatrixXd& next) const override {
+    if (z.cols() == 1)
+      run<1>(z, next);
+    else
+      run<Eigen::Dynamic>(z, next);
+  }
+
+ private:
+  using MatDD = Eigen::Matrix<double, D, D>;
+  using MatDR = Eigen::Matrix<double, D, R>;
+  using MatRD = Eigen::Matrix<double, R, D>;
+  struct Step {
+    MatDD mx;
+    MatDR k0, k1;
+    bool active = false;
+  };
+
+  template <int Cols>
+  void run(Eigen::MatrixXd& z, Eigen::MatrixXd& next) const {
+    using Xs = Eigen::Matrix<double, D, Cols>;
+    using Ys = Eigen::Matrix<double, R, Cols>;
     const Eigen::Index cols = z.cols();
-    xo_.resize(d_, cols);
-    y0_.resize(r_, cols);
-    y1_.resize(r_, cols);
+    Xs xo(d_, cols);
+    Ys y0(r_, cols), y1(r_, cols), yj(r_, cols);
     long long head = 0;                       // ring block that holds y(j − 1)
-    const auto block = [&](long long back) {  // history block of y(j − back), back >= 1
+    const auto block = [&](long long back) {  // first row of the history block y(j − back)
       return d_ + r_ * ((head + back - 1) % L_);
+    };
+    // weight·y at global node g seen from step j (g <= j): C·x(j) or a history block.
+    const auto y_at = [&](int j, long long g) -> Ys {
+      const long long back = j - g;
+      if (back == 0) return yj;
+      return z.template middleRows<R>(block(back), r_);
+    };
+    const auto delayed = [&](int j, const DelayRef& ref, Ys& out) {
+      out = y_at(j, ref.g);
+      if (ref.alpha > 0.0) out = (1.0 - ref.alpha) * out + ref.alpha * y_at(j, ref.g + 1);
     };
     for (int j = 0; j < disc_.n(); ++j) {
       const Step& st = steps_[static_cast<std::size_t>(j)];
-      xo_ = z.topRows(d_);
+      xo = z.template topRows<D>(d_);
+      yj.noalias() = c_ * xo;
       if (st.active) {
-        delayed(z, j, disc_.ref(j), block, y0_);
-        delayed(z, j, disc_.ref(j + 1), block, y1_);
-        z.topRows(d_).noalias() = st.mx * xo_;
-        z.topRows(d_).noalias() += st.k0 * y0_;
-        z.topRows(d_).noalias() += st.k1 * y1_;
+        delayed(j, disc_.ref(j), y0);
+        delayed(j, disc_.ref(j + 1), y1);
+        z.template topRows<D>(d_).noalias() = st.mx * xo + st.k0 * y0 + st.k1 * y1;
       } else {
-        z.topRows(d_).noalias() = st.mx * xo_;
+        z.template topRows<D>(d_).noalias() = st.mx * xo;
       }
       head = (head + L_ - 1) % L_;  // push y(j) = C·x(j)
-      z.middleRows(d_ + r_ * head, r_).noalias() = c_ * xo_;
+      z.template middleRows<R>(d_ + r_ * head, r_) = yj;
     }
     next.resize(z.rows(), cols);
     next.topRows(d_) = z.topRows(d_);
@@ -277,44 +328,25 @@ class PeriodMap {
     z.swap(next);
   }
 
- private:
-  struct Step {
-    Eigen::MatrixXd mx, k0, k1;
-    bool active = false;
-  };
-  // out (=, or += when `add`) weight·y at global node g, seen from step j (g <= j): C·x(j)
-  // when g = j, the history block of y(g) otherwise.
-  template <typename Block>
-  void add_y(const Eigen::MatrixXd& z, int j, long long g, double weight, bool add,
-             const Block& block, Eigen::MatrixXd& out) const {
-    const long long back = j - g;
-    if (back == 0) {
-      if (add)
-        out.noalias() += weight * (c_ * xo_);
-      else
-        out.noalias() = weight * (c_ * xo_);
-    } else {
-      const auto rows = z.middleRows(block(back), r_);
-      if (add)
-        out += weight * rows;
-      else
-        out = weight * rows;
-    }
-  }
-  template <typename Block>
-  void delayed(const Eigen::MatrixXd& z, int j, const DelayRef& ref, const Block& block,
-               Eigen::MatrixXd& out) const {
-    add_y(z, j, ref.g, 1.0 - ref.alpha, false, block, out);
-    if (ref.alpha > 0.0) add_y(z, j, ref.g + 1, ref.alpha, true, block, out);
-  }
-
   const Discretization& disc_;
-  Eigen::MatrixXd c_;
+  MatRD c_;
   Eigen::Index d_, r_;
   long long L_ = 1;
   std::vector<Step> steps_;
-  mutable Eigen::MatrixXd xo_, y0_, y1_;
 };
+
+// The map for this system, with fixed-size kernels for the common sizes (turning with one or
+// two modes, milling with one or two modes per direction).
+std::unique_ptr<PeriodMap> make_period_map(const Discretization& disc, const DelayedSystem& s,
+                                           double depth) {
+  const auto d = s.A0.rows(), r = s.C.rows();
+  if (r == 1 && d == 2) return std::make_unique<PeriodMapT<2, 1>>(disc, s, depth);
+  if (r == 1 && d == 4) return std::make_unique<PeriodMapT<4, 1>>(disc, s, depth);
+  if (r == 2 && d == 2) return std::make_unique<PeriodMapT<2, 2>>(disc, s, depth);
+  if (r == 2 && d == 4) return std::make_unique<PeriodMapT<4, 2>>(disc, s, depth);
+  if (r == 2 && d == 8) return std::make_unique<PeriodMapT<8, 2>>(disc, s, depth);
+  return std::make_unique<PeriodMapT<Eigen::Dynamic, Eigen::Dynamic>>(disc, s, depth);
+}
 
 // Spectra's operator interface over the matrix-free map.
 class PeriodMapOp {
@@ -354,7 +386,8 @@ FdDiscretization& FdDiscretization::operator=(FdDiscretization&&) noexcept = def
 const FdGrid& FdDiscretization::grid() const { return impl_->grid; }
 
 Eigen::MatrixXd FdDiscretization::transition_matrix(double depth_m) const {
-  const PeriodMap map(impl_->disc, impl_->system, depth_m);
+  const auto map_ptr = make_period_map(impl_->disc, impl_->system, depth_m);
+  const PeriodMap& map = *map_ptr;
   Eigen::MatrixXd phi = Eigen::MatrixXd::Identity(map.dim(), map.dim()), scratch;
   map.apply(phi, scratch);
   return phi;
@@ -365,7 +398,8 @@ double FdDiscretization::spectral_radius(double depth_m) const {
 }
 
 SpectralRadius FdDiscretization::spectral_radius_arnoldi(double depth_m) const {
-  const PeriodMap map(impl_->disc, impl_->system, depth_m);
+  const auto map_ptr = make_period_map(impl_->disc, impl_->system, depth_m);
+  const PeriodMap& map = *map_ptr;
   constexpr Eigen::Index kNev = 3, kNcv = 10;
   SpectralRadius out;
   if (map.dim() > 3 * kNcv) {
@@ -424,7 +458,8 @@ std::pair<cplx, Eigen::VectorXcd> dominant_multiplier(const PeriodMap& map, Radi
 std::pair<Bifurcation, double> FdDiscretization::dominant_mode(double depth_m,
                                                                RadiusSolver solver) const {
   const DelayedSystem& s = impl_->system;
-  const PeriodMap map(impl_->disc, s, depth_m);
+  const auto map_ptr = make_period_map(impl_->disc, s, depth_m);
+  const PeriodMap& map = *map_ptr;
   const auto [mu, v] = dominant_multiplier(map, solver);
   const double theta = std::arg(mu);
   // The eigenvector's history holds y over the last L nodes.
@@ -443,11 +478,11 @@ std::pair<Bifurcation, double> FdDiscretization::dominant_mode(double depth_m,
 CriticalDepth fd_critical_depth_by_radius(const DelayedSystem& s, const FdOptions& o,
                                           RadiusSolver solver, double rel_tol, int coarse_steps) {
   const FdDiscretization fd(s, o);
-  CriticalDepth result = critical_depth_by_bisection(
+  CriticalDepth result = critical_depth_by_bracketing(
       [&](double w) {
         const double rho = solver == RadiusSolver::kArnoldi ? fd.spectral_radius_arnoldi(w).value
                                                             : fd.spectral_radius(w);
-        return rho >= 1.0;
+        return rho - 1.0;
       },
       o.depth_max_m, coarse_steps, rel_tol);
   if (!result.found) return result;

@@ -4,10 +4,13 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <exception>
+#include <limits>
 #include <mutex>
 
 #include "cutdyn/core/error.hpp"
+#include "cutdyn/core/roots.hpp"
 
 namespace cutdyn {
 
@@ -77,28 +80,38 @@ LobesReport trace_lobes(const std::function<LobePoint(double)>& at_speed, const 
   return report;
 }
 
-CriticalDepth critical_depth_by_bisection(const std::function<bool(double)>& unstable,
-                                          double depth_max_m, int coarse_steps, double rel_tol) {
+CriticalDepth critical_depth_by_bracketing(const std::function<double(double)>& margin,
+                                           double depth_max_m, int coarse_steps, double rel_tol) {
   CriticalDepth result;
   result.depth_m = depth_max_m;
-  double lo = 0.0, hi = -1.0;
+  double lo = 0.0, hi = -1.0, g_hi = 0.0;
+  double g_lo = std::numeric_limits<double>::quiet_NaN();  // not evaluated yet
   for (int i = 1; i <= coarse_steps; ++i) {
     const double w = depth_max_m * i / coarse_steps;
+    const double g = margin(w);
     ++result.evaluations;
-    if (unstable(w)) {
+    if (g >= 0.0) {
       hi = w;
+      g_hi = g;
       break;
     }
     lo = w;
+    g_lo = g;
   }
   if (hi < 0.0) return result;
-  while (hi - lo > rel_tol * hi) {
-    const double mid = 0.5 * (lo + hi);
+  if (std::isnan(g_lo)) {
+    g_lo = margin(lo);
     ++result.evaluations;
-    (unstable(mid) ? hi : lo) = mid;
+    if (g_lo >= 0.0) {  // unstable without cutting: nothing to find
+      result.depth_m = 0.0;
+      result.found = true;
+      return result;
+    }
   }
+  const auto root = brent_root(margin, lo, g_lo, hi, g_hi, rel_tol * hi);
+  result.evaluations += root->evaluations;
   result.found = true;
-  result.depth_m = 0.5 * (lo + hi);
+  result.depth_m = root->x;
   return result;
 }
 

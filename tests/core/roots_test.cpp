@@ -27,6 +27,18 @@ TEST(BrentRoot, HandlesRootAtEndpoint) {
   EXPECT_EQ(r->x, 0.0);
 }
 
+TEST(BrentRoot, KnownEndValuesAreNotEvaluatedAgain) {
+  int calls = 0;
+  const auto f = [&](double x) {
+    ++calls;
+    return std::exp(x) - 3.0;
+  };
+  auto r = brent_root(f, 0.0, f(0.0), 2.0, f(2.0), 1e-13);
+  ASSERT_TRUE(r.has_value());
+  EXPECT_NEAR(r->x, std::log(3.0), 1e-12);
+  EXPECT_EQ(calls, r->evaluations + 2);  // the two calls above, then the method's own
+}
+
 TEST(Validator, ListsEveryProblemWithFieldValueUnitAndRule) {
   Validator v("modes[0]");
   v.require_positive("stiffness_n_per_m", -5.0, "N/m");

@@ -19,4 +19,8 @@ struct RootResult {
 std::optional<RootResult> brent_root(const std::function<double(double)>& f, double a, double b,
                                      double x_tol, int max_evaluations = 200);
 
+/// The same with f(a) and f(b) already known (not evaluated again, not counted).
+std::optional<RootResult> brent_root(const std::function<double(double)>& f, double a, double fa,
+                                     double b, double fb, double x_tol, int max_evaluations = 200);
+
 }  // namespace cutdyn

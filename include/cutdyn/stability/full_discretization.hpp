@@ -109,15 +109,15 @@ CriticalDepth fd_critical_depth(const DelayedSystem& system, const FdOptions& op
 
 /// Critical depth from the spectral radius of the period map: a coarse depth scan brackets
 /// the first unstable depth (so an unstable island above a stable band is not skipped), then
-/// bisection to `rel_tol`. The discretization is built once; each depth costs one spectral
-/// radius, dense or by Arnoldi (with dense fallback). Bifurcation type and chatter frequency
-/// come from the dominant multiplier just above the boundary.
+/// Brent's method on ρ − 1 to `rel_tol`. The discretization is built once; each depth costs one
+/// spectral radius, dense or by Arnoldi (with dense fallback). Bifurcation type and chatter
+/// frequency come from the dominant multiplier just above the boundary.
 CriticalDepth fd_critical_depth_by_radius(const DelayedSystem& system, const FdOptions& options,
                                           RadiusSolver solver, double rel_tol = 1e-6,
                                           int coarse_steps = 24);
 
 /// Critical depth by the dense method: spectral radius on a coarse depth scan to bracket the
-/// first unstable depth, then bisection to `rel_tol`. For cross-checks at short delays.
+/// first unstable depth, then Brent's method to `rel_tol`. For cross-checks at short delays.
 CriticalDepth fd_critical_depth_dense(const DelayedSystem& system, const FdOptions& options,
                                       double rel_tol = 1e-6, int coarse_steps = 24);
 

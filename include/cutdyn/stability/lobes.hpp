@@ -50,11 +50,12 @@ LobesReport trace_lobes(const std::function<LobePoint(double rpm)>& at_speed,
                         const LobesOptions& options,
                         const std::function<void(int done, int total)>& progress = {});
 
-/// Critical depth at one speed from a point test: scans [0, depth_max] in `coarse_steps`
-/// equal steps for the first unstable depth (so that an unstable island above a stable
-/// band is not skipped by bisection's first halving), then bisects that bracket until it is
-/// smaller than rel_tol times its upper end.
-CriticalDepth critical_depth_by_bisection(const std::function<bool(double depth_m)>& unstable,
-                                          double depth_max_m, int coarse_steps, double rel_tol);
+/// Critical depth at one speed from a stability margin g(w) (< 0 stable, >= 0 unstable, and
+/// continuous, e.g. spectral radius − 1): scans [0, depth_max] in `coarse_steps` equal steps
+/// for the first unstable depth (so that an unstable island above a stable band is not
+/// skipped), then Brent's method on that bracket until it is smaller than rel_tol times the
+/// depth. `evaluations` counts the calls of g.
+CriticalDepth critical_depth_by_bracketing(const std::function<double(double depth_m)>& margin,
+                                           double depth_max_m, int coarse_steps, double rel_tol);
 
 }  // namespace cutdyn
