@@ -1,4 +1,4 @@
-// `cutdyn lobes` and `check` for milling (straight teeth, even pitch).
+// `cutdyn lobes` and `check` for milling.
 #include <fmt/format.h>
 
 #include <cmath>
@@ -15,8 +15,6 @@ namespace {
 using units::m_to_mm;
 using units::mm_to_m;
 
-enum class MillingMethod { kZeroOrder, kMultiFrequency, kFullDiscretization, kDense };
-
 const char* to_string(MillingMethod m) {
   switch (m) {
     case MillingMethod::kZeroOrder:
@@ -25,7 +23,7 @@ const char* to_string(MillingMethod m) {
       return "multi-frequency";
     case MillingMethod::kFullDiscretization:
       return "full-discretization";
-    case MillingMethod::kDense:
+    case MillingMethod::kFullDiscretizationDense:
       return "full-discretization-dense";
   }
   return "?";
@@ -45,7 +43,7 @@ MillingMethod resolve(const io::Case& c, const std::string& flag) {
   if (flag == "zero-order" || flag == "closed-form") return MillingMethod::kZeroOrder;
   if (flag == "multi-frequency") return MillingMethod::kMultiFrequency;
   if (flag == "auto" || flag == "full-discretization") return MillingMethod::kFullDiscretization;
-  if (flag == "full-discretization-dense") return MillingMethod::kDense;
+  if (flag == "full-discretization-dense") return MillingMethod::kFullDiscretizationDense;
   throw InvalidInput({"--method = \"" + flag +
                       "\": must be auto, zero-order, closed-form, multi-frequency, "
                       "full-discretization or full-discretization-dense"},
@@ -69,45 +67,30 @@ void check_milling_speed(const MillingModel& m, double rpm) {
   v.throw_if_any();
 }
 
-struct MillingBoundary {
-  CriticalDepth boundary;
-  int lobe = 0;  // whole chatter waves per tooth period
-};
-
 MillingBoundary critical_depth(const io::Case& c, const MillingModel& m, double rpm,
                                MillingMethod method, double depth_max_m) {
-  const DelayedSystem s = milling_system(m, rpm);
-  MillingBoundary out;
-  switch (method) {
-    case MillingMethod::kZeroOrder:
-    case MillingMethod::kMultiFrequency: {
-      MultiFrequencyOptions o;
-      o.harmonics = method == MillingMethod::kZeroOrder ? 0 : c.lobes.harmonics;
-      o.depth_max_m = depth_max_m;
-      out.boundary = multi_frequency_critical_depth(s, o);
-      break;
-    }
-    case MillingMethod::kFullDiscretization:
-    case MillingMethod::kDense: {
-      FdOptions o;
-      o.steps_per_period = c.lobes.steps_per_period;
-      o.depth_max_m = depth_max_m;
-      // A coarse scan of 16 depths brackets the first unstable one (islands above a stable
-      // band are not skipped), then Brent's method on the spectral radius to 0.1 %.
-      out.boundary = fd_critical_depth_by_radius(
-          s, o, method == MillingMethod::kDense ? RadiusSolver::kDense : RadiusSolver::kArnoldi,
-          1e-3, 16);
-      break;
-    }
-  }
-  if (out.boundary.found)
-    out.lobe = static_cast<int>(std::floor(out.boundary.chatter_hz * s.delay_s));
-  return out;
+  MillingStabilityOptions o;
+  o.method = method;
+  o.depth_max_m = depth_max_m;
+  o.harmonics = c.lobes.harmonics;
+  o.fd.steps_per_period = c.lobes.steps_per_period;
+  // Full discretization: a coarse scan of 16 depths brackets the first unstable one (islands
+  // above a stable band are not skipped), then Brent's method on the spectral radius to 0.1 %.
+  o.rel_tol = 1e-3;
+  o.coarse_steps = 16;
+  return milling_critical_depth(m, rpm, o);
 }
 
 std::string describe(const MillingModel& m) {
-  return fmt::format("milling, {} teeth, {} mode{}, Kt = {} N/mm², Kr = {} N/mm², a_e/D = {}, {}",
-                     m.teeth, m.modal.modes.size(), m.modal.modes.size() == 1 ? "" : "s",
+  std::string teeth = fmt::format("{} teeth", m.teeth);
+  if (m.helix_rad > 0.0) teeth += fmt::format(", helix {}°", human(units::rad_to_deg(m.helix_rad)));
+  if (!m.even_pitch()) {
+    std::string pitch;
+    for (double p : m.pitch_rad) pitch += (pitch.empty() ? "" : "/") + human(units::rad_to_deg(p));
+    teeth += ", pitch " + pitch + "°";
+  }
+  return fmt::format("milling, {}, {} mode{}, Kt = {} N/mm², Kr = {} N/mm², a_e/D = {}, {}", teeth,
+                     m.modal.modes.size(), m.modal.modes.size() == 1 ? "" : "s",
                      human(units::pa_to_n_per_mm2(m.kt_pa)), human(units::pa_to_n_per_mm2(m.kr_pa)),
                      human(m.radial_immersion), m.down_milling ? "down-milling" : "up-milling");
 }

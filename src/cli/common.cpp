@@ -64,16 +64,15 @@ MillingModel milling_model(const io::Case& c, std::string_view command) {
     v.add("cutting.kt_n_per_mm2: missing (required by `cutdyn " + std::string(command) + "`)");
   if (!c.tool)
     v.add("tool: missing (required for milling: at least tool.teeth and tool.diameter_mm)");
-  if (c.tool && c.tool->helix_rad != 0.0)
-    v.add("tool.helix_deg = " + human(units::rad_to_deg(c.tool->helix_rad), 6) +
-          ": helical cutters are not supported by the milling stability methods yet (straight "
-          "teeth only; give 0)");
   v.throw_if_any(c.source);
   MillingModel m;
   m.modal = c.modal;
   m.kt_pa = *c.cutting.kt_pa;
   m.kr_pa = c.cutting.kr_pa.value_or(0.0);
   m.teeth = c.tool->teeth;
+  m.diameter_m = c.tool->diameter_m;
+  m.helix_rad = c.tool->helix_rad;
+  m.pitch_rad = c.tool->pitch_rad;
   if (c.operation) {
     m.radial_immersion = c.operation->radial_immersion;
     m.down_milling = c.operation->down_milling;

@@ -260,6 +260,53 @@ class TableReader {
     return value;
   }
 
+  /// An array of numbers, each in `range`.
+  std::optional<std::vector<double>> numbers(std::string_view key, const Range& range, Need need) {
+    const toml::node* node = get(key);
+    if (node == nullptr) {
+      if (need == Need::kRequired) problems_.missing(key_path(key));
+      return std::nullopt;
+    }
+    const toml::array* array = node->as_array();
+    if (array == nullptr || array->empty()) {
+      problems_.at(key_path(key), *node,
+                   std::string("wrong type: expected a non-empty array of numbers, got ") +
+                       type_name(*node));
+      return std::nullopt;
+    }
+    std::vector<double> values;
+    bool ok = true;
+    for (std::size_t i = 0; i < array->size(); ++i) {
+      const toml::node& element = *array->get(i);
+      const std::string where = key_path(key) + "[" + std::to_string(i) + "]";
+      double value = 0.0;
+      if (const auto* n = element.as_integer()) {
+        value = static_cast<double>(n->get());
+      } else if (const auto* f = element.as_floating_point()) {
+        value = f->get();
+      } else {
+        problems_.at(where, element,
+                     std::string("wrong type: expected a number, got ") + type_name(element));
+        ok = false;
+        continue;
+      }
+      if (!std::isfinite(value) || !range.contains(value)) {
+        problems_.at(where, element,
+                     std::isfinite(value) ? range.rule() : "must be a finite number");
+        ok = false;
+        continue;
+      }
+      values.push_back(value);
+    }
+    if (!ok) return std::nullopt;
+    return values;
+  }
+
+  /// A problem with the value of `key` (which is present).
+  void problem(std::string_view key, std::string_view rule) {
+    problems_.at(key_path(key), *get(key), rule);
+  }
+
   std::optional<int> integer(std::string_view key, int lo, int hi, Need need) {
     const toml::node* node = get(key);
     if (node == nullptr) {
@@ -437,6 +484,25 @@ void read_tool(TableReader& t, Case& c) {
   if (auto v = t.number("helix_deg", Range{0.0, false, 90.0, true}, Need::kOptional)) {
     s.helix_rad = units::deg_to_rad(*v);
   }
+  if (auto v = t.numbers("pitch_deg", Range{0.0, true, 360.0, true}, Need::kOptional)) {
+    double sum = 0.0;
+    for (double p : *v) sum += p;
+    if (static_cast<int>(v->size()) != s.teeth && s.teeth > 0) {
+      t.problem("pitch_deg", "must give one angle per tooth (teeth = " + std::to_string(s.teeth) +
+                                 "), got " + std::to_string(v->size()));
+    } else if (std::abs(sum - 360.0) > 1e-6) {
+      t.problem("pitch_deg", "the angles must add up to 360, they add up to " + format_value(sum));
+    } else {
+      for (double p : *v) s.pitch_rad.push_back(units::deg_to_rad(p));
+      // Exactly one revolution, whatever the rounding of the degrees.
+      const double scale = units::kTwoPi / [&] {
+        double total = 0.0;
+        for (double p : s.pitch_rad) total += p;
+        return total;
+      }();
+      for (double& p : s.pitch_rad) p *= scale;
+    }
+  }
   t.report_unknown();
   c.tool = s;
 }
@@ -599,7 +665,7 @@ Case parse_case(std::string_view toml_text, std::string_view source) {
     read_cutting(r, c);
   }
   if (const toml::table* t = top.section("tool")) {
-    TableReader r(problems, *t, "tool", {"teeth", "diameter_mm", "helix_deg"});
+    TableReader r(problems, *t, "tool", {"teeth", "diameter_mm", "helix_deg", "pitch_deg"});
     read_tool(r, c);
   }
   if (const toml::table* t = top.section("operation")) {
@@ -707,6 +773,11 @@ nlohmann::json to_json(const Case& c) {
     j["tool"] = {{"teeth", c.tool->teeth},
                  {"diameter_mm", tidy(m_to_mm(c.tool->diameter_m))},
                  {"helix_deg", tidy(units::rad_to_deg(c.tool->helix_rad))}};
+    if (!c.tool->pitch_rad.empty()) {
+      nlohmann::json pitch = nlohmann::json::array();
+      for (double p : c.tool->pitch_rad) pitch.push_back(tidy(units::rad_to_deg(p)));
+      j["tool"]["pitch_deg"] = pitch;
+    }
   }
   if (c.operation) {
     j["operation"] = {{"radial_immersion", tidy(c.operation->radial_immersion)},

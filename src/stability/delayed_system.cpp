@@ -65,6 +65,15 @@ std::vector<std::string> DelayedSystem::validate() const {
   if (!H.mean || !H.fourier) v.add("H: mean and fourier must be set");
   v.require_positive("delay_s", delay_s, "s");
   if (!H.constant) v.require_positive("H.period_s", H.period_s, "s");
+  for (std::size_t k = 0; k < more_delays.size(); ++k) {
+    const DelayTerm& t = more_delays[k];
+    const std::string name = "more_delays[" + std::to_string(k) + "]";
+    if (t.H.dim != r) v.add(name + ".H.dim: must equal the number of outputs");
+    if (!t.H.mean || !t.H.fourier) v.add(name + ".H: mean and fourier must be set");
+    v.require_positive(name + ".delay_s", t.delay_s, "s");
+    if (t.H.constant != H.constant || (!H.constant && t.H.period_s != H.period_s))
+      v.add(name + ".H: must have the period of H");
+  }
   if (v.ok()) {
     const Eigen::VectorXcd eig = A0.eigenvalues();
     for (Eigen::Index i = 0; i < eig.size(); ++i) {
@@ -75,6 +84,12 @@ std::vector<std::string> DelayedSystem::validate() const {
     }
   }
   return v.problems();
+}
+
+std::vector<DelayTerm> DelayedSystem::delay_terms() const {
+  std::vector<DelayTerm> terms{DelayTerm{H, delay_s}};
+  terms.insert(terms.end(), more_delays.begin(), more_delays.end());
+  return terms;
 }
 
 Eigen::MatrixXcd DelayedSystem::frequency_response(double omega_rad_s) const {

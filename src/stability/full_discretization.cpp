@@ -32,10 +32,14 @@ struct StepMatrices {
   Eigen::MatrixXd phi0;  // d×d
   Eigen::MatrixXd w0E;   // W0·E, d×r
   Eigen::MatrixXd w1E;   // W1·E, d×r
-  Eigen::MatrixXd H;     // H̄ over the step, r×r
-  Eigen::MatrixXd w0EH;  // W0·E·H̄, d×r
-  Eigen::MatrixXd w1EH;  // W1·E·H̄, d×r
-  bool active = false;   // H̄ ≠ 0
+  Eigen::MatrixXd H;     // H̄ of the first delay term over the step, r×r
+  bool active = false;   // some H̄k ≠ 0
+  struct Term {          // one per delay term with H̄k ≠ 0 on this step
+    int term = 0;
+    Eigen::MatrixXd w0EH;  // W0·E·H̄k, d×r
+    Eigen::MatrixXd w1EH;  // W1·E·H̄k, d×r
+  };
+  std::vector<Term> terms;
 };
 
 // Φ0, W0·E and W1·E for a step of length h (they depend on h only).
@@ -73,7 +77,8 @@ long long floor_div(long long a, long long b) {
 
 class Discretization {
  public:
-  Discretization(const DelayedSystem& s, const FdGrid& grid) : sys_(s), grid_(grid) {
+  Discretization(const DelayedSystem& s, const FdGrid& grid)
+      : terms_(s.delay_terms()), grid_(grid) {
     const int n = grid.steps();
     steps_.reserve(static_cast<std::size_t>(n));
     // Grids are uniform within each window segment: one matrix exponential per distinct
@@ -90,19 +95,28 @@ class Discretization {
         it = by_length.end() - 1;
       }
       StepMatrices st = it->second;
-      st.H = s.H.mean(t0, t1);
-      st.active = st.H.norm() > 0.0;
-      st.w0EH = st.w0E * st.H;
-      st.w1EH = st.w1E * st.H;
+      for (std::size_t k = 0; k < terms_.size(); ++k) {
+        const Eigen::MatrixXd h_mean = terms_[k].H.mean(t0, t1);
+        if (k == 0) st.H = h_mean;
+        if (h_mean.norm() == 0.0) continue;
+        st.terms.push_back({static_cast<int>(k), st.w0E * h_mean, st.w1E * h_mean});
+      }
+      st.active = !st.terms.empty();
       steps_.push_back(std::move(st));
     }
-    refs_.resize(static_cast<std::size_t>(n + 1));
-    for (int j = 0; j <= n; ++j) refs_[static_cast<std::size_t>(j)] = delay_ref(j);
+    refs_.resize(terms_.size());
+    for (std::size_t k = 0; k < terms_.size(); ++k) {
+      for (int j = 0; j <= n; ++j) refs_[k].push_back(delay_ref(j, terms_[k].delay_s));
+    }
   }
 
   int n() const { return grid_.steps(); }
   const StepMatrices& step(int j) const { return steps_[static_cast<std::size_t>(j)]; }
-  const DelayRef& ref(int j) const { return refs_[static_cast<std::size_t>(j)]; }
+  int terms() const { return static_cast<int>(terms_.size()); }
+  /// Where y(t_j − τk) is, for node j and delay term k.
+  const DelayRef& ref(int j, int k = 0) const {
+    return refs_[static_cast<std::size_t>(k)][static_cast<std::size_t>(j)];
+  }
   double time(long long g) const {
     const long long p = floor_div(g, n());
     return grid_.nodes_s[static_cast<std::size_t>(g - p * n())] +
@@ -110,9 +124,9 @@ class Discretization {
   }
 
  private:
-  DelayRef delay_ref(int j) const {
+  DelayRef delay_ref(int j, double delay) const {
     const double T = grid_.period_s;
-    const double s = grid_.nodes_s[static_cast<std::size_t>(j)] - sys_.delay_s;
+    const double s = grid_.nodes_s[static_cast<std::size_t>(j)] - delay;
     const double p = std::floor(s / T);
     double u = s - p * T;
     const auto& t = grid_.nodes_s;
@@ -131,10 +145,10 @@ class Discretization {
     return {g, alpha};
   }
 
-  const DelayedSystem& sys_;
+  std::vector<DelayTerm> terms_;
   const FdGrid& grid_;
   std::vector<StepMatrices> steps_;
-  std::vector<DelayRef> refs_;
+  std::vector<std::vector<DelayRef>> refs_;
 };
 
 // The harmonic (θ + 2πk)/T that carries most of a Floquet solution sampled at `times`.
@@ -184,7 +198,12 @@ FdGrid fd_grid(const DelayedSystem& s, const FdOptions& o) {
   require_valid(s, o.validate());
   FdGrid grid;
   double h_max = o.max_step_fraction * shortest_structural_period(s);
-  h_max = std::min(h_max, s.delay_s);  // the delayed value of a step's end must be known
+  // The delayed value of a step's end must be known.
+  for (const DelayTerm& t : s.delay_terms()) h_max = std::min(h_max, t.delay_s);
+  if (s.H.constant && !s.more_delays.empty()) {
+    throw InvalidInput({"more_delays: several delays need a periodic H (the grid's period)"},
+                       "full discretization");
+  }
   if (s.H.constant) {
     if (o.steps_per_period > 0) {
       grid.period_s = s.delay_s;
@@ -201,14 +220,15 @@ FdGrid fd_grid(const DelayedSystem& s, const FdOptions& o) {
   const double T = s.H.period_s;
   grid.period_s = T;
   std::vector<double> cuts{0.0};
-  for (double b : s.H.breakpoints_s)
-    if (b > 0.0 && b < T) cuts.push_back(b);
+  for (const DelayTerm& t : s.delay_terms())
+    for (double b : t.H.breakpoints_s)
+      if (b > 0.0 && b < T) cuts.push_back(b);
   cuts.push_back(T);
   std::sort(cuts.begin(), cuts.end());
   grid.nodes_s.push_back(0.0);
   for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
     const double len = cuts[k + 1] - cuts[k];
-    if (len <= 1e-15 * T) continue;
+    if (len <= 1e-9 * T) continue;  // coincident breakpoints
     int steps = o.steps_per_period > 0
                     ? std::max(1, static_cast<int>(std::lround(o.steps_per_period * len / T)))
                     : std::max(1, static_cast<int>(std::ceil(len / h_max - 1e-9)));
@@ -241,27 +261,38 @@ class PeriodMapT final : public PeriodMap {
       : disc_(disc), c_(s.C), d_(s.A0.rows()), r_(s.C.rows()) {
     const int n = disc_.n();
     // History length: the oldest node any step needs, counted back from that step's node.
-    for (int j = 0; j < n; ++j)
-      for (int e : {j, j + 1}) L_ = std::max(L_, j - disc_.ref(e).g);
+    for (int k = 0; k < disc_.terms(); ++k)
+      for (int j = 0; j < n; ++j)
+        for (int e : {j, j + 1}) L_ = std::max(L_, j - disc_.ref(e, k).g);
     steps_.resize(static_cast<std::size_t>(n));
     for (int j = 0; j < n; ++j) {
       const StepMatrices& st = disc_.step(j);
       Step& out = steps_[static_cast<std::size_t>(j)];
-      out.active = st.active && depth > 0.0;
-      if (!out.active) {
+      out.first = static_cast<int>(gains_.size());
+      out.last = out.first;
+      if (!st.active || depth <= 0.0) {
         out.mx = st.phi0;
         continue;
       }
-      // (I + wh1·C)·x(j+1) = (Φ0 − wh0·C)·x(j) + wh0·ŷ(j) + wh1·ŷ(j+1)   [Ding2010, eq. 13]
-      const MatDR wh0 = depth * st.w0EH;
-      const MatDR wh1 = depth * st.w1EH;
-      // I + wh1·C is I plus a term of the order of the step: well conditioned.
-      MatDD lhs = wh1 * c_;
-      lhs.diagonal().array() += 1.0;
+      // (I + Σk whk1·C)·x(j+1) = (Φ0 − Σk whk0·C)·x(j) + Σk [whk0·ŷk(j) + whk1·ŷk(j+1)]
+      // [Ding2010, eq. 13, with one delayed term per delay]. I + Σ wh1·C is I plus a term of
+      // the order of the step: well conditioned.
+      MatDD lhs = MatDD::Identity(d_, d_);
+      MatDD rhs = st.phi0;
+      for (const StepMatrices::Term& t : st.terms) {
+        lhs.noalias() += depth * t.w1EH * c_;
+        rhs.noalias() -= depth * t.w0EH * c_;
+      }
       const MatDD inv = lhs.inverse();
-      out.mx.noalias() = inv * (st.phi0 - wh0 * c_);
-      out.k0.noalias() = inv * wh0;
-      out.k1.noalias() = inv * wh1;
+      out.mx.noalias() = inv * rhs;
+      for (const StepMatrices::Term& t : st.terms) {
+        Gain g;
+        g.term = t.term;
+        g.k0.noalias() = depth * inv * t.w0EH;
+        g.k1.noalias() = depth * inv * t.w1EH;
+        gains_.push_back(g);
+      }
+      out.last = static_cast<int>(gains_.size());
     }
   }
 
@@ -280,10 +311,13 @@ class PeriodMapT final : public PeriodMap {
   using MatDD = Eigen::Matrix<double, D, D>;
   using MatDR = Eigen::Matrix<double, D, R>;
   using MatRD = Eigen::Matrix<double, R, D>;
+  struct Gain {  // of one delay term on one step
+    MatDR k0, k1;
+    int term = 0;
+  };
   struct Step {
     MatDD mx;
-    MatDR k0, k1;
-    bool active = false;
+    int first = 0, last = 0;  // its gains: gains_[first, last)
   };
 
   template <int Cols>
@@ -311,12 +345,13 @@ class PeriodMapT final : public PeriodMap {
       const Step& st = steps_[static_cast<std::size_t>(j)];
       xo = z.template topRows<D>(d_);
       yj.noalias() = c_ * xo;
-      if (st.active) {
-        delayed(j, disc_.ref(j), y0);
-        delayed(j, disc_.ref(j + 1), y1);
-        z.template topRows<D>(d_).noalias() = st.mx * xo + st.k0 * y0 + st.k1 * y1;
-      } else {
-        z.template topRows<D>(d_).noalias() = st.mx * xo;
+      auto x = z.template topRows<D>(d_);
+      x.noalias() = st.mx * xo;
+      for (int g = st.first; g < st.last; ++g) {
+        const Gain& gain = gains_[static_cast<std::size_t>(g)];
+        delayed(j, disc_.ref(j, gain.term), y0);
+        delayed(j, disc_.ref(j + 1, gain.term), y1);
+        x.noalias() += gain.k0 * y0 + gain.k1 * y1;
       }
       head = (head + L_ - 1) % L_;  // push y(j) = C·x(j)
       z.template middleRows<R>(d_ + r_ * head, r_) = yj;
@@ -333,6 +368,7 @@ class PeriodMapT final : public PeriodMap {
   Eigen::Index d_, r_;
   long long L_ = 1;
   std::vector<Step> steps_;
+  std::vector<Gain, Eigen::aligned_allocator<Gain>> gains_;
 };
 
 // The map for this system, with fixed-size kernels for the common sizes (turning with one or
@@ -475,20 +511,38 @@ std::pair<Bifurcation, double> FdDiscretization::dominant_mode(double depth_m,
           dominant_frequency_hz(theta, impl_->grid.period_s, times, values, impl_->grid.steps())};
 }
 
+namespace {
+
+double radius(const FdDiscretization& fd, double depth, RadiusSolver solver) {
+  return solver == RadiusSolver::kArnoldi ? fd.spectral_radius_arnoldi(depth).value
+                                          : fd.spectral_radius(depth);
+}
+
+}  // namespace
+
 CriticalDepth fd_critical_depth_by_radius(const DelayedSystem& s, const FdOptions& o,
                                           RadiusSolver solver, double rel_tol, int coarse_steps) {
   const FdDiscretization fd(s, o);
   CriticalDepth result = critical_depth_by_bracketing(
-      [&](double w) {
-        const double rho = solver == RadiusSolver::kArnoldi ? fd.spectral_radius_arnoldi(w).value
-                                                            : fd.spectral_radius(w);
-        return rho - 1.0;
-      },
-      o.depth_max_m, coarse_steps, rel_tol);
+      [&](double w) { return radius(fd, w, solver) - 1.0; }, o.depth_max_m, coarse_steps, rel_tol);
   if (!result.found) return result;
   // Just above the boundary the dominant multiplier is the critical one.
   std::tie(result.bifurcation, result.chatter_hz) =
       fd.dominant_mode(result.depth_m * (1.0 + 0.5 * rel_tol), solver);
+  return result;
+}
+
+CriticalDepth fd_critical_depth_by_radius(const std::function<DelayedSystem(double)>& system_at,
+                                          const FdOptions& o, RadiusSolver solver, double rel_tol,
+                                          int coarse_steps) {
+  const FdGrid grid = fd_grid(system_at(o.depth_max_m), o);
+  CriticalDepth result = critical_depth_by_bracketing(
+      [&](double w) { return radius(FdDiscretization(system_at(w), grid), w, solver) - 1.0; },
+      o.depth_max_m, coarse_steps, rel_tol);
+  if (!result.found) return result;
+  const double above = result.depth_m * (1.0 + 0.5 * rel_tol);
+  std::tie(result.bifurcation, result.chatter_hz) =
+      FdDiscretization(system_at(above), grid).dominant_mode(above, solver);
   return result;
 }
 
@@ -498,6 +552,11 @@ CriticalDepth fd_critical_depth_dense(const DelayedSystem& s, const FdOptions& o
 }
 
 CriticalDepth fd_critical_depth(const DelayedSystem& s, const FdOptions& o) {
+  if (!s.more_delays.empty()) {
+    throw InvalidInput({"more_delays: the reduced full discretization takes one delay (use "
+                        "fd_critical_depth_by_radius)"},
+                       "full discretization");
+  }
   const FdGrid grid = fd_grid(s, o);
   const Discretization disc(s, grid);
   const int n = disc.n();

@@ -1,10 +1,13 @@
 #include "cutdyn/stability/milling.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
+#include "cutdyn/stability/lobes.hpp"
+#include "cutdyn/stability/multi_frequency.hpp"
 
 namespace cutdyn {
 namespace {
@@ -71,6 +74,22 @@ std::vector<std::string> MillingModel::validate() const {
   v.require(teeth >= 1 && teeth <= 200, "teeth", teeth, "", "must be 1 to 200");
   v.require(radial_immersion > 0.0 && radial_immersion <= 1.0, "radial_immersion", radial_immersion,
             "", "must be greater than 0 and at most 1");
+  v.require(helix_rad >= 0.0 && helix_rad < 0.5 * kPi, "helix_rad", helix_rad, "rad",
+            "must be at least 0 and less than π/2");
+  if (helix_rad > 0.0) v.require_positive("diameter_m", diameter_m, "m (needed with a helix)");
+  if (!pitch_rad.empty()) {
+    v.require(static_cast<int>(pitch_rad.size()) == teeth, "pitch_rad",
+              static_cast<double>(pitch_rad.size()), "angles",
+              "must give one angle per tooth (" + std::to_string(teeth) + ")");
+    double sum = 0.0;
+    for (std::size_t j = 0; j < pitch_rad.size(); ++j) {
+      v.require(pitch_rad[j] > 0.0, "pitch_rad[" + std::to_string(j) + "]", pitch_rad[j], "rad",
+                "must be positive");
+      sum += pitch_rad[j];
+    }
+    v.require(std::abs(sum - kTwoPi) <= 1e-9 * kTwoPi, "pitch_rad (sum)", sum, "rad",
+              "the pitch angles must add up to one revolution (2π)");
+  }
   return v.problems();
 }
 
@@ -82,9 +101,75 @@ double MillingModel::exit_angle() const {
   return down_milling ? kPi : std::acos(1.0 - 2.0 * radial_immersion);
 }
 
-DelayedSystem milling_system(const MillingModel& model, double rpm) {
+namespace {
+
+// h(t) = scale·Σi weight_i·A(Ωs·t − c_i)·g(Ωs·t − c_i): teeth (and axial slices of them) at
+// angular offsets c_i behind the reference tooth, periodic with `period_s`. Means and Fourier
+// coefficients are exact (closed-form integrals of e^(iκφ) over the windows).
+struct ToothSet {
+  std::vector<double> offsets_rad;  // c_i
+  double weight = 1.0;              // per offset (1/slices)
+  std::vector<double> edges_rad;    // offsets of the tooth tips (no helix lag): breakpoints
+};
+
+PeriodicCoefficient tooth_coefficient(const MillingModel& m, double spindle, double period_s,
+                                      const ToothSet& teeth) {
+  const double st = m.entry_angle(), ex = m.exit_angle();
+  const double kr = m.kr_pa / m.kt_pa;
+  const double scale = -0.5 * m.kt_pa;  // H = −(Kt/2)·A
+  const double span = spindle * period_s;
+  PeriodicCoefficient h;
+  h.dim = 2;
+  h.period_s = period_s;
+  for (double c : teeth.edges_rad) {
+    for (double edge : {st, ex}) {
+      double phase = std::fmod(edge + c, span);
+      if (phase < 0.0) phase += span;
+      const double t = phase / spindle;
+      if (t > 0.0 && t < period_s) h.breakpoints_s.push_back(t);
+    }
+  }
+  std::sort(h.breakpoints_s.begin(), h.breakpoints_s.end());
+  h.mean = [=](double t0, double t1) {
+    Eigen::Matrix2cd sum = Eigen::Matrix2cd::Zero();
+    for (double c : teeth.offsets_rad)
+      sum += windowed_integral(0.0, spindle * t0 - c, spindle * t1 - c, st, ex, kr);
+    return Eigen::MatrixXd(scale * teeth.weight * sum.real() / (spindle * (t1 - t0)));
+  };
+  // H_p = (1/P)∫0^P h(t)·e^(−ipω0·t) dt; with φ = Ωs·t − c: e^(−iνc)·∫ A·g·e^(−iνφ) dφ over
+  // [−c, Ωs·P − c], ν = p·ω0/Ωs.
+  h.fourier = [=](int p) {
+    const double nu = static_cast<double>(p) * kTwoPi / span;
+    Eigen::Matrix2cd sum = Eigen::Matrix2cd::Zero();
+    for (double c : teeth.offsets_rad)
+      sum += std::polar(1.0, -nu * c) * windowed_integral(nu, -c, span - c, st, ex, kr);
+    return Eigen::MatrixXcd(sum * (scale * teeth.weight / span));
+  };
+  return h;
+}
+
+}  // namespace
+
+double MillingModel::lag_angle(double depth_m) const {
+  return helix_rad == 0.0 ? 0.0 : 2.0 * depth_m * std::tan(helix_rad) / diameter_m;
+}
+
+int MillingModel::slices(double depth_m) const {
+  constexpr double kMaxSliceLag = kPi / 360.0;  // 0.5°
+  return std::clamp(static_cast<int>(std::ceil(lag_angle(depth_m) / kMaxSliceLag)), 1, 2000);
+}
+
+std::vector<double> MillingModel::pitch_angles() const {
+  if (!pitch_rad.empty()) return pitch_rad;
+  return std::vector<double>(static_cast<std::size_t>(teeth), kTwoPi / teeth);
+}
+
+DelayedSystem milling_system(const MillingModel& model, double rpm, double depth_m) {
   if (const auto problems = model.validate(); !problems.empty())
     throw InvalidInput(problems, "milling model");
+  if (!(depth_m >= 0.0))
+    throw InvalidInput({"depth = " + format_value(depth_m) + " m: must not be negative"},
+                       "milling model");
   const auto ss = modal_state_space(model.modal, {Direction::kX, Direction::kY});
   DelayedSystem s;
   s.A0 = ss.A;
@@ -92,37 +177,114 @@ DelayedSystem milling_system(const MillingModel& model, double rpm) {
   s.C = ss.C;
   const double spindle = units::rpm_to_rad_per_s(rpm);  // Ωs
   const int z = model.teeth;
-  const double T = kTwoPi / (z * spindle);  // tooth period
-  s.delay_s = T;
-  const double st = model.entry_angle(), ex = model.exit_angle();
-  const double kr = model.kr_pa / model.kt_pa;
-  const double scale = -0.5 * model.kt_pa;  // H = −(Kt/2)·A
-  const double pitch = kTwoPi / z;
+  // Axial slices: slice k of K lags the tooth tip by (k + 1/2)·λ/K, λ the flute's lag over
+  // the depth; each carries 1/K of the depth.
+  const int K = model.slices(depth_m);
+  const double lag = model.lag_angle(depth_m);
+  std::vector<double> slice_lags;
+  for (int k = 0; k < K; ++k) slice_lags.push_back((k + 0.5) * lag / K);
 
-  PeriodicCoefficient h;
-  h.dim = 2;
-  h.period_s = T;
-  for (double edge : {st, ex}) {
-    const double t = std::fmod(edge, pitch) / spindle;
-    if (t > 0.0 && t < T) h.breakpoints_s.push_back(t);
-  }
-  // Mean over [t0, t1]: every tooth sweeps [Ωs·t0 + 2πj/z, Ωs·t1 + 2πj/z].
-  h.mean = [=](double t0, double t1) {
-    Eigen::Matrix2cd sum = Eigen::Matrix2cd::Zero();
+  if (model.even_pitch()) {
+    // One term: every tooth sees the previous one's surface τ = T = 2π/(z·Ωs) earlier, and the
+    // coefficient has the tooth period.
+    const double pitch = kTwoPi / z;
+    ToothSet set;
+    set.weight = 1.0 / K;
     for (int j = 0; j < z; ++j) {
-      sum += windowed_integral(0.0, spindle * t0 + pitch * j, spindle * t1 + pitch * j, st, ex, kr);
+      set.edges_rad.push_back(pitch * j);
+      for (double d : slice_lags) set.offsets_rad.push_back(pitch * j + d);
     }
-    return Eigen::MatrixXd(scale * sum.real() / (spindle * (t1 - t0)));
-  };
-  // H_p = (z/2π)·∫ over one revolution of one tooth of h(φ)·e^(−ipzφ) dφ.
-  h.fourier = [=](int p) {
-    const Eigen::Matrix2cd m =
-        windowed_integral(static_cast<double>(p) * z, 0.0, kTwoPi, st, ex, kr) *
-        (z / kTwoPi * scale);
-    return Eigen::MatrixXcd(m);
-  };
-  s.H = std::move(h);
+    s.delay_s = pitch / spindle;
+    s.H = tooth_coefficient(model, spindle, s.delay_s, set);
+    return s;
+  }
+  // Uneven pitch: tooth j trails tooth j − 1 by pitch_j and cuts its surface pitch_j/Ωs later:
+  // one delay term per tooth, all with the period of one revolution.
+  const std::vector<double> pitches = model.pitch_angles();
+  const double revolution = kTwoPi / spindle;
+  double behind = 0.0;  // angle of tooth j behind tooth 0
+  for (int j = 0; j < z; ++j) {
+    if (j > 0) behind += pitches[static_cast<std::size_t>(j)];
+    ToothSet set;
+    set.weight = 1.0 / K;
+    set.edges_rad.push_back(behind);
+    for (double d : slice_lags) set.offsets_rad.push_back(behind + d);
+    DelayTerm term{tooth_coefficient(model, spindle, revolution, set),
+                   pitches[static_cast<std::size_t>(j)] / spindle};
+    if (j == 0) {
+      s.H = std::move(term.H);
+      s.delay_s = term.delay_s;
+    } else {
+      s.more_delays.push_back(std::move(term));
+    }
+  }
   return s;
+}
+
+std::vector<std::string> MillingStabilityOptions::validate() const {
+  Validator v;
+  v.require_positive("depth_max_m", depth_max_m, "m");
+  v.require(harmonics >= 0 && harmonics <= 50, "harmonics", harmonics, "", "must be 0 to 50");
+  v.require(rel_tol >= 1e-12 && rel_tol <= 0.1, "rel_tol", rel_tol, "", "must be 1e-12 to 0.1");
+  v.require(coarse_steps >= 1 && coarse_steps <= 10000, "coarse_steps", coarse_steps, "",
+            "must be 1 to 10000");
+  v.merge(fd.validate());
+  return v.problems();
+}
+
+MillingBoundary milling_critical_depth(const MillingModel& model, double rpm,
+                                       const MillingStabilityOptions& o) {
+  Validator v;
+  v.merge(model.validate());
+  v.merge(o.validate());
+  v.require_positive("spindle speed", rpm, "rpm");
+  v.throw_if_any("milling stability");
+  const bool helical = model.helix_rad > 0.0;
+  const auto system_at = [&](double depth) { return milling_system(model, rpm, depth); };
+  MillingBoundary out;
+  switch (o.method) {
+    case MillingMethod::kZeroOrder:
+    case MillingMethod::kMultiFrequency: {
+      MultiFrequencyOptions mf;
+      mf.harmonics = o.method == MillingMethod::kZeroOrder ? 0 : o.harmonics;
+      mf.depth_max_m = o.depth_max_m;
+      if (!helical || mf.harmonics == 0) {
+        out.boundary = multi_frequency_critical_depth(system_at(0.0), mf);
+        break;
+      }
+      // H depends on the depth: the boundary is where a = w_crit(H(a)).
+      const auto margin = [&](double a) {
+        const CriticalDepth c = multi_frequency_critical_depth(system_at(a), mf);
+        return a - (c.found ? c.depth_m : o.depth_max_m * 2.0);
+      };
+      out.boundary = critical_depth_by_bracketing(margin, o.depth_max_m, o.coarse_steps, o.rel_tol);
+      if (out.boundary.found) {
+        const CriticalDepth at =
+            multi_frequency_critical_depth(system_at(out.boundary.depth_m), mf);
+        out.boundary.chatter_hz = at.chatter_hz;
+        out.boundary.bifurcation = at.bifurcation;
+      }
+      break;
+    }
+    case MillingMethod::kFullDiscretization:
+    case MillingMethod::kFullDiscretizationDense: {
+      FdOptions fd = o.fd;
+      fd.depth_max_m = o.depth_max_m;
+      const RadiusSolver solver = o.method == MillingMethod::kFullDiscretizationDense
+                                      ? RadiusSolver::kDense
+                                      : RadiusSolver::kArnoldi;
+      out.boundary =
+          helical
+              ? fd_critical_depth_by_radius(system_at, fd, solver, o.rel_tol, o.coarse_steps)
+              : fd_critical_depth_by_radius(system_at(0.0), fd, solver, o.rel_tol, o.coarse_steps);
+      break;
+    }
+  }
+  if (out.boundary.found) {
+    const double tooth_period = 60.0 / (rpm * model.teeth);
+    out.lobe = static_cast<int>(std::floor(out.boundary.chatter_hz * tooth_period));
+  }
+  return out;
 }
 
 }  // namespace cutdyn

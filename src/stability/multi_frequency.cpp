@@ -61,16 +61,22 @@ CriticalDepth multi_frequency_critical_depth(const DelayedSystem& system,
   const int P = periodic ? o.harmonics : 0;
   const int size = r * (2 * P + 1);
   const double Omega = periodic ? kTwoPi / system.H.period_s : 0.0;
-  const double tau = system.delay_s;
+  // One or more regenerative terms Σk Hk(t)·(x(t − τk) − x(t)).
+  const std::vector<DelayTerm> terms = system.delay_terms();
+  const auto n_terms = terms.size();
+  double tau = 0.0;  // the longest delay sets the sampling
+  for (const DelayTerm& t : terms) tau = std::max(tau, t.delay_s);
 
-  // Fourier coefficients H(k), k = −2P..2P.
-  std::vector<Eigen::MatrixXcd> Hk(static_cast<std::size_t>(4 * P + 1));
+  // Fourier coefficients Hk(m), m = −2P..2P, of every term.
+  std::vector<std::vector<Eigen::MatrixXcd>> Hk(n_terms);
   double h_norm = 0.0;
-  for (int k = -2 * P; k <= 2 * P; ++k) {
-    Hk[static_cast<std::size_t>(k + 2 * P)] = system.H.fourier(k);
-    h_norm += Hk[static_cast<std::size_t>(k + 2 * P)].norm();
+  for (std::size_t k = 0; k < n_terms; ++k) {
+    for (int m = -2 * P; m <= 2 * P; ++m) {
+      Hk[k].push_back(terms[k].H.fourier(m));
+      if (periodic) h_norm += Hk[k].back().norm();
+    }
+    if (!periodic) h_norm += Hk[k][0].norm();
   }
-  if (!periodic) h_norm = system.H.fourier(0).norm();
 
   const double w_limit = response_limit_rad_s(system, h_norm, o.depth_max_m);
   const double w_max = periodic ? std::min(0.5 * Omega, w_limit) : w_limit;
@@ -78,20 +84,25 @@ CriticalDepth multi_frequency_critical_depth(const DelayedSystem& system,
       std::min(kTwoPi / (o.samples_per_turn * tau), 0.25 * sharpest_half_bandwidth(system));
 
   std::vector<Eigen::MatrixXcd> G(static_cast<std::size_t>(2 * P + 1));
-  std::vector<cplx> regen(static_cast<std::size_t>(2 * P + 1));
+  std::vector<std::vector<cplx>> regen(n_terms, std::vector<cplx>(2 * P + 1));
+  Eigen::MatrixXcd sum(r, r);
   const double min_eigenvalue = 1.0 / o.depth_max_m;
   const MatrixFunction evaluate = [&](double w, Eigen::MatrixXcd& K) {
     for (int p = -P; p <= P; ++p) {
       const double wp = w + p * Omega;
       G[static_cast<std::size_t>(p + P)] = system.frequency_response(wp);
-      regen[static_cast<std::size_t>(p + P)] = std::exp(cplx(0.0, -wp * tau)) - 1.0;
+      for (std::size_t k = 0; k < n_terms; ++k)
+        regen[k][static_cast<std::size_t>(p + P)] =
+            std::exp(cplx(0.0, -wp * terms[k].delay_s)) - 1.0;
     }
     K.resize(size, size);
     for (int p = -P; p <= P; ++p) {
       for (int q = -P; q <= P; ++q) {
-        K.block((p + P) * r, (q + P) * r, r, r) = G[static_cast<std::size_t>(p + P)] *
-                                                  Hk[static_cast<std::size_t>(p - q + 2 * P)] *
-                                                  regen[static_cast<std::size_t>(q + P)];
+        sum.setZero();
+        for (std::size_t k = 0; k < n_terms; ++k)
+          sum += Hk[k][static_cast<std::size_t>(p - q + 2 * P)] *
+                 regen[k][static_cast<std::size_t>(q + P)];
+        K.block((p + P) * r, (q + P) * r, r, r) = G[static_cast<std::size_t>(p + P)] * sum;
       }
     }
     return K.norm() >= 0.5 * min_eigenvalue;  // as the scan's own margin

@@ -323,10 +323,23 @@ TEST_F(Cli, MillingLowImmersionReportsFlipLobes) {
   }
   EXPECT_GT(flips, 3);
   EXPECT_GT(hopfs, 3);
-  const auto file_helix =
-      write("helix.toml", std::string(*io::example_text("milling-insperger"))
-                              .replace(text.find("[tool]"), 6, "[tool]\nhelix_deg = 30"));
-  expect_rejected({"lobes", file_helix, "--out", path("h.csv")}, "tool.helix_deg = 30");
+}
+
+TEST_F(Cli, MillingRejectsPitchAnglesThatAreNotOneRevolution) {
+  const std::string text(*io::example_text("milling-insperger"));
+  const auto with_tool = [&](const std::string& line) {
+    std::string t = text;
+    return t.replace(t.find("[tool]"), 6, "[tool]\n" + line);
+  };
+  expect_rejected(
+      {"lobes", write("sum.toml", with_tool("pitch_deg = [170, 170]")), "--out", path("p.csv")},
+      "tool.pitch_deg = [170, 170]: the angles must add up to 360, they add up to 340");
+  expect_rejected({"lobes", write("count.toml", with_tool("pitch_deg = [120, 120, 120]")), "--out",
+                   path("p.csv")},
+                  "must give one angle per tooth (teeth = 2), got 3");
+  expect_rejected(
+      {"lobes", write("neg.toml", with_tool("pitch_deg = [-10, 370]")), "--out", path("p.csv")},
+      "tool.pitch_deg[0] = -10: must be greater than 0");
 }
 
 TEST_F(Cli, TargetDepthListsTheStableSpeedRanges) {

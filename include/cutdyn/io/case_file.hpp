@@ -47,6 +47,7 @@ struct ToolSection {
   int teeth = 0;
   double diameter_m = 0.0;
   double helix_rad = 0.0;
+  std::vector<double> pitch_rad;  // pitch_deg: uneven pitch, one angle per tooth; empty: even
 };
 
 /// [operation] (milling).

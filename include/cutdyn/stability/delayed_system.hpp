@@ -40,15 +40,27 @@ PeriodicCoefficient constant_coefficient(const Eigen::MatrixXd& h0);
 PeriodicCoefficient windowed_coefficient(const Eigen::MatrixXd& h0, double period_s,
                                          double duty_cycle, double start_s);
 
+/// A further regenerative term w·E·H_k(t)·C·(x(t − τ_k) − x(t)), with H_k of the same period
+/// as the system's H: a milling cutter with uneven tooth pitch has one per tooth.
+struct DelayTerm {
+  PeriodicCoefficient H;
+  double delay_s = 0;
+};
+
 struct DelayedSystem {
   Eigen::MatrixXd A0;  // d×d, the structure alone (asymptotically stable)
   Eigen::MatrixXd E;   // d×r
   Eigen::MatrixXd C;   // r×d
   PeriodicCoefficient H;
   double delay_s = 0;  // τ
+  /// Further delays, added to the term above (usually empty). The full discretization by
+  /// spectral radius and the multi-frequency method take them; the others reject them.
+  std::vector<DelayTerm> more_delays;
 
   int states() const { return static_cast<int>(A0.rows()); }
   int outputs() const { return static_cast<int>(C.rows()); }
+  /// The regenerative terms, the first being (H, delay_s).
+  std::vector<DelayTerm> delay_terms() const;
   /// Problems as "field = value: rule"; empty when valid.
   std::vector<std::string> validate() const;
   /// Frequency response of the structure alone, C·(iωI − A0)⁻¹·E (r×r).

@@ -22,6 +22,7 @@
 //   multiplier of the same Φ crosses the unit circle, exactly, without forming Φ.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -115,6 +116,14 @@ CriticalDepth fd_critical_depth(const DelayedSystem& system, const FdOptions& op
 CriticalDepth fd_critical_depth_by_radius(const DelayedSystem& system, const FdOptions& options,
                                           RadiusSolver solver, double rel_tol = 1e-6,
                                           int coarse_steps = 24);
+
+/// The same for a system whose coefficient depends on the depth (a helical milling cutter,
+/// whose H is the average over the engaged flute length): `system_at(w)` is the system at
+/// depth w. The time grid is that of system_at(depth_max) (its periods and delays must not
+/// depend on the depth); each depth rebuilds the step coefficients.
+CriticalDepth fd_critical_depth_by_radius(
+    const std::function<DelayedSystem(double depth_m)>& system_at, const FdOptions& options,
+    RadiusSolver solver, double rel_tol = 1e-6, int coarse_steps = 24);
 
 /// Critical depth by the dense method: spectral radius on a coarse depth scan to bracket the
 /// first unstable depth, then Brent's method to `rel_tol`. For cross-checks at short delays.

@@ -13,7 +13,9 @@
 #include <vector>
 
 #include "cutdyn/modal/modal_model.hpp"
+#include "cutdyn/stability/critical_depth.hpp"
 #include "cutdyn/stability/delayed_system.hpp"
+#include "cutdyn/stability/full_discretization.hpp"
 
 namespace cutdyn {
 
@@ -21,21 +23,66 @@ struct MillingModel {
   ModalModel modal;               // modes in x (feed) and y
   double kt_pa = 0.0;             // tangential cutting coefficient, N/m²
   double kr_pa = 0.0;             // radial cutting coefficient, N/m²
-  int teeth = 2;                  // z, evenly spaced
+  int teeth = 2;                  // z
   double radial_immersion = 1.0;  // a_e / D, 0 < . <= 1
   bool down_milling = true;
+  double diameter_m = 0.0;  // D, needed with a helix
+  double helix_rad = 0.0;   // β, 0 <= β < π/2
+  /// Uneven pitch: z angles, pitch_rad[j] the angle by which tooth j trails tooth j − 1 (tooth
+  /// 0 trails the last one), adding up to 2π. Empty: evenly spaced teeth.
+  std::vector<double> pitch_rad;
 
   std::vector<std::string> validate() const;
+  bool even_pitch() const { return pitch_rad.empty(); }
+  std::vector<double> pitch_angles() const;  // pitch_rad, or z equal angles
+  /// Angle by which the flute at depth a lags the tooth tip: 2·a·tanβ/D.
+  double lag_angle(double depth_m) const;
+  /// Axial slices at depth a: lag of at most 0.5° each (1 for straight teeth).
+  int slices(double depth_m) const;
   /// Entry and exit angles (rad) of a tooth: down-milling [acos(2a_e/D − 1), π],
   /// up-milling [0, acos(1 − 2a_e/D)].
   double entry_angle() const;
   double exit_angle() const;
 };
 
-/// The neutral description at spindle speed `rpm`: x = the modal states of the x and y modes,
-/// y = (x, y) displacements of the cutter, H(t) = −(Kt/2)·A(t) with exact step means and
-/// Fourier coefficients, τ = T = 60/(rpm·z).
-DelayedSystem milling_system(const MillingModel& model, double rpm);
+/// The neutral description at spindle speed `rpm` and depth `depth_m`: x = the modal states of
+/// the x and y modes, y = (x, y) displacements of the cutter, H(t) = −(Kt/2)·A(t) per unit
+/// depth with exact means and Fourier coefficients. A helical cutter is cut into axial slices
+/// (model.slices(depth)), each a straight tooth lagging by its share of the lag angle, and H is
+/// their average: it depends on the depth, which straight teeth do not. Even pitch: one delay
+/// τ = T = 60/(rpm·z) and H of period T. Uneven pitch: one delay term per tooth,
+/// τj = pitch_j/Ωs, each with the period of one revolution.
+DelayedSystem milling_system(const MillingModel& model, double rpm, double depth_m = 0.0);
+
+enum class MillingMethod {
+  kZeroOrder,       // Altintas & Budak 1995: multi-frequency with no harmonics
+  kMultiFrequency,  // with `harmonics` harmonics of the tooth (or, uneven pitch, spindle) frequency
+  kFullDiscretization,       // spectral radius by Arnoldi on the matrix-free period map
+  kFullDiscretizationDense,  // spectral radius of the dense transition matrix
+};
+
+struct MillingStabilityOptions {
+  MillingMethod method = MillingMethod::kFullDiscretization;
+  double depth_max_m = 1e-3;
+  int harmonics = 5;
+  FdOptions fd;           // depth_max_m is taken from above
+  double rel_tol = 1e-3;  // critical depth, full discretization and helix iterations
+  int coarse_steps = 16;  // depth scan before Brent's method (unstable islands)
+
+  std::vector<std::string> validate() const;
+};
+
+struct MillingBoundary {
+  CriticalDepth boundary;
+  int lobe = 0;  // whole chatter waves per (mean) tooth period
+};
+
+/// Critical depth at one speed. The zero-order solution does not depend on the helix (the
+/// mean of H over a period is the same for every slice). With a helix, the depth-dependent H
+/// is handled by the full discretization's depth search directly, and by the multi-frequency
+/// method through the margin a − w_crit(H(a)) (coarse scan, then Brent).
+MillingBoundary milling_critical_depth(const MillingModel& model, double rpm,
+                                       const MillingStabilityOptions& options);
 
 /// Altintas' directional matrix per tooth in cut, per unit Kt·a/2, at angle φ (Kr = kr/kt).
 Eigen::Matrix2d milling_directional_matrix(double phi, double kr_ratio);
