@@ -86,7 +86,10 @@ std::string describe(const MillingModel& m) {
   if (m.helix_rad > 0.0) teeth += fmt::format(", helix {}°", human(units::rad_to_deg(m.helix_rad)));
   if (!m.even_pitch()) {
     std::string pitch;
-    for (double p : m.pitch_rad) pitch += (pitch.empty() ? "" : "/") + human(units::rad_to_deg(p));
+    for (double p : m.pitch_rad) {
+      if (!pitch.empty()) pitch += '/';
+      pitch += human(units::rad_to_deg(p));
+    }
     teeth += ", pitch " + pitch + "°";
   }
   return fmt::format("milling, {}, {} mode{}, Kt = {} N/mm², Kr = {} N/mm², a_e/D = {}, {}", teeth,
