@@ -21,27 +21,20 @@
 #include "cutdyn/stability/full_discretization.hpp"
 #include "cutdyn/stability/milling.hpp"
 #include "cutdyn/stability/multi_frequency.hpp"
+#include "support/reference_cases.hpp"
 
 namespace cutdyn {
 namespace {
 
 using units::kPi;
 
-constexpr double kFnHz = 922.0;
-constexpr double kZeta = 0.011;
-constexpr double kMassKg = 0.03993;
+constexpr double kFnHz = testing::kInspergerHz;
+constexpr double kZeta = testing::kInspergerDamping;
+constexpr double kMassKg = testing::kInspergerMassKg;
 
 // The benchmark with one mode in x only (the published 1-DOF figures).
 MillingModel one_dof(double immersion, bool down_milling) {
-  MillingModel m;
-  m.modal.modes.push_back(
-      mode_from_mass(Direction::kX, units::hz_to_rad_per_s(kFnHz), kZeta, kMassKg));
-  m.kt_pa = 6e8;
-  m.kr_pa = 2e8;
-  m.teeth = 2;
-  m.radial_immersion = immersion;
-  m.down_milling = down_milling;
-  return m;
+  return testing::insperger_benchmark(immersion, false, down_milling);
 }
 
 // Altintas & Budak's zero-order solution reduced to one mode in x. With

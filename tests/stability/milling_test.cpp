@@ -8,6 +8,7 @@
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/stability/full_discretization.hpp"
 #include "cutdyn/stability/multi_frequency.hpp"
+#include "support/reference_cases.hpp"
 
 namespace cutdyn {
 namespace {
@@ -15,31 +16,12 @@ namespace {
 using units::kPi;
 using units::kTwoPi;
 
-// The Insperger–Stépán benchmark [Insperger & Stépán 2004; Ding et al. 2010]: two teeth,
-// Kt = 6e8 N/m², Kr = 2e8 N/m², 922 Hz, ζ = 0.011, modal mass 0.03993 kg, down-milling.
 MillingModel benchmark(double immersion, bool both_directions = true) {
-  MillingModel m;
-  const double wn = units::hz_to_rad_per_s(922.0);
-  m.modal.modes.push_back(mode_from_mass(Direction::kX, wn, 0.011, 0.03993));
-  if (both_directions) m.modal.modes.push_back(mode_from_mass(Direction::kY, wn, 0.011, 0.03993));
-  m.kt_pa = 6e8;
-  m.kr_pa = 2e8;
-  m.teeth = 2;
-  m.radial_immersion = immersion;
-  m.down_milling = true;
-  return m;
+  return testing::insperger_benchmark(immersion, both_directions);
 }
 
-// H(t) straight from the force model: Σ over teeth in cut of −(Kt/2)·A(φj).
 Eigen::Matrix2d direct_h(const MillingModel& m, double rpm, double t) {
-  const double spindle = units::rpm_to_rad_per_s(rpm);
-  Eigen::Matrix2d h = Eigen::Matrix2d::Zero();
-  for (int j = 0; j < m.teeth; ++j) {
-    const double phi = std::fmod(spindle * t + kTwoPi * j / m.teeth, kTwoPi);
-    if (phi > m.entry_angle() && phi < m.exit_angle())
-      h += -0.5 * m.kt_pa * milling_directional_matrix(phi, m.kr_pa / m.kt_pa);
-  }
-  return h;
+  return testing::direct_milling_h(m, rpm, t);
 }
 
 TEST(Milling, EntryAndExitAngles) {

@@ -5,6 +5,7 @@
 
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/modal/modal_model.hpp"
+#include "cutdyn/stability/milling.hpp"
 #include "cutdyn/stability/turning.hpp"
 
 namespace cutdyn::testing {
@@ -38,6 +39,48 @@ inline TurningModel table2_vibration(double frequency_hz = 20000.0) {
 /// a_min = 2ζ(1 + ζ)k / Kt, at chatter frequency ωn·sqrt(1 + 2ζ) [Altintas2012, eq. 3.40].
 inline double table2_absolute_minimum_depth(double kt = kTable2Kt) {
   return 2.0 * kTable2Damping * (1.0 + kTable2Damping) * kTable2Stiffness / kt;
+}
+
+// The Insperger–Stépán milling benchmark [Insperger & Stépán 2004; Ding et al. 2010]: two
+// straight teeth, Kt = 6e8 N/m², Kr = 2e8 N/m², one mode of 922 Hz, ζ = 0.011, modal mass
+// 0.03993 kg in x (and in y unless one_direction), diameter 20 mm.
+inline constexpr double kInspergerHz = 922.0;
+inline constexpr double kInspergerDamping = 0.011;
+inline constexpr double kInspergerMassKg = 0.03993;
+
+inline MillingModel insperger_benchmark(double immersion, bool both_directions = true,
+                                        bool down_milling = true) {
+  MillingModel m;
+  const double wn = units::hz_to_rad_per_s(kInspergerHz);
+  m.modal.modes.push_back(mode_from_mass(Direction::kX, wn, kInspergerDamping, kInspergerMassKg));
+  if (both_directions)
+    m.modal.modes.push_back(mode_from_mass(Direction::kY, wn, kInspergerDamping, kInspergerMassKg));
+  m.kt_pa = 6e8;
+  m.kr_pa = 2e8;
+  m.teeth = 2;
+  m.diameter_m = 0.02;
+  m.radial_immersion = immersion;
+  m.down_milling = down_milling;
+  return m;
+}
+
+// H(t) straight from the force model: Σ over teeth in cut of −(Kt/2)·A(φj), tooth j at
+// Ωs·t + 2πj/z (even pitch), or trailing tooth 0 by pitch_1 + ... + pitch_j, all lagging by
+// `lag_rad` (a slice of a helical flute).
+inline Eigen::Matrix2d direct_milling_h(const MillingModel& m, double rpm, double t,
+                                        double lag_rad = 0.0) {
+  const double spindle = units::rpm_to_rad_per_s(rpm);
+  const std::vector<double> pitch = m.pitch_angles();
+  Eigen::Matrix2d h = Eigen::Matrix2d::Zero();
+  double behind = 0.0;
+  for (int j = 0; j < m.teeth; ++j) {
+    if (j > 0) behind += pitch[static_cast<std::size_t>(j)];
+    double phi = std::fmod(spindle * t - behind - lag_rad, units::kTwoPi);
+    if (phi < 0.0) phi += units::kTwoPi;
+    if (phi > m.entry_angle() && phi < m.exit_angle())
+      h += -0.5 * m.kt_pa * milling_directional_matrix(phi, m.kr_pa / m.kt_pa);
+  }
+  return h;
 }
 
 }  // namespace cutdyn::testing
