@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_support.hpp"
 #include "cutdyn/stability/full_discretization.hpp"
 #include "cutdyn/stability/lobes.hpp"
 #include "cutdyn/stability/tlusty.hpp"
@@ -26,7 +27,7 @@
 namespace cutdyn {
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using namespace bench;
 
 constexpr double kRpmMin = 500.0;
 constexpr double kRpmMax = 5000.0;
@@ -36,44 +37,6 @@ constexpr int kGridDepths = 100;        // depth rows of the MATLAB-style grid
 constexpr int kGridStepsPerDelay = 40;  // the textbook scripts' m
 constexpr double kVibrationHz = 20000.0;
 constexpr int kHarmonics = 5;
-
-// ---- results shared with the summary ----------------------------------------------------
-
-struct Result {
-  double seconds = 0.0;  // wall clock per iteration
-  std::map<std::string, double> figures;
-};
-std::map<std::string, Result> g_results;
-
-std::optional<Result> result(const std::string& key) {
-  const auto it = g_results.find(key);
-  if (it == g_results.end()) return std::nullopt;
-  return it->second;
-}
-
-// Runs `body` once per benchmark iteration and records the mean wall-clock time under `key`.
-template <typename Body>
-Result& timed(benchmark::State& state, const std::string& key, Body body) {
-  const auto start = Clock::now();
-  for (auto _ : state) body();
-  const double total = std::chrono::duration<double>(Clock::now() - start).count();
-  Result& r = g_results[key];
-  r.seconds =
-      total / static_cast<double>(std::max<benchmark::IterationCount>(1, state.iterations()));
-  r.figures.clear();
-  return r;
-}
-
-int all_threads() { return omp_get_max_threads(); }
-
-int threads_arg(const benchmark::State& state) {
-  const int t = static_cast<int>(state.range(0));
-  return t > 0 ? t : all_threads();
-}
-
-std::string threads_key(const std::string& prefix, const benchmark::State& state) {
-  return prefix + (state.range(0) == 1 ? "/1" : "/all");
-}
 
 LobesOptions lobe_grid(int threads) {
   LobesOptions o;
@@ -346,37 +309,6 @@ BENCHMARK(BM_DenseSpectralRadius)
     ->UseRealTime();
 
 // ---- summary ---------------------------------------------------------------------------
-
-std::string seconds_text(double s) {
-  char buf[32];
-  if (s >= 3600.0)
-    std::snprintf(buf, sizeof buf, "%.1f h", s / 3600.0);
-  else if (s >= 1.0)
-    std::snprintf(buf, sizeof buf, "%.2f s", s);
-  else if (s >= 1e-3)
-    std::snprintf(buf, sizeof buf, "%.2f ms", 1e3 * s);
-  else
-    std::snprintf(buf, sizeof buf, "%.1f us", 1e6 * s);
-  return buf;
-}
-
-void line(const char* what, const std::optional<Result>& r, double divisor = 1.0,
-          const char* unit = "") {
-  if (!r) {
-    std::printf("  %-58s (not run)\n", what);
-    return;
-  }
-  std::printf("  %-58s %12s%s\n", what, seconds_text(r->seconds / divisor).c_str(), unit);
-}
-
-void ratio(const char* what, const std::optional<Result>& slow, double slow_scale,
-           const std::optional<Result>& fast, double fast_scale) {
-  if (!slow || !fast) {
-    std::printf("  %-58s (not run)\n", what);
-    return;
-  }
-  std::printf("  %-58s %11.0fx\n", what, slow->seconds * slow_scale / (fast->seconds * fast_scale));
-}
 
 void print_summary() {
   const int n = all_threads();

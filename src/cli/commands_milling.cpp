@@ -81,7 +81,8 @@ MillingBoundary critical_depth(const io::Case& c, const MillingModel& m, double 
   return milling_critical_depth(m, rpm, o);
 }
 
-std::string describe(const MillingModel& m) {
+// "4 teeth, helix 30°, pitch 70/110/70/110°".
+std::string cutter(const MillingModel& m) {
   std::string teeth = fmt::format("{} teeth", m.teeth);
   if (m.helix_rad > 0.0) teeth += fmt::format(", helix {}°", human(units::rad_to_deg(m.helix_rad)));
   if (!m.even_pitch()) {
@@ -92,6 +93,11 @@ std::string describe(const MillingModel& m) {
     }
     teeth += ", pitch " + pitch + "°";
   }
+  return teeth;
+}
+
+std::string describe(const MillingModel& m) {
+  const std::string teeth = cutter(m);
   return fmt::format("milling, {}, {} mode{}, Kt = {} N/mm², Kr = {} N/mm², a_e/D = {}, {}", teeth,
                      m.modal.modes.size(), m.modal.modes.size() == 1 ? "" : "s",
                      human(units::pa_to_n_per_mm2(m.kt_pa)), human(units::pa_to_n_per_mm2(m.kr_pa)),
@@ -117,7 +123,7 @@ int run_lobes_milling(const LobesArgs& args, const io::Case& c, std::ostream& ou
   view.method = to_string(method);
   view.depth_max_m = c.lobes.depth_max_m;
   view.title = "Stability lobes: milling";
-  view.label = fmt::format("{} teeth, a_e/D = {} ({})", model.teeth, human(model.radial_immersion),
+  view.label = fmt::format("{}, a_e/D = {} ({})", cutter(model), human(model.radial_immersion),
                            to_string(method));
   if (args.target_depth_mm) view.target_depth_m = mm_to_m(*args.target_depth_mm);
   report_lobes(c, report, view, args.outputs, out, err);

@@ -247,6 +247,9 @@ MillingBoundary milling_critical_depth(const MillingModel& model, double rpm,
     case MillingMethod::kMultiFrequency: {
       MultiFrequencyOptions mf;
       mf.harmonics = o.method == MillingMethod::kZeroOrder ? 0 : o.harmonics;
+      // Uneven pitch: H has the period of a revolution, so the same resolution in frequency
+      // needs z harmonics of the spindle frequency per harmonic of the tooth frequency.
+      if (!model.even_pitch()) mf.harmonics = std::min(50, mf.harmonics * model.teeth);
       mf.depth_max_m = o.depth_max_m;
       if (!helical || mf.harmonics == 0) {
         out.boundary = multi_frequency_critical_depth(system_at(0.0), mf);

@@ -307,6 +307,35 @@ TEST_F(Cli, MillingLobesAndCheck) {
   EXPECT_NEAR(doc["critical_depth_mm"].get<double>(), 1e3 * fd.depth_m, 2e-3 * 1e3 * fd.depth_m);
 }
 
+TEST_F(Cli, MillingVariablePitchHelicalExample) {
+  // The example cutter (4 flutes, 70/110° pitch, 30° helix) through the command line: every
+  // speed resolved, the first against the library with the model built by hand, and the pitch
+  // echoed in the JSON.
+  std::string text(*io::example_text("milling-variable-pitch"));
+  text.replace(text.find("rpm_steps = 200"), 15, "rpm_steps = 9");
+  const auto file = write("vp.toml", text);
+  const Result r = cutdyn({"lobes", file, "--out", path("vp.csv"), "--json", path("vp.json")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("4 teeth, helix 30°, pitch 70/110/70/110°"), std::string::npos) << r.out;
+  const auto lines = csv_lines(path("vp.csv"));
+  ASSERT_EQ(lines.size(), 10u);
+  MillingModel m = testing::insperger_benchmark(0.5);
+  m.teeth = 4;
+  m.helix_rad = units::deg_to_rad(30.0);
+  const double a = units::deg_to_rad(70.0), b = units::deg_to_rad(110.0);
+  m.pitch_rad = {a, b, a, b};
+  MillingStabilityOptions o;
+  o.depth_max_m = 1e-3;
+  o.rel_tol = 1e-5;
+  const MillingBoundary lib = milling_critical_depth(m, 4000.0, o);
+  ASSERT_TRUE(lib.boundary.found);
+  EXPECT_NEAR(std::stod(lines[1].substr(lines[1].find(',') + 1)), 1e3 * lib.boundary.depth_m,
+              2e-3 * 1e3 * lib.boundary.depth_m);
+  const auto doc = nlohmann::json::parse(std::ifstream(path("vp.json")));
+  EXPECT_EQ(doc["case"]["tool"]["pitch_deg"], nlohmann::json::parse("[70, 110, 70, 110]"));
+  for (const auto& p : doc["points"]) EXPECT_TRUE(p["critical_depth_mm"].is_number());
+}
+
 TEST_F(Cli, MillingLowImmersionReportsFlipLobes) {
   std::string text(*io::example_text("milling-insperger"));
   text.replace(text.find("radial_immersion = 1.0"), 22, "radial_immersion = 0.05");

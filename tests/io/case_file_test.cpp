@@ -144,6 +144,7 @@ TEST(CaseFileExamples, UnknownExampleListsTheAvailableNames) {
     ASSERT_EQ(e.problems().size(), 1u);
     EXPECT_EQ(e.problems()[0],
               "no built-in example called \"nope\"; available: milling-insperger, "
+              "milling-variable-pitch, "
               "turning-conventional, turning-ultrasonic, turning-ultrasonic-speed, "
               "ultrasonic-force");
   }

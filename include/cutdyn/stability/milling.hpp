@@ -55,8 +55,8 @@ struct MillingModel {
 DelayedSystem milling_system(const MillingModel& model, double rpm, double depth_m = 0.0);
 
 enum class MillingMethod {
-  kZeroOrder,       // Altintas & Budak 1995: multi-frequency with no harmonics
-  kMultiFrequency,  // with `harmonics` harmonics of the tooth (or, uneven pitch, spindle) frequency
+  kZeroOrder,                // Altintas & Budak 1995: multi-frequency with no harmonics
+  kMultiFrequency,           // with `harmonics` harmonics of the (mean) tooth-passing frequency
   kFullDiscretization,       // spectral radius by Arnoldi on the matrix-free period map
   kFullDiscretizationDense,  // spectral radius of the dense transition matrix
 };
@@ -64,8 +64,8 @@ enum class MillingMethod {
 struct MillingStabilityOptions {
   MillingMethod method = MillingMethod::kFullDiscretization;
   double depth_max_m = 1e-3;
-  int harmonics = 5;
-  FdOptions fd;           // depth_max_m is taken from above
+  int harmonics = 5;  // of the tooth-passing frequency (uneven pitch: z× as many of the spindle's)
+  FdOptions fd;       // depth_max_m is taken from above
   double rel_tol = 1e-3;  // critical depth, full discretization and helix iterations
   int coarse_steps = 16;  // depth scan before Brent's method (unstable islands)
 

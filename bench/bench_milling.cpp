@@ -1,0 +1,251 @@
+// Milling stability (issue 3): the Insperger–Stépán slotting lobes at full-discretization
+// accuracy, as `cutdyn lobes` computes them, against the straightforward method of the
+// published MATLAB scripts — a 200 speed × 100 depth grid with the dense transition matrix's
+// eigenvalues at every point — measured in the same run. docs/benchmarks.md.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "bench_support.hpp"
+#include "cutdyn/stability/full_discretization.hpp"
+#include "cutdyn/stability/lobes.hpp"
+#include "cutdyn/stability/milling.hpp"
+#include "support/reference_cases.hpp"
+
+namespace cutdyn {
+namespace {
+
+using namespace bench;
+
+constexpr double kRpmMin = 5000.0;
+constexpr double kRpmMax = 25000.0;
+constexpr int kSpeeds = 200;
+constexpr double kDepthLimit = 1e-3;       // m, as the embedded example
+constexpr int kGridDepths = 100;           // depth rows of the MATLAB-style grid
+constexpr int kScriptStepsPerPeriod = 40;  // m of the published scripts
+constexpr int kSampleEvery = 20;           // speeds sampled for the converged dense grid
+
+const MillingModel& model() {
+  static const MillingModel m = testing::insperger_benchmark(1.0);
+  return m;
+}
+
+LobesOptions lobe_grid(int threads) {
+  LobesOptions o;
+  o.rpm_min = kRpmMin;
+  o.rpm_max = kRpmMax;
+  o.rpm_steps = kSpeeds;
+  o.threads = threads;
+  return o;
+}
+
+// What `cutdyn lobes` runs for the embedded milling example.
+MillingStabilityOptions cli_options() {
+  MillingStabilityOptions o;
+  o.method = MillingMethod::kFullDiscretization;
+  o.depth_max_m = kDepthLimit;
+  o.rel_tol = 1e-3;
+  o.coarse_steps = 16;
+  return o;
+}
+
+LobesReport fd_lobes(const MillingStabilityOptions& o, int threads) {
+  return trace_lobes(
+      [&](double rpm) {
+        const MillingBoundary b = milling_critical_depth(model(), rpm, o);
+        return LobePoint{rpm, b.boundary, 1.0, b.lobe};
+      },
+      lobe_grid(threads));
+}
+
+// The straightforward method at one speed: the dense transition matrix on the grid `fd` and
+// its eigenvalues at every depth row; the boundary is the first unstable row.
+LobePoint grid_column(double rpm, const FdOptions& fd, int rows, int row_stride = 1) {
+  const DelayedSystem s = milling_system(model(), rpm);
+  const FdGrid grid = fd_grid(s, fd);
+  LobePoint p;
+  p.rpm = rpm;
+  p.boundary.depth_m = kDepthLimit;
+  for (int i = 1; i <= rows; i += row_stride) {
+    const double w = kDepthLimit * i / rows;
+    const double rho = fd_spectral_radius(s, grid, w);
+    ++p.boundary.evaluations;
+    if (rho >= 1.0 && !p.boundary.found) {
+      p.boundary.found = true;
+      p.boundary.depth_m = w;
+    }
+  }
+  return p;
+}
+
+// ---- 1. the lobes as `cutdyn lobes` computes them --------------------------------------
+
+void BM_MillingLobes(benchmark::State& state) {
+  const int threads = threads_arg(state);
+  LobesReport report;
+  Result& r = timed(state, threads_key("fd_lobes", state),
+                    [&] { report = fd_lobes(cli_options(), threads); });
+  r.figures["threads"] = threads;
+  r.figures["evals_per_speed"] = static_cast<double>(report.evaluations) / kSpeeds;
+  state.counters["threads"] = threads;
+  state.counters["ms_per_speed"] = 1e3 * r.seconds / kSpeeds;
+  state.counters["radii_per_speed"] = r.figures["evals_per_speed"];
+}
+
+// Accuracy of those lobes (not timed for the ratio): against the full discretization with
+// half the step and the depth to 1e-6, at every 10th speed.
+void BM_MillingLobesAccuracy(benchmark::State& state) {
+  MillingStabilityOptions fine = cli_options();
+  fine.fd.max_step_fraction *= 0.5;
+  fine.rel_tol = 1e-6;
+  LobesReport report, reference;
+  LobesOptions every10 = lobe_grid(0);
+  Result& r = timed(state, "accuracy", [&] {
+    report = fd_lobes(cli_options(), 0);
+    reference = trace_lobes(
+        [&](double rpm) {
+          return LobePoint{rpm, milling_critical_depth(model(), rpm, fine).boundary, 1.0, 0};
+        },
+        every10);
+  });
+  double worst = 0.0, worst_rpm = 0.0;
+  for (std::size_t i = 0; i < report.points.size(); i += 10) {
+    const double ref = reference.points[i].boundary.depth_m;
+    const double e = std::abs(report.points[i].boundary.depth_m - ref) / ref;
+    if (e > worst) {
+      worst = e;
+      worst_rpm = report.points[i].rpm;
+    }
+  }
+  r.figures["worst_rel"] = worst;
+  r.figures["worst_rpm"] = worst_rpm;
+  state.counters["worst_rel_err_pct"] = 1e2 * worst;
+}
+
+// ---- 2. the straightforward method ----------------------------------------------------
+
+// At the same discretization (converged steps, 1/64 of the structural period): every 20th
+// speed, every 25th depth row — the cost of a point is that of one dense eigenvalue problem,
+// which depends on the speed (matrix size) but not on the depth. The whole 200 × 100 grid
+// would take hours: it is extrapolated from the sample.
+void BM_DenseGridConvergedSample(benchmark::State& state) {
+  const std::vector<double> speeds = lobe_grid(1).speeds_rpm();
+  double points = 0.0, sampled_speeds = 0.0;
+  Result& r = timed(state, "grid_converged_sample", [&] {
+    points = sampled_speeds = 0.0;
+    for (std::size_t i = 0; i < speeds.size(); i += kSampleEvery) {
+      const LobePoint p = grid_column(speeds[i], FdOptions{}, kGridDepths, 25);
+      points += static_cast<double>(p.boundary.evaluations);
+      sampled_speeds += 1.0;
+    }
+  });
+  // Per point, averaged over the sampled speeds (the grid's speeds are uniform, so the
+  // sample's mean stands for the whole range).
+  const double per_point = r.seconds / points;
+  r.figures["per_point_s"] = per_point;
+  r.figures["points"] = points;
+  r.figures["grid_estimate_s"] = per_point * kSpeeds * kGridDepths;
+  const DelayedSystem s5 = milling_system(model(), kRpmMin), s25 = milling_system(model(), kRpmMax);
+  r.figures["dim_low"] =
+      static_cast<double>(fd_transition_matrix(s5, fd_grid(s5, FdOptions{}), 0.0).rows());
+  r.figures["dim_high"] =
+      static_cast<double>(fd_transition_matrix(s25, fd_grid(s25, FdOptions{}), 0.0).rows());
+  state.counters["ms_per_point"] = 1e3 * per_point;
+  state.counters["points"] = points;
+  state.counters["grid_estimate_s"] = r.figures["grid_estimate_s"];
+}
+
+// As the published scripts run it: m = 40 steps per tooth period, the whole grid, measured.
+void BM_DenseGridScripts(benchmark::State& state) {
+  const int threads = threads_arg(state);
+  FdOptions fd;
+  fd.steps_per_period = kScriptStepsPerPeriod;
+  LobesReport report;
+  Result& r = timed(state, threads_key("grid_scripts", state), [&] {
+    report = trace_lobes([&](double rpm) { return grid_column(rpm, fd, kGridDepths); },
+                         lobe_grid(threads));
+  });
+  // Its accuracy against the converged lobes (outside the timing).
+  MillingStabilityOptions ref = cli_options();
+  ref.rel_tol = 1e-5;
+  const LobesReport exact = fd_lobes(ref, threads);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < report.points.size(); ++i) {
+    const double e = std::abs(report.points[i].boundary.depth_m - exact.points[i].boundary.depth_m);
+    worst = std::max(worst, e / exact.points[i].boundary.depth_m);
+  }
+  const DelayedSystem s = milling_system(model(), kRpmMin);
+  r.figures["threads"] = threads;
+  r.figures["worst_rel"] = worst;
+  r.figures["dim"] = static_cast<double>(fd_transition_matrix(s, fd_grid(s, fd), 0.0).rows());
+  state.counters["threads"] = threads;
+  state.counters["worst_rel_err_pct"] = 1e2 * worst;
+  state.counters["dense_dim"] = r.figures["dim"];
+}
+
+constexpr auto kMs = benchmark::kMillisecond;
+
+BENCHMARK(BM_MillingLobes)->ArgName("threads")->Arg(1)->Arg(0)->Unit(kMs)->UseRealTime();
+BENCHMARK(BM_MillingLobesAccuracy)->Iterations(1)->Unit(kMs)->UseRealTime();
+BENCHMARK(BM_DenseGridConvergedSample)->Iterations(1)->Unit(kMs)->UseRealTime();
+BENCHMARK(BM_DenseGridScripts)->ArgName("threads")->Arg(0)->Iterations(1)->Unit(kMs)->UseRealTime();
+
+// ---- summary ---------------------------------------------------------------------------
+
+void print_summary() {
+  std::printf(
+      "\n==== cutdyn milling stability: summary (wall clock, this run; %d threads = all) ====\n",
+      all_threads());
+  std::printf(
+      "\nInsperger-Stepan slotting benchmark (2 teeth, 922 Hz x and y, zeta 0.011, Kt 600, Kr 200 "
+      "N/mm^2),\n%d speeds %.0f-%.0f rpm, depth limit %.0f mm\n",
+      kSpeeds, kRpmMin, kRpmMax, 1e3 * kDepthLimit);
+  const auto l1 = result("fd_lobes/1"), ln = result("fd_lobes/all"), acc = result("accuracy");
+  const auto sample = result("grid_converged_sample"), scripts = result("grid_scripts/all");
+  line("full-discretization lobes (cutdyn lobes), 1 thread", l1);
+  line("full-discretization lobes (cutdyn lobes), all threads", ln);
+  if (l1)
+    std::printf("  %-58s %12.1f\n", "  spectral radii per speed",
+                l1->figures.at("evals_per_speed"));
+  if (acc)
+    std::printf("  %-58s %11.3f %%  (at %.0f rpm)\n",
+                "  largest error vs half step, depth to 1e-6 (every 10th)",
+                1e2 * acc->figures.at("worst_rel"), acc->figures.at("worst_rpm"));
+  if (sample) {
+    std::printf("  %-58s %12s  (%.0f points, matrices %.0f-%.0f rows)\n",
+                "dense grid, same steps: per point (sampled)",
+                seconds_text(sample->figures.at("per_point_s")).c_str(),
+                sample->figures.at("points"), sample->figures.at("dim_high"),
+                sample->figures.at("dim_low"));
+    std::printf("  %-58s %12s\n", "  -> 200 x 100 grid, extrapolated, 1 thread",
+                seconds_text(sample->figures.at("grid_estimate_s")).c_str());
+  }
+  line("dense grid as the scripts run it (m = 40), measured, all threads", scripts);
+  if (scripts)
+    std::printf("  %-58s %11.1f %%  (matrix %.0f rows)\n", "  its largest error vs converged lobes",
+                1e2 * scripts->figures.at("worst_rel"), scripts->figures.at("dim"));
+  if (sample && l1)
+    std::printf("  %-58s %11.0fx\n", "ratio grid (same steps, extrapolated) / lobes, 1 thread",
+                sample->figures.at("grid_estimate_s") / l1->seconds);
+  if (sample && ln)
+    std::printf("  %-58s %11.0fx\n",
+                "ratio grid (same steps, extrap., / threads) / lobes, all thr.",
+                sample->figures.at("grid_estimate_s") / all_threads() / ln->seconds);
+  ratio("ratio grid (m = 40, measured) / lobes, all threads", scripts, 1.0, ln, 1.0);
+  std::printf("\n");
+}
+
+}  // namespace
+}  // namespace cutdyn
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  cutdyn::print_summary();
+  benchmark::Shutdown();
+  return 0;
+}
