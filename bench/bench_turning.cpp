@@ -231,7 +231,7 @@ void BM_VibrationReducedAtSpeed(benchmark::State& state) {
 }
 
 // One speed, the same discretization with the dense transition matrix: coarse scan of the
-// spectral radius, then bisection to 1e-6 (fd_critical_depth_dense's defaults, as used by
+// spectral radius, then Brent to 1e-6 (fd_critical_depth_dense's defaults, as used by
 // TurningMethod::kFullDiscretizationDense).
 void BM_VibrationDenseAtSpeed(benchmark::State& state) {
   const auto rpm = static_cast<double>(state.range(0));
@@ -366,7 +366,7 @@ void print_summary() {
   }
   const auto red5 = result("reduced/5000"), den5 = result("dense/5000");
   line("reduced FD, one speed, 5000 rpm", red5);
-  line("dense FD (bisection to 1e-6), one speed, 5000 rpm", den5);
+  line("dense FD (Brent to 1e-6), one speed, 5000 rpm", den5);
   ratio("ratio dense/reduced at 5000 rpm, measured", den5, 1.0, red5, 1.0);
   ratio("ratio dense at 5000 rpm / reduced lobes per speed, 1 thread", den5, 1.0, fd1,
         1.0 / kSpeeds);
@@ -385,7 +385,7 @@ void print_summary() {
   std::printf("\n3. Structured vs dense at the largest size run whole (20 kHz, 2500 rpm)\n");
   const auto red25 = result("reduced/2500"), den25 = result("dense/2500");
   line("reduced FD critical depth, 2500 rpm", red25);
-  line("dense FD critical depth (bisection to 1e-6), 2500 rpm", den25);
+  line("dense FD critical depth (Brent to 1e-6), 2500 rpm", den25);
   ratio("ratio dense/reduced at 2500 rpm, measured", den25, 1.0, red25, 1.0);
   if (den25 && red25) {
     const double dim = den25->figures.at("dense_dim");

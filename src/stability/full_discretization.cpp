@@ -476,9 +476,9 @@ namespace {
 std::pair<cplx, Eigen::VectorXcd> dominant_multiplier(const PeriodMap& map, RadiusSolver solver) {
   if (solver == RadiusSolver::kArnoldi && map.dim() > 60) {
     PeriodMapOp op(map);
-    Spectra::GenEigsSolver<PeriodMapOp> eigs(op, 4, 20);
+    Spectra::GenEigsSolver<PeriodMapOp> eigs(op, 3, 10);
     eigs.init();
-    if (eigs.compute(Spectra::SortRule::LargestMagn, 200, 1e-10) == 4)
+    if (eigs.compute(Spectra::SortRule::LargestMagn, 200, 1e-10) == 3)
       return {eigs.eigenvalues()(0), eigs.eigenvectors().col(0)};
   }
   Eigen::MatrixXd phi = Eigen::MatrixXd::Identity(map.dim(), map.dim()), scratch;

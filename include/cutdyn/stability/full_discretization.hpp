@@ -72,9 +72,9 @@ struct SpectralRadius {
   long long operations = 0;  // products with the period map in Arnoldi
 };
 
-/// Largest |eigenvalue| of the same map by Arnoldi iteration (Spectra, 4 eigenvalues of
-/// largest modulus, 20 Krylov vectors) on the matrix-free map: O(n·d²) per product instead
-/// of forming Φ. Falls back to the dense eigenvalues for small maps (≤ 60 rows) or when
+/// Largest |eigenvalue| of the same map by Arnoldi iteration (Spectra, 3 eigenvalues of
+/// largest modulus, 10 Krylov vectors) on the matrix-free map: O(n·d²) per product instead
+/// of forming Φ. Falls back to the dense eigenvalues for small maps (≤ 30 rows) or when
 /// Arnoldi does not converge (e.g. thousands of multipliers crowding the unit circle in
 /// vibration-assisted turning).
 SpectralRadius fd_spectral_radius_arnoldi(const DelayedSystem& system, const FdGrid& grid,
