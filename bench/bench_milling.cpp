@@ -66,19 +66,8 @@ LobesReport fd_lobes(const MillingStabilityOptions& o, int threads) {
 LobePoint grid_column(double rpm, const FdOptions& fd, int rows, int row_stride = 1) {
   const DelayedSystem s = milling_system(model(), rpm);
   const FdGrid grid = fd_grid(s, fd);
-  LobePoint p;
-  p.rpm = rpm;
-  p.boundary.depth_m = kDepthLimit;
-  for (int i = 1; i <= rows; i += row_stride) {
-    const double w = kDepthLimit * i / rows;
-    const double rho = fd_spectral_radius(s, grid, w);
-    ++p.boundary.evaluations;
-    if (rho >= 1.0 && !p.boundary.found) {
-      p.boundary.found = true;
-      p.boundary.depth_m = w;
-    }
-  }
-  return p;
+  return first_unstable_row(
+      rpm, [&](double w) { return fd_spectral_radius(s, grid, w); }, kDepthLimit, rows, row_stride);
 }
 
 // ---- 1. the lobes as `cutdyn lobes` computes them --------------------------------------
@@ -242,10 +231,5 @@ void print_summary() {
 }  // namespace cutdyn
 
 int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  cutdyn::print_summary();
-  benchmark::Shutdown();
-  return 0;
+  return cutdyn::bench::run_benchmarks(argc, argv, cutdyn::print_summary);
 }

@@ -12,6 +12,8 @@
 #include <optional>
 #include <string>
 
+#include "cutdyn/stability/lobes.hpp"
+
 namespace cutdyn::bench {
 
 using Clock = std::chrono::steady_clock;
@@ -54,6 +56,27 @@ inline std::string threads_key(const std::string& prefix, const benchmark::State
   return prefix + (state.range(0) == 1 ? "/1" : "/all");
 }
 
+// The published scripts' boundary at one speed: the spectral radius `rho_at(w)` at every
+// `stride`-th of `rows` equal depth rows of (0, depth_max] — all of them, as the scripts do —
+// and the boundary at the first row with ρ >= 1 (depth_max if none).
+template <typename Radius>
+LobePoint first_unstable_row(double rpm, Radius rho_at, double depth_max, int rows,
+                             int stride = 1) {
+  LobePoint p;
+  p.rpm = rpm;
+  p.boundary.depth_m = depth_max;
+  for (int i = 1; i <= rows; i += stride) {
+    const double w = depth_max * i / rows;
+    const double rho = rho_at(w);
+    ++p.boundary.evaluations;
+    if (rho >= 1.0 && !p.boundary.found) {
+      p.boundary.found = true;
+      p.boundary.depth_m = w;
+    }
+  }
+  return p;
+}
+
 inline std::string seconds_text(double s) {
   char buf[32];
   if (s >= 3600.0)
@@ -83,6 +106,17 @@ inline void ratio(const char* what, const std::optional<Result>& slow, double sl
     return;
   }
   std::printf("  %-58s %11.0fx\n", what, slow->seconds * slow_scale / (fast->seconds * fast_scale));
+}
+
+// main() of a benchmark program: the Google Benchmark run, then the program's summary.
+template <typename Summary>
+int run_benchmarks(int argc, char** argv, Summary print_summary) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  print_summary();
+  benchmark::Shutdown();
+  return 0;
 }
 
 }  // namespace cutdyn::bench

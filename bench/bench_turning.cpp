@@ -74,19 +74,8 @@ LobePoint grid_column(const TurningModel& model, double rpm) {
   FdOptions o;
   o.steps_per_period = kGridStepsPerDelay;
   const FdGrid grid = fd_grid(s, o);
-  LobePoint p;
-  p.rpm = rpm;
-  p.boundary.depth_m = kDepthLimit;
-  for (int i = 1; i <= kGridDepths; ++i) {
-    const double w = kDepthLimit * i / kGridDepths;
-    const double rho = fd_spectral_radius(s, grid, w);
-    ++p.boundary.evaluations;
-    if (rho >= 1.0 && !p.boundary.found) {
-      p.boundary.found = true;
-      p.boundary.depth_m = w;
-    }
-  }
-  return p;
+  return first_unstable_row(
+      rpm, [&](double w) { return fd_spectral_radius(s, grid, w); }, kDepthLimit, kGridDepths);
 }
 
 void BM_ClosedFormLobes(benchmark::State& state) {
@@ -433,10 +422,5 @@ void print_summary() {
 }  // namespace cutdyn
 
 int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  cutdyn::print_summary();
-  benchmark::Shutdown();
-  return 0;
+  return cutdyn::bench::run_benchmarks(argc, argv, cutdyn::print_summary);
 }

@@ -233,31 +233,37 @@ class TableReader {
   const toml::node* get(std::string_view key) const { return table_.get(key); }
   bool has(std::string_view key) const { return table_.contains(key); }
 
+  // A finite number (integer or float) in `range`, or a problem at `where`.
+  std::optional<double> checked_number(const toml::node& node, const std::string& where,
+                                       const Range& range) {
+    double value = 0.0;
+    if (const auto* i = node.as_integer()) {
+      value = static_cast<double>(i->get());
+    } else if (const auto* f = node.as_floating_point()) {
+      value = f->get();
+    } else {
+      problems_.at(where, node,
+                   std::string("wrong type: expected a number, got ") + type_name(node));
+      return std::nullopt;
+    }
+    if (!std::isfinite(value)) {
+      problems_.at(where, node, "must be a finite number");
+      return std::nullopt;
+    }
+    if (!range.contains(value)) {
+      problems_.at(where, node, range.rule());
+      return std::nullopt;
+    }
+    return value;
+  }
+
   std::optional<double> number(std::string_view key, const Range& range, Need need) {
     const toml::node* node = get(key);
     if (node == nullptr) {
       if (need == Need::kRequired) problems_.missing(key_path(key));
       return std::nullopt;
     }
-    double value = 0.0;
-    if (const auto* i = node->as_integer()) {
-      value = static_cast<double>(i->get());
-    } else if (const auto* f = node->as_floating_point()) {
-      value = f->get();
-    } else {
-      problems_.at(key_path(key), *node,
-                   std::string("wrong type: expected a number, got ") + type_name(*node));
-      return std::nullopt;
-    }
-    if (!std::isfinite(value)) {
-      problems_.at(key_path(key), *node, "must be a finite number");
-      return std::nullopt;
-    }
-    if (!range.contains(value)) {
-      problems_.at(key_path(key), *node, range.rule());
-      return std::nullopt;
-    }
-    return value;
+    return checked_number(*node, key_path(key), range);
   }
 
   /// An array of numbers, each in `range`.
@@ -275,30 +281,12 @@ class TableReader {
       return std::nullopt;
     }
     std::vector<double> values;
-    bool ok = true;
     for (std::size_t i = 0; i < array->size(); ++i) {
-      const toml::node& element = *array->get(i);
-      const std::string where = key_path(key) + "[" + std::to_string(i) + "]";
-      double value = 0.0;
-      if (const auto* n = element.as_integer()) {
-        value = static_cast<double>(n->get());
-      } else if (const auto* f = element.as_floating_point()) {
-        value = f->get();
-      } else {
-        problems_.at(where, element,
-                     std::string("wrong type: expected a number, got ") + type_name(element));
-        ok = false;
-        continue;
-      }
-      if (!std::isfinite(value) || !range.contains(value)) {
-        problems_.at(where, element,
-                     std::isfinite(value) ? range.rule() : "must be a finite number");
-        ok = false;
-        continue;
-      }
-      values.push_back(value);
+      const auto v =
+          checked_number(*array->get(i), key_path(key) + "[" + std::to_string(i) + "]", range);
+      if (v) values.push_back(*v);
     }
-    if (!ok) return std::nullopt;
+    if (values.size() != array->size()) return std::nullopt;
     return values;
   }
 

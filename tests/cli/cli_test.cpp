@@ -369,6 +369,12 @@ TEST_F(Cli, MillingRejectsPitchAnglesThatAreNotOneRevolution) {
   expect_rejected(
       {"lobes", write("neg.toml", with_tool("pitch_deg = [-10, 370]")), "--out", path("p.csv")},
       "tool.pitch_deg[0] = -10: must be greater than 0");
+  expect_rejected(
+      {"lobes", write("type.toml", with_tool("pitch_deg = 360")), "--out", path("p.csv")},
+      "tool.pitch_deg = 360: wrong type: expected a non-empty array of numbers, got");
+  expect_rejected(
+      {"lobes", write("nan.toml", with_tool("pitch_deg = [nan, 180]")), "--out", path("p.csv")},
+      "tool.pitch_deg[0] = nan: must be a finite number");
 }
 
 TEST_F(Cli, TargetDepthListsTheStableSpeedRanges) {
