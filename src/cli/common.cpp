@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <iomanip>
 #include <sstream>
 #include <variant>
@@ -17,7 +18,12 @@
 namespace cutdyn::cli {
 
 io::Case load_case(const std::string& path, std::string_view default_example) {
-  return path.empty() ? io::load_example(default_example) : io::load_case_file(path);
+  if (path.empty()) return io::load_example(default_example);
+  // A built-in example may be named instead of a file (a file of that name comes first).
+  std::error_code error;
+  if (!std::filesystem::exists(path, error) && io::example_text(path))
+    return io::load_example(path);
+  return io::load_case_file(path);
 }
 
 void require_turning(const io::Case& c, std::string_view command) {

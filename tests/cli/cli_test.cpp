@@ -336,6 +336,22 @@ TEST_F(Cli, MillingVariablePitchHelicalExample) {
   for (const auto& p : doc["points"]) EXPECT_TRUE(p["critical_depth_mm"].is_number());
 }
 
+TEST_F(Cli, CaseMayNameABuiltInExampleUnlessAFileHasThatName) {
+  const Result r = cutdyn({"check", "milling-insperger", "--rpm", "5000", "--depth-mm", "0.04"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("milling, 2 teeth"), std::string::npos) << r.out;
+  // A file of that name comes first (here: a turning case, in the working directory).
+  write("milling-insperger", std::string(*io::example_text("turning-conventional")));
+  const fs::path cwd = fs::current_path();
+  fs::current_path(dir_);
+  const Result t = cutdyn({"check", "milling-insperger", "--rpm", "1400", "--depth-mm", "1"});
+  fs::current_path(cwd);
+  ASSERT_EQ(t.code, 0) << t.err;
+  EXPECT_NE(t.out.find("turning"), std::string::npos) << t.out;
+  expect_rejected({"check", "no-such-example", "--rpm", "5000", "--depth-mm", "0.04"},
+                  "no-such-example: cannot read the file");
+}
+
 TEST_F(Cli, MillingLowImmersionReportsFlipLobes) {
   std::string text(*io::example_text("milling-insperger"));
   text.replace(text.find("radial_immersion = 1.0"), 22, "radial_immersion = 0.05");
