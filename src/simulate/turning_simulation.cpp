@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unsupported/Eigen/MatrixFunctions>
 
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
+#include "cutdyn/simulate/modal_stepper.hpp"
 
 namespace cutdyn {
 
@@ -61,14 +61,9 @@ TurningSimulationResult simulate_turning(const TurningModel& model,
         "turning simulation");
   }
 
-  // Exact zero-order-hold step: x+ = Φ·x + Γ·F, from e^([[A, B], [0, 0]]·h).
-  Eigen::MatrixXd aug = Eigen::MatrixXd::Zero(d + 1, d + 1);
-  aug.topLeftCorner(d, d) = ss.A * h;
-  aug.topRightCorner(d, 1) = ss.B * h;
-  const Eigen::MatrixXd e = aug.exp();
-  const Eigen::MatrixXd phi = e.topLeftCorner(d, d);
-  const Eigen::VectorXd gamma = e.topRightCorner(d, 1);
+  const ModalStepper stepper(model.modal, {Direction::kX}, h);
   const Eigen::RowVectorXd c = ss.C.row(0);
+  Eigen::VectorXd force_vector(1);
 
   TurningSimulationResult out;
   out.duty_cycle = duty;
@@ -118,7 +113,8 @@ TurningSimulationResult simulate_turning(const TurningModel& model,
       rev_min = 1e300;
       rev_max = -1e300;
     }
-    x = phi * x + gamma * force;
+    force_vector(0) = force;
+    stepper.step(x, force_vector);
   }
 
   // Growth rate: least squares on ln(amplitude) from the second revolution on, up to the

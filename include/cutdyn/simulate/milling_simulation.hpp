@@ -1,0 +1,106 @@
+// Time-domain simulation of milling (models.md S1.1–S1.6; docs/models/milling-simulation.md).
+//
+// z teeth (even or uneven pitch), each cut into N axial slices lagging the tooth tip by
+// their share of the helix lag φN = 2B·tanβ/d; every slice has its own engagement window and
+// chip thickness. The chip comes from the stored surface: each slice keeps, per angle bin of
+// one revolution, the surface the last cutting tooth left there (feed motion plus the cutter's
+// displacement), so the chip is the feed since that tooth plus the regeneration, and a tooth
+// that has left the cut leaves the older surface in place. Force laws: the S1 law (chip-
+// formation lag T2, flank contact P0·e^(−X/T1), angles φrez and φskv) or the linear
+// mechanistic law (Kt, Kr and edge coefficients). The cutter's modes in x (feed) and y are
+// advanced by an exact zero-order-hold step.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "cutdyn/modal/modal_model.hpp"
+
+namespace cutdyn {
+
+/// S1 law (models.md S1.1–S1.2): P = c·U with T2·dU/dt + U = X (the chip thickness), the
+/// flank contact force F = P0·e^(−X/T1); P at the angle φrez and F at φskv from the tangent
+/// (towards the cutter's centre).
+struct ErmolaevForceLaw {
+  double c_n_per_m = 0.0;  // cutting stiffness of the whole engaged flute, N/m
+  double t2_s = 0.0;       // chip-formation time constant (0: no lag)
+  double p0_n = 0.0;       // flank contact force scale, N
+  double t1_m = 1.0;       // chip thickness over which the contact force falls by e
+  double phi_rez_rad = 0.0;
+  double phi_skv_rad = 0.0;
+};
+
+/// Linear mechanistic law per unit width: Ft = Kt·b·h + Kte·b, Fr = Kr·b·h + Kre·b.
+struct MechanisticForceLaw {
+  double kt_pa = 0.0;
+  double kr_pa = 0.0;
+  double kte_n_per_m = 0.0;
+  double kre_n_per_m = 0.0;
+};
+
+using MillingForceLaw = std::variant<MechanisticForceLaw, ErmolaevForceLaw>;
+
+struct MillingCut {
+  ModalModel modal;  // modes in x (feed) and y; none: a rigid cutter
+  int teeth = 2;
+  std::vector<double> pitch_rad;  // uneven pitch (as MillingModel); empty: even
+  double diameter_m = 0.0;
+  double helix_rad = 0.0;
+  double entry_rad = 0.0;  // window of the tooth angle, measured clockwise from +y
+  double exit_rad = 3.141592653589793;
+  double spindle_rad_s = 0.0;
+  double feed_per_tooth_m = 0.0;
+  double width_m = 0.0;  // B, the axial depth of cut
+  MillingForceLaw law;
+  bool regenerative = true;  // false: chip = s_z·sin θ from the feed alone (force studies)
+
+  std::vector<std::string> validate() const;
+  /// φN = 2B·tanβ/d: the lag between the flute's two extreme sections.
+  double lag_angle() const;
+};
+
+struct MillingSimulationOptions {
+  /// Raised, when the chip is regenerative, to put 64 steps in the shortest mode period.
+  int steps_per_tooth = 256;
+  double revolutions = 30.0;         // simulated
+  double summary_revolutions = 2.0;  // the last ones, for the summary
+  int slices = 0;  // 0: automatic — slice lag = one angle step (at most 1000 slices)
+  bool closed_form_helix = false;    // S1 eqs. 8–9 instead of slices
+  int max_recorded_samples = 20000;  // traces are thinned to at most this many samples
+
+  std::vector<std::string> validate() const;
+};
+
+struct MillingSimulationResult {
+  // Traces (thinned): forces on the cutter, its displacement, engaged teeth (slices in cut,
+  // as a fraction of the flute length, summed over the teeth).
+  std::vector<double> time_s, fx_n, fy_n, force_n, x_m, y_m, teeth_in_cut;
+  // Summary over the last summary_revolutions.
+  double force_pulsation = 0.0;  // ΔP = (Pmax − Pmin)/(Pmax + Pmin), P = |F|
+  double mean_force_n = 0.0, peak_force_n = 0.0, min_force_n = 0.0;
+  double mean_fx_n = 0.0, mean_fy_n = 0.0;
+  double mean_teeth_in_cut = 0.0;
+  double vibration_pp_x_m = 0.0, vibration_pp_y_m = 0.0;
+  /// Once-per-period (tooth period; revolution for uneven pitch) samples of the displacement:
+  /// mean |change| between consecutive samples over the second half of the run, divided by
+  /// the peak-to-peak vibration. Near 0 for a periodic (forced) vibration.
+  double chatter_indicator = 0.0;
+  double growth_per_period = 0.0;  // fitted growth of that change, per period (ln units)
+  bool chatter = false;
+  /// Cutter displacement along the wall normal when a tooth passes the angle that finishes
+  /// the wall (π in down-milling, 0 in up-milling), averaged; > 0 is an overcut.
+  std::optional<double> surface_location_error_m;
+  // Discretization used.
+  double step_s = 0.0;
+  long long steps = 0;
+  int slices = 1;
+  int steps_per_revolution = 0;
+};
+
+/// Throws cutdyn::InvalidInput for an invalid cut or options, naming every problem.
+MillingSimulationResult simulate_milling(const MillingCut& cut,
+                                         const MillingSimulationOptions& options);
+
+}  // namespace cutdyn

@@ -1,0 +1,357 @@
+#include "cutdyn/simulate/milling_simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "cutdyn/core/error.hpp"
+#include "cutdyn/core/units.hpp"
+#include "cutdyn/simulate/modal_stepper.hpp"
+
+namespace cutdyn {
+namespace {
+
+using units::kPi;
+using units::kTwoPi;
+
+// Unit force directions on the cutter for a tooth at angle θ (clockwise from +y): t̂ opposes
+// the tooth's motion, r̂ points to the cutter's centre; d(α) = cos α·t̂ + sin α·r̂ is the
+// direction α from the tangent: (−cos(θ − α), sin(θ − α)).
+Eigen::Vector2d direction(double theta, double alpha) {
+  return {-std::cos(theta - alpha), std::sin(theta - alpha)};
+}
+
+// Its mean over the lags φω in [0, φN] (models.md S1.3, with the 1/φN decision).
+Eigen::Vector2d mean_direction(double theta, double alpha, double lag) {
+  if (lag < 1e-12) return direction(theta, alpha);
+  const double u = theta - alpha;
+  // (1/φN)∫ cos(u − φω) dφω and (1/φN)∫ sin(u − φω) dφω.
+  const double c = (std::cos(u) * std::sin(lag) + std::sin(u) * (1.0 - std::cos(lag))) / lag;
+  const double s = (std::sin(u) * std::sin(lag) - std::cos(u) * (1.0 - std::cos(lag))) / lag;
+  return {-c, s};
+}
+
+double wrap(double angle) {
+  double a = std::fmod(angle, kTwoPi);
+  if (a < 0.0) a += kTwoPi;
+  return a;
+}
+
+bool in_window(double theta, double entry, double exit) {
+  const double a = wrap(theta);
+  return a > entry && a < exit;
+}
+
+// Least-squares slope of y against its index.
+double slope(const std::vector<double>& y) {
+  const auto n = static_cast<double>(y.size());
+  if (y.size() < 2) return 0.0;
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    const auto x = static_cast<double>(i);
+    sx += x;
+    sy += y[i];
+    sxx += x * x;
+    sxy += x * y[i];
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+}  // namespace
+
+double MillingCut::lag_angle() const {
+  return helix_rad == 0.0 ? 0.0 : 2.0 * width_m * std::tan(helix_rad) / diameter_m;
+}
+
+std::vector<std::string> MillingCut::validate() const {
+  Validator v;
+  if (!modal.modes.empty()) {
+    v.merge(modal.validate());
+    for (const Mode& m : modal.modes) {
+      if (m.direction != Direction::kX && m.direction != Direction::kY)
+        v.add("modes: milling takes modes in x and y only");
+    }
+  }
+  v.require(teeth >= 1 && teeth <= 200, "teeth", teeth, "", "must be 1 to 200");
+  v.require(helix_rad >= 0.0 && helix_rad < 0.5 * kPi, "helix_rad", helix_rad, "rad",
+            "must be at least 0 and less than π/2");
+  if (helix_rad > 0.0) v.require_positive("diameter_m", diameter_m, "m (needed with a helix)");
+  v.require(entry_rad >= 0.0 && entry_rad < exit_rad && exit_rad <= kPi, "entry_rad, exit_rad",
+            entry_rad, "rad",
+            "need 0 <= entry < exit <= π (exit = " + format_value(exit_rad) + ")");
+  v.require_positive("spindle_rad_s", spindle_rad_s, "rad/s");
+  v.require_positive("feed_per_tooth_m", feed_per_tooth_m, "m");
+  v.require_positive("width_m", width_m, "m");
+  if (!pitch_rad.empty()) {
+    double sum = 0.0;
+    for (double p : pitch_rad) {
+      v.require(p > 0.0, "pitch_rad", p, "rad", "every pitch angle must be positive");
+      sum += p;
+    }
+    v.require(static_cast<int>(pitch_rad.size()) == teeth, "pitch_rad",
+              static_cast<double>(pitch_rad.size()), "angles", "must give one angle per tooth");
+    v.require(std::abs(sum - kTwoPi) <= 1e-9 * kTwoPi, "pitch_rad (sum)", sum, "rad",
+              "must add up to 2π");
+  }
+  if (const auto* m = std::get_if<MechanisticForceLaw>(&law)) {
+    v.require(m->kt_pa >= 0.0, "kt_pa", m->kt_pa, "N/m²", "must not be negative");
+    v.require(m->kr_pa >= 0.0, "kr_pa", m->kr_pa, "N/m²", "must not be negative");
+    v.require(m->kte_n_per_m >= 0.0, "kte_n_per_m", m->kte_n_per_m, "N/m", "must not be negative");
+    v.require(m->kre_n_per_m >= 0.0, "kre_n_per_m", m->kre_n_per_m, "N/m", "must not be negative");
+  } else {
+    const auto& e = std::get<ErmolaevForceLaw>(law);
+    v.require(e.c_n_per_m >= 0.0, "c_n_per_m", e.c_n_per_m, "N/m", "must not be negative");
+    v.require(e.t2_s >= 0.0, "t2_s", e.t2_s, "s", "must not be negative");
+    v.require(e.p0_n >= 0.0, "p0_n", e.p0_n, "N", "must not be negative");
+    v.require_positive("t1_m", e.t1_m, "m");
+  }
+  return v.problems();
+}
+
+std::vector<std::string> MillingSimulationOptions::validate() const {
+  Validator v;
+  v.require(steps_per_tooth >= 8 && steps_per_tooth <= 100000, "steps_per_tooth", steps_per_tooth,
+            "", "must be 8 to 100000");
+  v.require(revolutions >= 1.0 && revolutions <= 1e6, "revolutions", revolutions, "",
+            "must be 1 to 1e6");
+  v.require(summary_revolutions > 0.0 && summary_revolutions <= revolutions, "summary_revolutions",
+            summary_revolutions, "", "must be positive and at most `revolutions`");
+  v.require(slices >= 0 && slices <= 10000, "slices", slices, "", "must be 0 (automatic) to 10000");
+  v.require(max_recorded_samples >= 2, "max_recorded_samples", max_recorded_samples, "",
+            "must be at least 2");
+  return v.problems();
+}
+
+MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSimulationOptions& o) {
+  Validator v;
+  v.merge(cut.validate());
+  v.merge(o.validate());
+  v.throw_if_any("milling simulation");
+
+  const int z = cut.teeth;
+  const double omega = cut.spindle_rad_s;
+  // Time step: a whole number of angle bins per revolution, z·spt.
+  // With regeneration the chip follows the cutter's vibration: put 64 steps in the shortest
+  // mode period. Without it the exact (zero-order-hold) step needs no such resolution.
+  int spt = o.steps_per_tooth;
+  if (!cut.modal.modes.empty() && cut.regenerative) {
+    const double tooth_period = kTwoPi / (omega * z);
+    const double shortest = kTwoPi / cut.modal.max_natural_rad_s();
+    spt = std::max(spt, static_cast<int>(std::ceil(64.0 * tooth_period / shortest)));
+  }
+  const long long bins = static_cast<long long>(z) * spt;
+  const double dtheta = kTwoPi / static_cast<double>(bins);
+  const double dt = dtheta / omega;
+  const auto steps =
+      static_cast<long long>(std::llround(o.revolutions * static_cast<double>(bins)));
+  constexpr long long kMaxWork = 4'000'000'000LL;
+
+  // Teeth: angle behind tooth 0, snapped to the bins (uneven pitch), and feed per revolution.
+  std::vector<double> pitch = cut.pitch_rad;
+  if (pitch.empty()) pitch.assign(static_cast<std::size_t>(z), kTwoPi / z);
+  std::vector<long long> behind_bins(static_cast<std::size_t>(z), 0);
+  double behind = 0.0;
+  for (int k = 1; k < z; ++k) {
+    behind += pitch[static_cast<std::size_t>(k)];
+    behind_bins[static_cast<std::size_t>(k)] = std::llround(behind / dtheta);
+  }
+  const double feed_speed = cut.feed_per_tooth_m * z * omega / kTwoPi;  // m/s along +x
+
+  // Slices.
+  const double lag = cut.lag_angle();
+  int n_slices = 1;
+  if (lag > 0.0 && !o.closed_form_helix) {
+    n_slices =
+        o.slices > 0 ? o.slices : std::clamp(static_cast<int>(std::lround(lag / dtheta)), 1, 1000);
+  }
+  const double slice_width = cut.width_m / n_slices;
+  std::vector<double> slice_lag(static_cast<std::size_t>(n_slices), 0.0);
+  if (!o.closed_form_helix)
+    for (int j = 0; j < n_slices; ++j)
+      slice_lag[static_cast<std::size_t>(j)] = (j + 0.5) * lag / n_slices;
+  if (static_cast<double>(steps) * z * n_slices > static_cast<double>(kMaxWork)) {
+    throw InvalidInput(
+        {"revolutions = " + format_value(o.revolutions) + " with " + std::to_string(z) +
+         " teeth × " + std::to_string(n_slices) + " slices × " + std::to_string(bins) +
+         " steps per revolution: " + format_value(static_cast<double>(steps) * z * n_slices) +
+         " slice evaluations, more than the limit 4e9 (fewer revolutions, slices or "
+         "steps per tooth)"},
+        "milling simulation");
+  }
+
+  // Structure.
+  const bool rigid = cut.modal.modes.empty();
+  std::optional<ModalStepper> stepper;
+  Eigen::VectorXd state, force_vector = Eigen::VectorXd::Zero(2);
+  if (!rigid) {
+    stepper.emplace(cut.modal, std::vector<Direction>{Direction::kX, Direction::kY}, dt);
+    state = Eigen::VectorXd::Zero(stepper->states());
+  }
+
+  // Surfaces, per slice and bin: the feed position plus displacement along the bin's normal
+  // when a tooth last cut there. Before t = 0 the cut is steady and rigid: tooth passes of one
+  // revolution back fill them.
+  // A slice's surface is indexed by the step of its tooth's tip (its own lag is the same for
+  // every tooth), so consecutive teeth meet exactly the same bins.
+  const auto bin_of = [&](long long tip_step) {
+    long long b = tip_step % bins;
+    if (b < 0) b += bins;
+    return static_cast<std::size_t>(b);
+  };
+  std::vector<double> surface(static_cast<std::size_t>(n_slices * bins),
+                              std::numeric_limits<double>::quiet_NaN());
+  for (long long n = -bins; n < 0; ++n) {
+    const double t = static_cast<double>(n) * dt;
+    for (int k = 0; k < z; ++k) {
+      for (int j = 0; j < n_slices; ++j) {
+        const long long tip = n - behind_bins[static_cast<std::size_t>(k)];
+        const double theta =
+            static_cast<double>(tip) * dtheta - slice_lag[static_cast<std::size_t>(j)];
+        if (!in_window(theta, cut.entry_rad, cut.exit_rad)) continue;
+        surface[static_cast<std::size_t>(j) * bins + bin_of(tip)] =
+            feed_speed * t * std::sin(theta);
+      }
+    }
+  }
+
+  const auto* mech = std::get_if<MechanisticForceLaw>(&cut.law);
+  const auto* erm = std::get_if<ErmolaevForceLaw>(&cut.law);
+  std::vector<double> lagged(static_cast<std::size_t>(z * n_slices), 0.0);  // U, S1 law
+  const double relax = erm && erm->t2_s > 0.0 ? std::exp(-dt / erm->t2_s) : 0.0;
+
+  MillingSimulationResult out;
+  out.step_s = dt;
+  out.steps = steps;
+  out.slices = n_slices;
+  out.steps_per_revolution = static_cast<int>(bins);
+  const long long stride = std::max<long long>(1, steps / o.max_recorded_samples + 1);
+  const auto summary_from = steps - std::llround(o.summary_revolutions * static_cast<double>(bins));
+  // Once-per-period samples (tooth period; a revolution with uneven pitch).
+  const long long period_steps = cut.pitch_rad.empty() ? spt : bins;
+  std::vector<Eigen::Vector2d> sync;
+  double f_sum = 0, fx_sum = 0, fy_sum = 0, teeth_sum = 0, f_max = 0;
+  double f_min = std::numeric_limits<double>::infinity();
+  double x_min = 1e300, x_max = -1e300, y_min = 1e300, y_max = -1e300;
+  double sle_sum = 0.0;
+  long long sle_count = 0, summary_count = 0;
+  // The wall is finished where the chip thickness s_z·sin θ vanishes: θ = π (down) or 0 (up).
+  std::optional<double> finishing;
+  if (cut.exit_rad >= kPi - 1e-9)
+    finishing = kPi;
+  else if (cut.entry_rad <= 1e-9)
+    finishing = 0.0;
+
+  for (long long n = 0; n < steps; ++n) {
+    const double t = static_cast<double>(n) * dt;
+    const Eigen::Vector2d r =
+        rigid ? Eigen::Vector2d::Zero() : Eigen::Vector2d(stepper->output(state));
+    Eigen::Vector2d f = Eigen::Vector2d::Zero();
+    double engaged = 0.0;
+    for (int k = 0; k < z; ++k) {
+      const long long tip_step = n - behind_bins[static_cast<std::size_t>(k)];
+      const double tip = static_cast<double>(tip_step) * dtheta;
+      for (int j = 0; j < n_slices; ++j) {
+        const double theta = tip - slice_lag[static_cast<std::size_t>(j)];
+        double& u = lagged[static_cast<std::size_t>(k * n_slices + j)];
+        const bool window = in_window(theta, cut.entry_rad, cut.exit_rad);
+        double chip = 0.0;
+        if (window) {
+          const double s = std::sin(theta), c = std::cos(theta);
+          double& stored = surface[static_cast<std::size_t>(j) * bins + bin_of(tip_step)];
+          const double here =
+              cut.regenerative ? (feed_speed * t + r.x()) * s + r.y() * c : feed_speed * t * s;
+          chip = std::isnan(stored) ? 0.0 : here - stored;
+          if (chip > 0.0 || std::isnan(stored)) stored = here;  // else the older surface stays
+        }
+        const double x_in = chip > 0.0 ? chip : 0.0;
+        if (erm) u = x_in + (u - x_in) * relax;  // exact for X held over the step
+        if (!window || chip <= 0.0) continue;
+        engaged += 1.0 / n_slices;
+        const double share = o.closed_form_helix ? 1.0 : 1.0 / n_slices;
+        const double spread = o.closed_form_helix ? lag : 0.0;
+        if (mech) {
+          const double b = o.closed_form_helix ? cut.width_m : slice_width;
+          const double ft = mech->kt_pa * b * chip + mech->kte_n_per_m * b;
+          const double fr = mech->kr_pa * b * chip + mech->kre_n_per_m * b;
+          f += ft * mean_direction(theta, 0.0, spread) +
+               fr * mean_direction(theta, 0.5 * kPi, spread);
+        } else {
+          const double p = erm->c_n_per_m * (erm->t2_s > 0.0 ? u : chip);
+          const double contact = erm->p0_n * std::exp(-chip / erm->t1_m);
+          f += share * (p * mean_direction(theta, erm->phi_rez_rad, spread) +
+                        contact * mean_direction(theta, erm->phi_skv_rad, spread));
+        }
+      }
+    }
+    const double magnitude = f.norm();
+    if (n % stride == 0) {
+      out.time_s.push_back(t);
+      out.fx_n.push_back(f.x());
+      out.fy_n.push_back(f.y());
+      out.force_n.push_back(magnitude);
+      out.x_m.push_back(r.x());
+      out.y_m.push_back(r.y());
+      out.teeth_in_cut.push_back(engaged);
+    }
+    if (n >= summary_from) {
+      ++summary_count;
+      f_sum += magnitude;
+      fx_sum += f.x();
+      fy_sum += f.y();
+      teeth_sum += engaged;
+      f_max = std::max(f_max, magnitude);
+      f_min = std::min(f_min, magnitude);
+      x_min = std::min(x_min, r.x());
+      x_max = std::max(x_max, r.x());
+      y_min = std::min(y_min, r.y());
+      y_max = std::max(y_max, r.y());
+      if (finishing) {
+        for (int k = 0; k < z; ++k) {
+          const long long at = n - behind_bins[static_cast<std::size_t>(k)];
+          if (bin_of(at) == bin_of(std::llround(*finishing / dtheta))) {
+            sle_sum += r.x() * std::sin(*finishing) + r.y() * std::cos(*finishing);
+            ++sle_count;
+          }
+        }
+      }
+    }
+    if (n % period_steps == 0) sync.push_back(r);
+    if (!rigid) {
+      force_vector = f;
+      stepper->step(state, force_vector);
+    }
+  }
+
+  const auto count = static_cast<double>(summary_count);
+  out.mean_force_n = f_sum / count;
+  out.mean_fx_n = fx_sum / count;
+  out.mean_fy_n = fy_sum / count;
+  out.mean_teeth_in_cut = teeth_sum / count;
+  out.peak_force_n = f_max;
+  out.min_force_n = f_min;
+  out.force_pulsation = f_max + f_min > 0.0 ? (f_max - f_min) / (f_max + f_min) : 0.0;
+  out.vibration_pp_x_m = x_max - x_min;
+  out.vibration_pp_y_m = y_max - y_min;
+  if (sle_count > 0) out.surface_location_error_m = sle_sum / static_cast<double>(sle_count);
+
+  // Chatter: the once-per-period samples of a forced (stable) vibration repeat; chatter makes
+  // them wander. Over the second half of the run.
+  std::vector<double> change, log_change;
+  for (std::size_t i = sync.size() / 2 + 1; i < sync.size(); ++i) {
+    const double d = (sync[i] - sync[i - 1]).norm();
+    change.push_back(d);
+    log_change.push_back(std::log(std::max(d, 1e-300)));
+  }
+  const double pp = std::max(out.vibration_pp_x_m, out.vibration_pp_y_m);
+  if (!change.empty() && pp > 0.0) {
+    double mean = 0.0;
+    for (double d : change) mean += d;
+    mean /= static_cast<double>(change.size());
+    out.chatter_indicator = mean / pp;
+    out.growth_per_period = slope(log_change);
+  }
+  out.chatter = out.chatter_indicator > 0.05 && out.growth_per_period > -0.01;
+  return out;
+}
+
+}  // namespace cutdyn

@@ -1,0 +1,207 @@
+#include "cutdyn/simulate/milling_simulation.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "cutdyn/core/error.hpp"
+#include "cutdyn/core/units.hpp"
+#include "cutdyn/simulate/modal_stepper.hpp"
+#include "cutdyn/stability/milling.hpp"
+#include "support/reference_cases.hpp"
+
+namespace cutdyn {
+namespace {
+
+using units::kPi;
+
+// A force-only study (no regeneration, rigid cutter): mechanistic law, no edge terms.
+MillingCut force_study(int teeth, double entry, double exit) {
+  MillingCut c;
+  c.teeth = teeth;
+  c.diameter_m = 0.02;
+  c.entry_rad = entry;
+  c.exit_rad = exit;
+  c.spindle_rad_s = units::rpm_to_rad_per_s(3000.0);
+  c.feed_per_tooth_m = 0.1e-3;
+  c.width_m = 2e-3;
+  c.law = MechanisticForceLaw{6e8, 2e8, 0.0, 0.0};
+  c.regenerative = false;
+  return c;
+}
+
+MillingSimulationOptions short_run() {
+  MillingSimulationOptions o;
+  o.revolutions = 3;
+  o.summary_revolutions = 1;
+  return o;
+}
+
+TEST(MillingSimulation, UniformCutHasNoForcePulsation) {
+  // S1 eq. 6: with B·z·tanβ/(π·d) = q an integer the flute covers q pitches and the total
+  // force of the mechanistic law without edge terms is constant (ΔP < 1e-3, here to
+  // rounding); for q = 0.5 and 1.3 it pulsates clearly. Four teeth, d = 20 mm, β = 30°,
+  // quarter immersion (up-milling), so that the teeth's windows do not overlap.
+  for (double q : {1.0, 2.0, 0.5, 1.3}) {
+    MillingCut c = force_study(4, 0.0, 0.5 * kPi);
+    c.helix_rad = units::deg_to_rad(30.0);
+    c.width_m = q * kPi * c.diameter_m / (c.teeth * std::tan(c.helix_rad));
+    const MillingSimulationResult r = simulate_milling(c, short_run());
+    if (q == 1.0 || q == 2.0)
+      EXPECT_LT(r.force_pulsation, 1e-3) << "q " << q;
+    else
+      EXPECT_GT(r.force_pulsation, 0.1) << "q " << q;
+    EXPECT_NEAR(r.mean_teeth_in_cut, 1.0, 1e-9) << "q " << q;  // z·ψ/2π
+  }
+}
+
+TEST(MillingSimulation, PulsationIsFullBelowOneToothInCutAndFallsWithTeethAndAngle) {
+  // S1 fig. 6b: straight teeth, down-milling with contact angle ψ. While the mean number of
+  // teeth in cut z·ψ/2π is below one there are instants with no tooth in cut: ΔP = 100 %.
+  // Above, ΔP falls as z grows (compared at z and 2z) and as ψ grows at fixed z.
+  double previous_at_z8 = 2.0;
+  for (double psi_deg : {60.0, 90.0, 120.0, 150.0}) {
+    const double psi = units::deg_to_rad(psi_deg);
+    const auto pulsation = [&](int z) {
+      const MillingSimulationResult r =
+          simulate_milling(force_study(z, kPi - psi, kPi), short_run());
+      EXPECT_NEAR(r.mean_teeth_in_cut, z * psi / (2 * kPi), 0.02) << "z " << z;
+      return r.force_pulsation;
+    };
+    for (int z = 1; z * psi < 2 * kPi - 1e-9; ++z)
+      EXPECT_NEAR(pulsation(z), 1.0, 1e-12) << "psi " << psi_deg << " z " << z;
+    const int z1 = static_cast<int>(std::ceil(2 * kPi / psi + 1e-9));
+    EXPECT_LT(pulsation(2 * z1), pulsation(z1)) << "psi " << psi_deg;
+    const double at_z8 = pulsation(8);
+    EXPECT_LT(at_z8, previous_at_z8) << "psi " << psi_deg;
+    previous_at_z8 = at_z8;
+  }
+}
+
+TEST(MillingSimulation, ClosedFormHelixAgreesWithSlicesWhenEverySliceIsInCut) {
+  // S1 eqs. 8–9 average the force direction over the flute's lag with the leading section's
+  // chip and window. With a force that does not depend on the chip (edge coefficients only)
+  // the two forms agree at every instant when each tooth's slices are all in or all out of
+  // the window. Slotting, 2 teeth, lag 20°.
+  MillingCut c = force_study(2, 0.0, kPi);
+  c.law = MechanisticForceLaw{0.0, 0.0, 2e4, 1e4};
+  c.helix_rad = units::deg_to_rad(30.0);
+  c.width_m = units::deg_to_rad(20.0) * c.diameter_m / (2.0 * std::tan(c.helix_rad));
+  MillingSimulationOptions o = short_run();
+  o.max_recorded_samples = 1000000;  // every step
+  const MillingSimulationResult slices = simulate_milling(c, o);
+  o.closed_form_helix = true;
+  const MillingSimulationResult closed = simulate_milling(c, o);
+  ASSERT_EQ(slices.time_s.size(), closed.time_s.size());
+  // The slices are the midpoint rule of that average: error at most δ²/24 of the force, δ the
+  // slice lag; allowance twice that.
+  const double lag = c.lag_angle();
+  const double delta = lag / slices.slices;
+  const double tol = delta * delta / 12.0;
+  const double scale = std::hypot(2e4, 1e4) * c.width_m;  // |edge force| of one tooth
+  EXPECT_GT(slices.slices, 10);
+  int compared = 0;
+  for (std::size_t i = 0; i < slices.time_s.size(); ++i) {
+    // Tooth tips at θ and θ + π: every slice of each tooth in or out when θ mod π lies in
+    // (lag, π), away from the step's rounding.
+    const double theta = std::fmod(c.spindle_rad_s * slices.time_s[i], kPi);
+    if (theta < lag + 1e-6 || theta > kPi - 1e-6) continue;
+    EXPECT_NEAR(slices.fx_n[i], closed.fx_n[i], tol * scale) << i;
+    EXPECT_NEAR(slices.fy_n[i], closed.fy_n[i], tol * scale) << i;
+    ++compared;
+  }
+  EXPECT_GT(compared, static_cast<int>(slices.time_s.size()) / 2);
+}
+
+TEST(MillingSimulation, ZeroOrderHoldStepIsTheExactFreeVibration) {
+  // One mode in x, released from x0 at rest: x(t) = x0·e^(−ζωt)(cos ωd·t + ζ/√(1−ζ²)·sin ωd·t).
+  ModalModel m;
+  const double wn = 2 * kPi * 500.0, zeta = 0.03, k = 2e7;
+  m.modes.push_back(Mode{Direction::kX, wn, zeta, k});
+  const double h = 1.3e-5;
+  const ModalStepper stepper(m, {Direction::kX}, h);
+  Eigen::VectorXd x = stepper.static_state(Eigen::VectorXd::Constant(1, 1e-3 * k));
+  const double x0 = stepper.output(x)(0);
+  EXPECT_NEAR(x0, 1e-3, 1e-15);
+  const double wd = wn * std::sqrt(1 - zeta * zeta);
+  for (int n = 1; n <= 2000; ++n) {
+    stepper.step(x, Eigen::VectorXd::Zero(1));
+    const double t = n * h;
+    const double exact = x0 * std::exp(-zeta * wn * t) *
+                         (std::cos(wd * t) + zeta / std::sqrt(1 - zeta * zeta) * std::sin(wd * t));
+    ASSERT_NEAR(stepper.output(x)(0), exact, 1e-9 * x0) << "step " << n;
+  }
+}
+
+TEST(MillingSimulation, ConfirmsTheLobesAtThreeSpeeds) {
+  // The milling-stability default (Insperger–Stépán slotting, both directions): at three
+  // speeds the simulation with regeneration is stable at 0.9× the full discretization's
+  // critical depth and chatters at 1.1×.
+  const MillingModel m = testing::insperger_benchmark(1.0);
+  for (double rpm : {6000.0, 10000.0, 18000.0}) {
+    MillingStabilityOptions so;
+    so.depth_max_m = 1e-3;
+    so.rel_tol = 1e-5;
+    const double critical = milling_critical_depth(m, rpm, so).boundary.depth_m;
+    for (double factor : {0.9, 1.1}) {
+      MillingCut c;
+      c.modal = m.modal;
+      c.teeth = 2;
+      c.spindle_rad_s = units::rpm_to_rad_per_s(rpm);
+      c.feed_per_tooth_m = 0.05e-3;
+      c.width_m = factor * critical;
+      c.law = MechanisticForceLaw{m.kt_pa, m.kr_pa, 0.0, 0.0};
+      MillingSimulationOptions o;
+      o.revolutions = 100;
+      o.summary_revolutions = 5;
+      const MillingSimulationResult r = simulate_milling(c, o);
+      EXPECT_EQ(r.chatter, factor > 1.0)
+          << rpm << " rpm, " << factor << "× critical: indicator " << r.chatter_indicator
+          << ", growth " << r.growth_per_period;
+    }
+  }
+}
+
+TEST(MillingSimulation, ErmolaevPresetPulsationFirstFallsThenRisesWithTheLag) {
+  // S1 fig. 6a with the preset of S1.5 (five teeth, φN = π/6, s_z = 1 relative unit): ΔP
+  // falls from T2 = 0 to a minimum near 0.05 s and rises above it by T2 = 0.3 s.
+  const auto pulsation = [](double t2) {
+    MillingCut c;
+    c.teeth = 5;
+    c.diameter_m = 1.0;
+    c.width_m = 1.0;
+    c.helix_rad = std::atan(kPi / 12.0);  // φN = 2B·tanβ/d = π/6
+    c.entry_rad = kPi / 6;
+    c.exit_rad = kPi;
+    c.spindle_rad_s = 2 * kPi;
+    c.feed_per_tooth_m = 1.0;
+    c.law = ErmolaevForceLaw{25.0, t2, 3.0, 0.2, 0.0, kPi / 5};
+    c.regenerative = false;
+    MillingSimulationOptions o;
+    o.revolutions = 6;
+    o.summary_revolutions = 1;
+    o.steps_per_tooth = 200;
+    return simulate_milling(c, o).force_pulsation;
+  };
+  const double at0 = pulsation(0.0), at005 = pulsation(0.05), at03 = pulsation(0.3);
+  EXPECT_LT(at005, at0);
+  EXPECT_GT(at03, 2.0 * at0);
+}
+
+TEST(MillingSimulation, RejectsABadCutNamingEveryProblem) {
+  MillingCut c = force_study(3, 1.0, 0.5);
+  c.width_m = -1.0;
+  c.pitch_rad = {1.0, 1.0};
+  try {
+    simulate_milling(c, short_run());
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    const std::string all = e.what();
+    EXPECT_NE(all.find("entry_rad"), std::string::npos) << all;
+    EXPECT_NE(all.find("width_m"), std::string::npos) << all;
+    EXPECT_NE(all.find("pitch_rad"), std::string::npos) << all;
+  }
+}
+
+}  // namespace
+}  // namespace cutdyn
