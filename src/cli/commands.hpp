@@ -56,5 +56,6 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream& err);
 int run_lobes_milling(const LobesArgs& args, const io::Case& c, std::ostream& out,
                       std::ostream& err);
 int run_check_milling(const CheckArgs& args, const io::Case& c, std::ostream& out);
+int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostream& out);
 
 }  // namespace cutdyn::cli

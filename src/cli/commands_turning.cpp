@@ -186,6 +186,7 @@ int run_check(const CheckArgs& args, std::ostream& out, std::ostream&) {
 int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream&) {
   check_outputs(args.outputs);
   const io::Case c = load_case(args.case_path, kDefaultTurningCase);
+  if (c.process == io::Process::kMilling) return run_simulate_milling(args, c, out);
   const TurningModel model = turning_model(c, "simulate");
   Validator v;
   TurningSimulationOptions o;

@@ -290,6 +290,18 @@ class TableReader {
     return values;
   }
 
+  std::optional<bool> boolean(std::string_view key) {
+    const toml::node* node = get(key);
+    if (node == nullptr) return std::nullopt;
+    const auto* b = node->as_boolean();
+    if (b == nullptr) {
+      problems_.at(key_path(key), *node,
+                   std::string("wrong type: expected true or false, got ") + type_name(*node));
+      return std::nullopt;
+    }
+    return b->get();
+  }
+
   /// A problem with the value of `key` (which is present).
   void problem(std::string_view key, std::string_view rule) {
     problems_.at(key_path(key), *get(key), rule);
@@ -462,6 +474,8 @@ void read_cutting(TableReader& t, Case& c) {
     s.uncut_chip_thickness_m = mm_to_m(*v);
   }
   if (auto v = t.number("width_mm", kPositive, Need::kOptional)) s.width_m = mm_to_m(*v);
+  if (auto v = t.number("kte_n_per_mm", kNonNegative, Need::kOptional)) s.kte_n_per_m = 1e3 * *v;
+  if (auto v = t.number("kre_n_per_mm", kNonNegative, Need::kOptional)) s.kre_n_per_m = 1e3 * *v;
   t.report_unknown();
 }
 
@@ -502,6 +516,19 @@ void read_operation(TableReader& t, Case& c) {
   }
   if (auto v = t.choice("direction", {"down", "up"}, Need::kOptional))
     s.down_milling = *v == "down";
+  if (auto v = t.number("feed_per_tooth_mm", kPositive, Need::kOptional))
+    s.feed_per_tooth_m = mm_to_m(*v);
+  const Range half_turn{0.0, false, 180.0, false};
+  const auto entry = t.number("entry_deg", half_turn, Need::kOptional);
+  const auto exit = t.number("exit_deg", half_turn, Need::kOptional);
+  if (entry.has_value() != exit.has_value()) {
+    t.problem(entry ? "entry_deg" : "exit_deg", "give entry_deg and exit_deg together");
+  } else if (entry && *entry >= *exit) {
+    t.problem("exit_deg", "must be greater than entry_deg = " + format_value(*entry));
+  } else if (entry) {
+    s.entry_rad = units::deg_to_rad(*entry);
+    s.exit_rad = units::deg_to_rad(*exit);
+  }
   t.report_unknown();
   c.operation = s;
 }
@@ -583,7 +610,33 @@ void read_simulate(TableReader& t, Case& c) {
   if (auto v = t.number("initial_displacement_um", kNonNegative, Need::kOptional)) {
     s.initial_displacement_m = um_to_m(*v);
   }
+  if (auto v = t.number("revolutions", Range{1.0, false, 1e6, false}, Need::kOptional))
+    s.revolutions = *v;
+  if (auto v = t.number("summary_revolutions", kPositive, Need::kOptional))
+    s.summary_revolutions = *v;
+  if (s.summary_revolutions > s.revolutions)
+    t.problem("summary_revolutions",
+              "must be at most revolutions = " + format_value(s.revolutions));
+  if (auto v = t.boolean("regenerative")) s.regenerative = *v;
+  if (auto v = t.integer("steps_per_tooth", 8, 100000, Need::kOptional)) s.steps_per_tooth = *v;
+  if (auto v = t.integer("slices", 0, 10000, Need::kOptional)) s.slices = *v;
+  if (auto v = t.boolean("closed_form_helix")) s.closed_form_helix = *v;
   t.report_unknown();
+}
+
+void read_force_law(TableReader& t, Case& c) {
+  ForceLawSection s;
+  if (auto v = t.number("c_n_per_mm", kNonNegative, Need::kRequired)) s.c_n_per_m = 1e3 * *v;
+  if (auto v = t.number("t2_s", kNonNegative, Need::kOptional)) s.t2_s = *v;
+  if (auto v = t.number("p0_n", kNonNegative, Need::kOptional)) s.p0_n = *v;
+  if (auto v = t.number("t1_mm", kPositive, Need::kOptional)) s.t1_m = mm_to_m(*v);
+  const Range angle{-90.0, false, 90.0, false};
+  if (auto v = t.number("phi_rez_deg", angle, Need::kOptional))
+    s.phi_rez_rad = units::deg_to_rad(*v);
+  if (auto v = t.number("phi_skv_deg", angle, Need::kOptional))
+    s.phi_skv_rad = units::deg_to_rad(*v);
+  t.report_unknown();
+  c.force_law = s;
 }
 
 // ---- JSON --------------------------------------------------------------------------------
@@ -637,9 +690,9 @@ Case parse_case(std::string_view toml_text, std::string_view source) {
   Case c;
   c.source = std::string(source);
 
-  TableReader top(
-      problems, root, "",
-      {"process", "modes", "cutting", "tool", "operation", "vibration", "lobes", "simulate"});
+  TableReader top(problems, root, "",
+                  {"process", "modes", "cutting", "tool", "operation", "vibration", "lobes",
+                   "simulate", "force_law"});
   std::optional<Process> process;
   if (auto v = top.choice("process", {"turning", "milling"}, Need::kRequired)) {
     process = *v == "turning" ? Process::kTurning : Process::kMilling;
@@ -649,7 +702,7 @@ Case parse_case(std::string_view toml_text, std::string_view source) {
   if (const toml::table* t = top.section("cutting")) {
     TableReader r(problems, *t, "cutting",
                   {"kt_n_per_mm2", "kc_n_per_mm2", "kr_n_per_mm2", "speed_m_per_min",
-                   "uncut_chip_thickness_mm", "width_mm"});
+                   "uncut_chip_thickness_mm", "width_mm", "kte_n_per_mm", "kre_n_per_mm"});
     read_cutting(r, c);
   }
   if (const toml::table* t = top.section("tool")) {
@@ -657,7 +710,8 @@ Case parse_case(std::string_view toml_text, std::string_view source) {
     read_tool(r, c);
   }
   if (const toml::table* t = top.section("operation")) {
-    TableReader r(problems, *t, "operation", {"radial_immersion", "direction"});
+    TableReader r(problems, *t, "operation",
+                  {"radial_immersion", "direction", "feed_per_tooth_mm", "entry_deg", "exit_deg"});
     read_operation(r, c);
   }
   if (const toml::table* t = top.section("vibration")) {
@@ -672,9 +726,16 @@ Case parse_case(std::string_view toml_text, std::string_view source) {
     read_lobes(r, c);
   }
   if (const toml::table* t = top.section("simulate")) {
-    TableReader r(problems, *t, "simulate",
-                  {"rpm", "depth_mm", "duration_s", "initial_displacement_um"});
+    TableReader r(
+        problems, *t, "simulate",
+        {"rpm", "depth_mm", "duration_s", "initial_displacement_um", "revolutions",
+         "summary_revolutions", "regenerative", "steps_per_tooth", "slices", "closed_form_helix"});
     read_simulate(r, c);
+  }
+  if (const toml::table* t = top.section("force_law")) {
+    TableReader r(problems, *t, "force_law",
+                  {"c_n_per_mm", "t2_s", "p0_n", "t1_mm", "phi_rez_deg", "phi_skv_deg"});
+    read_force_law(r, c);
   }
   top.report_unknown();
 
@@ -755,6 +816,8 @@ nlohmann::json to_json(const Case& c) {
     cutting["uncut_chip_thickness_mm"] = tidy(m_to_mm(*cs.uncut_chip_thickness_m));
   }
   if (cs.width_m) cutting["width_mm"] = tidy(m_to_mm(*cs.width_m));
+  if (cs.kte_n_per_m) cutting["kte_n_per_mm"] = tidy(1e-3 * *cs.kte_n_per_m);
+  if (cs.kre_n_per_m) cutting["kre_n_per_mm"] = tidy(1e-3 * *cs.kre_n_per_m);
   if (!cutting.empty()) j["cutting"] = std::move(cutting);
 
   if (c.tool) {
@@ -768,8 +831,24 @@ nlohmann::json to_json(const Case& c) {
     }
   }
   if (c.operation) {
-    j["operation"] = {{"radial_immersion", tidy(c.operation->radial_immersion)},
-                      {"direction", c.operation->down_milling ? "down" : "up"}};
+    const OperationSection& op = *c.operation;
+    j["operation"] = {{"radial_immersion", tidy(op.radial_immersion)},
+                      {"direction", op.down_milling ? "down" : "up"}};
+    if (op.feed_per_tooth_m)
+      j["operation"]["feed_per_tooth_mm"] = tidy(m_to_mm(*op.feed_per_tooth_m));
+    if (op.entry_rad) {
+      j["operation"]["entry_deg"] = tidy(units::rad_to_deg(*op.entry_rad));
+      j["operation"]["exit_deg"] = tidy(units::rad_to_deg(*op.exit_rad));
+    }
+  }
+  if (c.force_law) {
+    const ForceLawSection& f = *c.force_law;
+    j["force_law"] = {{"c_n_per_mm", tidy(1e-3 * f.c_n_per_m)},
+                      {"t2_s", tidy(f.t2_s)},
+                      {"p0_n", tidy(f.p0_n)},
+                      {"t1_mm", tidy(m_to_mm(f.t1_m))},
+                      {"phi_rez_deg", tidy(units::rad_to_deg(f.phi_rez_rad))},
+                      {"phi_skv_deg", tidy(units::rad_to_deg(f.phi_skv_rad))}};
   }
   if (c.vibration) {
     const VibrationSection& v = *c.vibration;
@@ -795,6 +874,14 @@ nlohmann::json to_json(const Case& c) {
               {"initial_displacement_um", tidy(m_to_um(s.initial_displacement_m))}};
   if (s.rpm) sim["rpm"] = tidy(*s.rpm);
   if (s.depth_m) sim["depth_mm"] = tidy(m_to_mm(*s.depth_m));
+  if (c.process == Process::kMilling) {
+    sim["revolutions"] = tidy(s.revolutions);
+    sim["summary_revolutions"] = tidy(s.summary_revolutions);
+    sim["regenerative"] = s.regenerative;
+    sim["steps_per_tooth"] = s.steps_per_tooth;
+    sim["slices"] = s.slices;
+    sim["closed_form_helix"] = s.closed_form_helix;
+  }
   j["simulate"] = std::move(sim);
   return j;
 }

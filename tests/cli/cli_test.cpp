@@ -12,7 +12,9 @@
 #include <sstream>
 
 #include "cli/app.hpp"
+#include "cutdyn/core/units.hpp"
 #include "cutdyn/io/case_file.hpp"
+#include "cutdyn/simulate/milling_simulation.hpp"
 #include "cutdyn/stability/full_discretization.hpp"
 #include "cutdyn/stability/milling.hpp"
 #include "cutdyn/stability/tlusty.hpp"
@@ -350,6 +352,78 @@ TEST_F(Cli, CaseMayNameABuiltInExampleUnlessAFileHasThatName) {
   EXPECT_NE(t.out.find("turning"), std::string::npos) << t.out;
   expect_rejected({"check", "no-such-example", "--rpm", "5000", "--depth-mm", "0.04"},
                   "no-such-example: cannot read the file");
+}
+
+TEST_F(Cli, MillingSimulationAgreesWithTheLobesAndWritesItsOutputs) {
+  // The milling example's [simulate] point (90 % of the predicted critical depth at
+  // 10 000 rpm) is stable; at 112 % it chatters. Outputs: traces, summary, figure.
+  const Result r = cutdyn({"simulate", "milling-insperger", "--json", path("s.json"), "--out",
+                           path("s.csv"), "--plot", path("s.png")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(std::ifstream(path("s.json")));
+  const auto& summary = doc["summary"];
+  EXPECT_FALSE(summary["chatter"].get<bool>());
+  EXPECT_NEAR(summary["predicted_critical_depth_mm"].get<double>(), 0.0715, 0.001);
+  EXPECT_NEAR(summary["mean_teeth_in_cut"].get<double>(), 1.0, 0.01);  // slotting, 2 teeth
+  EXPECT_NEAR(summary["force_pulsation"].get<double>(), 1.0, 1e-12);   // chip 0 at 0 and π
+  const auto lines = csv_lines(path("s.csv"));
+  ASSERT_GT(lines.size(), 1000u);
+  EXPECT_EQ(lines[0], "time_s,fx_n,fy_n,force_n,x_um,y_um,teeth_in_cut");
+  EXPECT_TRUE(fs::exists(path("s.png")));
+  const Result chatter = cutdyn({"simulate", "milling-insperger", "--depth-mm", "0.08"});
+  ASSERT_EQ(chatter.code, 0) << chatter.err;
+  EXPECT_NE(chatter.out.find("CHATTER"), std::string::npos) << chatter.out;
+}
+
+TEST_F(Cli, MillingSimulationOfTheS1Preset) {
+  // The ermolaev2020 example: the S1 law through the case file, against the library with the
+  // preset built by hand (relative units as 1 mm, N).
+  const Result r = cutdyn({"simulate", "ermolaev2020", "--json", path("e.json")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(std::ifstream(path("e.json")));
+  MillingCut cut;
+  const double k = 1e7, m = 1.0;
+  for (Direction d : {Direction::kX, Direction::kY})
+    cut.modal.modes.push_back(Mode{d, std::sqrt(k / m), 0.1 / (2 * std::sqrt(k * m)), k});
+  cut.teeth = 5;
+  cut.diameter_m = 0.02;
+  cut.helix_rad = units::deg_to_rad(30.0);
+  cut.width_m = (units::kPi / 6) * cut.diameter_m / (2 * std::tan(cut.helix_rad));
+  cut.entry_rad = units::kPi / 6;
+  cut.exit_rad = units::kPi;
+  cut.spindle_rad_s = 2 * units::kPi;
+  cut.feed_per_tooth_m = 1e-3;
+  cut.law = ErmolaevForceLaw{25e3, 0.2, 3.0, 0.2e-3, 0.0, units::kPi / 5};
+  cut.regenerative = false;
+  MillingSimulationOptions o;
+  o.revolutions = 6;
+  o.summary_revolutions = 1;
+  o.steps_per_tooth = 200;
+  const MillingSimulationResult lib = simulate_milling(cut, o);
+  EXPECT_NEAR(doc["summary"]["force_pulsation"].get<double>(), lib.force_pulsation, 1e-9);
+  EXPECT_NEAR(doc["summary"]["mean_force_n"].get<double>(), lib.mean_force_n,
+              1e-9 * lib.mean_force_n);
+  EXPECT_EQ(doc["force_law"], "s1");
+}
+
+TEST_F(Cli, MillingSimulationRejectsIncompleteCases) {
+  std::string text(*io::example_text("milling-insperger"));
+  const auto without = [&](const std::string& line) {
+    std::string t = text;
+    return t.replace(t.find(line), line.size(), "");
+  };
+  expect_rejected({"simulate", write("nofeed.toml", without("feed_per_tooth_mm = 0.05")), "--out",
+                   path("x.csv")},
+                  "operation.feed_per_tooth_mm: missing");
+  std::string window = text;
+  window.replace(window.find("direction = \"down\""), 18, "entry_deg = 30");
+  expect_rejected({"simulate", write("window.toml", window), "--out", path("x.csv")},
+                  "operation.entry_deg = 30: give entry_deg and exit_deg together");
+  std::string law = text + "\n[force_law]\nt2_s = -1\n";
+  expect_rejected({"simulate", write("law.toml", law), "--out", path("x.csv")},
+                  "force_law.c_n_per_mm: missing");
+  expect_rejected({"simulate", write("law2.toml", law), "--out", path("x.csv")},
+                  "force_law.t2_s = -1: must be at least 0");
 }
 
 TEST_F(Cli, MillingLowImmersionReportsFlipLobes) {

@@ -66,7 +66,7 @@ TEST(CaseFileExamples, ListIsSortedAndEveryExampleLoads) {
     const Case c = load_example(name);
     EXPECT_EQ(c.source, "example " + std::string(name));
     EXPECT_TRUE(c.modal.validate().empty());
-    if (name.rfind("milling", 0) == 0) {
+    if (name.rfind("milling", 0) == 0 || name == "ermolaev2020") {
       EXPECT_EQ(c.process, Process::kMilling);
       ASSERT_TRUE(c.tool.has_value());
     } else {
@@ -143,7 +143,7 @@ TEST(CaseFileExamples, UnknownExampleListsTheAvailableNames) {
     EXPECT_EQ(e.where(), "example nope");
     ASSERT_EQ(e.problems().size(), 1u);
     EXPECT_EQ(e.problems()[0],
-              "no built-in example called \"nope\"; available: milling-insperger, "
+              "no built-in example called \"nope\"; available: ermolaev2020, milling-insperger, "
               "milling-variable-pitch, "
               "turning-conventional, turning-ultrasonic, turning-ultrasonic-speed, "
               "ultrasonic-force");

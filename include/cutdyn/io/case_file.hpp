@@ -40,6 +40,19 @@ struct CuttingSection {
   std::optional<double> speed_m_per_s;  // speed_m_per_min
   std::optional<double> uncut_chip_thickness_m;  // uncut_chip_thickness_mm (turning: feed/rev)
   std::optional<double> width_m;                 // width_mm (turning: depth of cut)
+  std::optional<double> kte_n_per_m;             // kte_n_per_mm: milling edge coefficients
+  std::optional<double> kre_n_per_m;             // kre_n_per_mm
+};
+
+/// [force_law]: the S1 force law of milling (models.md S1.1) for `cutdyn simulate`; without
+/// it the simulation uses the mechanistic law of [cutting].
+struct ForceLawSection {
+  double c_n_per_m = 0.0;    // c_n_per_mm: cutting stiffness of the engaged flute
+  double t2_s = 0.0;         // chip-formation time constant
+  double p0_n = 0.0;         // flank contact force scale
+  double t1_m = 1.0;         // t1_mm
+  double phi_rez_rad = 0.0;  // phi_rez_deg
+  double phi_skv_rad = 0.0;  // phi_skv_deg
 };
 
 /// [tool] (milling; loaded and range-checked now, used by the milling commands).
@@ -52,8 +65,11 @@ struct ToolSection {
 
 /// [operation] (milling).
 struct OperationSection {
-  double radial_immersion = 1.0;  // a_e / D, 0 < . <= 1
-  bool down_milling = true;       // direction = "down" | "up"
+  double radial_immersion = 1.0;           // a_e / D, 0 < . <= 1
+  bool down_milling = true;                // direction = "down" | "up"
+  std::optional<double> feed_per_tooth_m;  // feed_per_tooth_mm (simulation)
+  /// entry_deg, exit_deg: the engagement window itself, instead of immersion and direction.
+  std::optional<double> entry_rad, exit_rad;
 };
 
 /// [vibration]: vibration-assisted cutting along the cutting direction.
@@ -81,6 +97,13 @@ struct SimulateSection {
   std::optional<double> depth_m;         // depth_mm
   double duration_s = 1.0;               // 0 < . <= 1000
   double initial_displacement_m = 1e-6;  // initial_displacement_um, >= 0
+  // Milling:
+  double revolutions = 30.0;         // simulated revolutions
+  double summary_revolutions = 2.0;  // the last ones, for the summary
+  bool regenerative = true;          // false: chip from the feed alone (force studies)
+  int steps_per_tooth = 256;
+  int slices = 0;                  // 0: automatic
+  bool closed_form_helix = false;  // S1 eqs. 8–9 instead of slices
 };
 
 struct Case {
@@ -91,6 +114,7 @@ struct Case {
   std::optional<ToolSection> tool;
   std::optional<OperationSection> operation;
   std::optional<VibrationSection> vibration;
+  std::optional<ForceLawSection> force_law;
   LobesSection lobes;
   SimulateSection simulate;
 };

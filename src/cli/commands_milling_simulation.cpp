@@ -1,0 +1,210 @@
+// `cutdyn simulate` for milling: the time-domain simulation of models.md S1
+// (docs/models/milling-simulation.md).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.hpp"
+#include "cli/common.hpp"
+#include "cutdyn/core/units.hpp"
+#include "cutdyn/io/output.hpp"
+#include "cutdyn/io/plot.hpp"
+#include "cutdyn/simulate/milling_simulation.hpp"
+#include "cutdyn/stability/milling.hpp"
+
+namespace cutdyn::cli {
+namespace {
+
+using nlohmann::json;
+using units::m_to_mm;
+using units::m_to_um;
+using units::mm_to_m;
+
+// The cut of the case, with the speed, depth and length from the flags or [simulate].
+struct SimulationSetup {
+  MillingCut cut;
+  MillingSimulationOptions options;
+  double rpm = 0.0;
+  std::string where;  // where the speed/depth came from, for errors
+};
+
+SimulationSetup setup(const SimulateArgs& args, const io::Case& c) {
+  Validator v;
+  const auto rpm = args.rpm ? args.rpm : c.simulate.rpm;
+  const auto depth_m = args.depth_mm ? std::optional(mm_to_m(*args.depth_mm)) : c.simulate.depth_m;
+  if (!rpm) v.add("simulate.rpm: missing (give it in the case or as --rpm)");
+  if (!depth_m) v.add("simulate.depth_mm: missing (the axial depth of cut B; or --depth-mm)");
+  if (!c.tool)
+    v.add("tool: missing (required for milling: at least tool.teeth and tool.diameter_mm)");
+  if (!c.operation || !c.operation->feed_per_tooth_m)
+    v.add("operation.feed_per_tooth_mm: missing (required by `cutdyn simulate` for milling)");
+  if (!c.force_law && !c.cutting.kt_pa)
+    v.add(
+        "cutting.kt_n_per_mm2: missing (the mechanistic force law needs it; or give a "
+        "[force_law] table for the S1 law)");
+  v.throw_if_any(c.source);
+
+  SimulationSetup s;
+  s.rpm = *rpm;
+  s.where = args.rpm || args.depth_mm || args.duration_s ? "command line" : c.source;
+  MillingCut& cut = s.cut;
+  cut.modal = c.modal;
+  cut.teeth = c.tool->teeth;
+  cut.diameter_m = c.tool->diameter_m;
+  cut.helix_rad = c.tool->helix_rad;
+  cut.pitch_rad = c.tool->pitch_rad;
+  const io::OperationSection& op = *c.operation;
+  if (op.entry_rad) {
+    cut.entry_rad = *op.entry_rad;
+    cut.exit_rad = *op.exit_rad;
+  } else {
+    MillingModel geometry;
+    geometry.radial_immersion = op.radial_immersion;
+    geometry.down_milling = op.down_milling;
+    cut.entry_rad = geometry.entry_angle();
+    cut.exit_rad = geometry.exit_angle();
+  }
+  cut.spindle_rad_s = units::rpm_to_rad_per_s(s.rpm);
+  cut.feed_per_tooth_m = *op.feed_per_tooth_m;
+  cut.width_m = *depth_m;
+  if (c.force_law) {
+    const io::ForceLawSection& f = *c.force_law;
+    cut.law = ErmolaevForceLaw{f.c_n_per_m, f.t2_s, f.p0_n, f.t1_m, f.phi_rez_rad, f.phi_skv_rad};
+  } else {
+    cut.law = MechanisticForceLaw{*c.cutting.kt_pa, c.cutting.kr_pa.value_or(0.0),
+                                  c.cutting.kte_n_per_m.value_or(0.0),
+                                  c.cutting.kre_n_per_m.value_or(0.0)};
+  }
+  cut.regenerative = c.simulate.regenerative;
+  MillingSimulationOptions& o = s.options;
+  o.revolutions = args.duration_s ? *args.duration_s * s.rpm / 60.0 : c.simulate.revolutions;
+  o.summary_revolutions = std::min(c.simulate.summary_revolutions, o.revolutions);
+  o.steps_per_tooth = c.simulate.steps_per_tooth;
+  o.slices = c.simulate.slices;
+  o.closed_form_helix = c.simulate.closed_form_helix;
+  Validator problems;
+  for (const auto& p : cut.validate()) problems.add("simulate: " + p);
+  for (const auto& p : o.validate()) problems.add("simulate: " + p);
+  problems.throw_if_any(s.where);
+  return s;
+}
+
+std::string um(double m) { return human(m_to_um(m), 4); }
+
+}  // namespace
+
+int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostream& out) {
+  const SimulationSetup s = setup(args, c);
+  MillingSimulationResult r;
+  rethrow_as(s.where, "simulate", [&] { r = simulate_milling(s.cut, s.options); });
+  const bool s1 = c.force_law.has_value();
+
+  // The stability prediction at this speed, for the mechanistic law with regeneration.
+  std::optional<MillingBoundary> predicted;
+  if (!s1 && s.cut.regenerative && !s.cut.modal.modes.empty() && !c.operation->entry_rad) {
+    MillingModel m = milling_model(c, "simulate");
+    MillingStabilityOptions so;
+    so.depth_max_m = std::max(c.lobes.depth_max_m, 4.0 * s.cut.width_m);
+    so.rel_tol = 1e-3;
+    predicted = milling_critical_depth(m, s.rpm, so);
+  }
+
+  out << "cutdyn simulate: " << c.source << " at " << human(s.rpm) << " rpm, depth "
+      << human(m_to_mm(s.cut.width_m)) << " mm, feed " << human(m_to_mm(s.cut.feed_per_tooth_m))
+      << " mm/tooth, " << human(s.options.revolutions) << " revolutions\n";
+  out << fmt::format(
+      "  milling, {} teeth, window {}–{}°, {} law{}, {}\n", s.cut.teeth,
+      human(units::rad_to_deg(s.cut.entry_rad)), human(units::rad_to_deg(s.cut.exit_rad)),
+      s1 ? "S1 (Ermolaev)" : "mechanistic",
+      s.cut.helix_rad > 0.0
+          ? fmt::format(", helix {}° ({}{})", human(units::rad_to_deg(s.cut.helix_rad)),
+                        s.options.closed_form_helix ? "closed form" : "slices: ",
+                        s.options.closed_form_helix ? "" : std::to_string(r.slices))
+          : "",
+      s.cut.regenerative ? "regenerative chip" : "chip from the feed alone");
+  out << fmt::format("  over the last {} revolutions:\n", human(s.options.summary_revolutions));
+  out << fmt::format("    force pulsation ΔP      {} %\n", human(100.0 * r.force_pulsation, 3));
+  out << fmt::format("    force |F|               mean {} N, min {} N, peak {} N\n",
+                     human(r.mean_force_n), human(r.min_force_n), human(r.peak_force_n));
+  out << fmt::format("    mean force Fx, Fy       {} N, {} N\n", human(r.mean_fx_n),
+                     human(r.mean_fy_n));
+  out << fmt::format("    mean teeth in cut       {}\n", human(r.mean_teeth_in_cut));
+  out << fmt::format("    vibration (peak-peak)   x {} µm, y {} µm\n", um(r.vibration_pp_x_m),
+                     um(r.vibration_pp_y_m));
+  if (r.surface_location_error_m)
+    out << fmt::format("    surface location error  {} µm\n", um(*r.surface_location_error_m));
+  out << fmt::format("    chatter indicator       {} (growth {:+.3g} per period) → {}\n",
+                     human(r.chatter_indicator, 3), r.growth_per_period,
+                     r.chatter ? "CHATTER" : "stable");
+  if (predicted) {
+    out << "    predicted critical depth " << depth_text(predicted->boundary) << " → depth is "
+        << human(100.0 * s.cut.width_m / predicted->boundary.depth_m, 3) << " % of it\n";
+  }
+
+  io::OutputTransaction outputs;
+  if (!args.outputs.csv.empty()) {
+    io::CsvWriter csv(outputs.open(args.outputs.csv),
+                      {"time_s", "fx_n", "fy_n", "force_n", "x_um", "y_um", "teeth_in_cut"});
+    for (std::size_t i = 0; i < r.time_s.size(); ++i)
+      csv.row({r.time_s[i], r.fx_n[i], r.fy_n[i], r.force_n[i], m_to_um(r.x_m[i]),
+               m_to_um(r.y_m[i]), r.teeth_in_cut[i]});
+  }
+  if (!args.outputs.json.empty()) {
+    json summary{{"force_pulsation", r.force_pulsation},
+                 {"mean_force_n", r.mean_force_n},
+                 {"min_force_n", r.min_force_n},
+                 {"peak_force_n", r.peak_force_n},
+                 {"mean_fx_n", r.mean_fx_n},
+                 {"mean_fy_n", r.mean_fy_n},
+                 {"mean_teeth_in_cut", r.mean_teeth_in_cut},
+                 {"vibration_pp_x_um", m_to_um(r.vibration_pp_x_m)},
+                 {"vibration_pp_y_um", m_to_um(r.vibration_pp_y_m)},
+                 {"chatter_indicator", r.chatter_indicator},
+                 {"growth_per_period", r.growth_per_period},
+                 {"chatter", r.chatter},
+                 {"surface_location_error_um",
+                  r.surface_location_error_m ? json(m_to_um(*r.surface_location_error_m)) : json()},
+                 {"slices", r.slices},
+                 {"step_s", r.step_s},
+                 {"steps", r.steps}};
+    if (predicted) summary["predicted_critical_depth_mm"] = m_to_mm(predicted->boundary.depth_m);
+    json doc{{"command", "simulate"},
+             {"case", io::to_json(c)},
+             {"source", c.source},
+             {"spindle_rpm", s.rpm},
+             {"depth_mm", m_to_mm(s.cut.width_m)},
+             {"revolutions", s.options.revolutions},
+             {"force_law", s1 ? "s1" : "mechanistic"},
+             {"summary", std::move(summary)}};
+    io::write_json(outputs.open(args.outputs.json), doc);
+  }
+  if (!args.outputs.plot.empty()) {
+    // The steady part: the last summary revolutions.
+    const double from =
+        r.time_s.empty() ? 0.0 : r.time_s.back() - s.options.summary_revolutions * 60.0 / s.rpm;
+    io::PlotSpec spec;
+    spec.title = fmt::format("Cutting force at {} rpm, depth {} mm (ΔP = {} %)", human(s.rpm),
+                             human(m_to_mm(s.cut.width_m)), human(100.0 * r.force_pulsation, 3));
+    spec.x_label = "time (s)";
+    spec.y_label = "force on the cutter (N)";
+    io::PlotSeries fx{"Fx (feed)", {}, {}, "lines"}, fy{"Fy", {}, {}, "lines"},
+        f{"|F|", {}, {}, "lines"};
+    for (std::size_t i = 0; i < r.time_s.size(); ++i) {
+      if (r.time_s[i] < from) continue;
+      for (io::PlotSeries* p : {&fx, &fy, &f}) p->x.push_back(r.time_s[i]);
+      fx.y.push_back(r.fx_n[i]);
+      fy.y.push_back(r.fy_n[i]);
+      f.y.push_back(r.force_n[i]);
+    }
+    spec.series = {std::move(f), std::move(fx), std::move(fy)};
+    io::write_plot(spec, args.outputs.plot, outputs);
+  }
+  outputs.commit();
+  for (const std::string* file : {&args.outputs.csv, &args.outputs.json, &args.outputs.plot})
+    if (!file->empty()) out << "  wrote " << *file << "\n";
+  return 0;
+}
+
+}  // namespace cutdyn::cli
