@@ -42,6 +42,9 @@ struct SimulateArgs {
   std::optional<double> rpm;
   std::optional<double> depth_mm;
   std::optional<double> duration_s;
+  std::string sweep;   // "KEY=FROM:STEP:TO": vary one case key (milling)
+  std::string metric;  // the summary metric a sweep tabulates and plots
+  int threads = 0;
 };
 int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err);
 
@@ -56,6 +59,7 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream& err);
 int run_lobes_milling(const LobesArgs& args, const io::Case& c, std::ostream& out,
                       std::ostream& err);
 int run_check_milling(const CheckArgs& args, const io::Case& c, std::ostream& out);
-int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostream& out);
+int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostream& out,
+                         std::ostream& err);
 
 }  // namespace cutdyn::cli

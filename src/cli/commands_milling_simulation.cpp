@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cutdyn/core/parallel.hpp"
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/io/output.hpp"
 #include "cutdyn/io/plot.hpp"
@@ -93,9 +95,173 @@ SimulationSetup setup(const SimulateArgs& args, const io::Case& c) {
 
 std::string um(double m) { return human(m_to_um(m), 4); }
 
+// ---- sweeps ------------------------------------------------------------------------------
+
+struct Sweep {
+  std::string key;
+  std::vector<double> values;
+};
+
+// "KEY=FROM:STEP:TO" (MATLAB's colon notation), at most 10 000 values.
+Sweep parse_sweep(const std::string& spec) {
+  const auto fail = [&](const std::string& why) -> Sweep {
+    throw InvalidInput({"--sweep = \"" + spec + "\": " + why}, "command line");
+  };
+  const auto eq = spec.find('=');
+  if (eq == std::string::npos || eq == 0) return fail("expected KEY=FROM:STEP:TO");
+  Sweep sweep{spec.substr(0, eq), {}};
+  const std::string range = spec.substr(eq + 1);
+  const auto c1 = range.find(':');
+  const auto c2 = c1 == std::string::npos ? std::string::npos : range.find(':', c1 + 1);
+  if (c2 == std::string::npos || range.find(':', c2 + 1) != std::string::npos)
+    return fail("expected KEY=FROM:STEP:TO");
+  double from = 0, step = 0, to = 0;
+  try {
+    std::size_t used = 0;
+    const auto number = [&](const std::string& text) {
+      const double x = std::stod(text, &used);
+      if (used != text.size() || !std::isfinite(x)) throw std::invalid_argument(text);
+      return x;
+    };
+    from = number(range.substr(0, c1));
+    step = number(range.substr(c1 + 1, c2 - c1 - 1));
+    to = number(range.substr(c2 + 1));
+  } catch (const std::exception&) {
+    return fail("FROM, STEP and TO must be numbers");
+  }
+  if (!(step > 0.0)) return fail("STEP must be positive");
+  if (to < from) return fail("TO must not be less than FROM");
+  const double count = std::floor((to - from) / step + 1e-9) + 1.0;
+  if (count > 10000.0) return fail(fmt::format("{:.0f} values; at most 10000", count));
+  for (int i = 0; i < static_cast<int>(count); ++i) {
+    const double x = from + step * i;
+    // Clean decimal values (0.1·3 = 0.30000000000000004 → 0.3).
+    sweep.values.push_back(std::stod(fmt::format("{:.12g}", x)));
+  }
+  return sweep;
+}
+
+const std::vector<std::string>& metric_names() {
+  static const std::vector<std::string> names{
+      "force_pulsation",   "mean_force_n",      "peak_force_n",
+      "min_force_n",       "mean_teeth_in_cut", "vibration_pp_x_um",
+      "vibration_pp_y_um", "chatter_indicator", "surface_location_error_um"};
+  return names;
+}
+
+std::vector<double> metrics(const MillingSimulationResult& r) {
+  return {r.force_pulsation,
+          r.mean_force_n,
+          r.peak_force_n,
+          r.min_force_n,
+          r.mean_teeth_in_cut,
+          m_to_um(r.vibration_pp_x_m),
+          m_to_um(r.vibration_pp_y_m),
+          r.chatter_indicator,
+          r.surface_location_error_m ? m_to_um(*r.surface_location_error_m)
+                                     : std::numeric_limits<double>::quiet_NaN()};
+}
+
+int run_sweep(const SimulateArgs& args, const io::Case& c, std::ostream& out, std::ostream& err) {
+  const Sweep sweep = parse_sweep(args.sweep);
+  const std::string metric = args.metric.empty() ? "force_pulsation" : args.metric;
+  const auto& names = metric_names();
+  const auto chosen = std::find(names.begin(), names.end(), metric);
+  if (chosen == names.end()) {
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw InvalidInput({"--metric = \"" + metric + "\": must be one of " + list}, "command line");
+  }
+  const auto column = static_cast<std::size_t>(chosen - names.begin());
+  // Every case of the sweep is read and checked before any simulation runs.
+  std::vector<SimulationSetup> setups;
+  for (double value : sweep.values) {
+    const io::Case varied = io::with_value(c, sweep.key, value);
+    if (varied.process != io::Process::kMilling)
+      throw InvalidInput({"--sweep: the varied case is not a milling case"}, varied.source);
+    setups.push_back(setup(args, varied));
+  }
+  std::vector<MillingSimulationResult> results(setups.size());
+  parallel_for(
+      static_cast<int>(setups.size()), args.threads,
+      [&](int i) {
+        const auto k = static_cast<std::size_t>(i);
+        rethrow_as(setups[k].where, "simulate",
+                   [&] { results[k] = simulate_milling(setups[k].cut, setups[k].options); });
+      },
+      progress_reporter(err, "sweep"));
+
+  out << "cutdyn simulate: " << c.source << ", sweep of " << sweep.key << " over "
+      << sweep.values.size() << " values (" << human(sweep.values.front()) << " to "
+      << human(sweep.values.back()) << ")\n";
+  out << fmt::format("  {:>14}  {:>16}  {:>12}  {:>10}  {}\n", sweep.key, metric, "mean |F| N",
+                     "teeth", "chatter");
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const auto m = metrics(results[i]);
+    out << fmt::format("  {:>14}  {:>16}  {:>12}  {:>10}  {}\n", human(sweep.values[i]),
+                       std::isnan(m[column]) ? "–" : human(m[column], 4),
+                       human(results[i].mean_force_n, 4), human(results[i].mean_teeth_in_cut, 4),
+                       results[i].chatter ? "yes" : "no");
+  }
+
+  io::OutputTransaction outputs;
+  if (!args.outputs.csv.empty()) {
+    std::vector<std::string> header{sweep.key};
+    header.insert(header.end(), names.begin(), names.end());
+    header.push_back("chatter");
+    io::CsvWriter csv(outputs.open(args.outputs.csv), header);
+    for (std::size_t i = 0; i < results.size(); ++i) {
+      std::vector<io::CsvCell> row{sweep.values[i]};
+      for (double m : metrics(results[i])) {
+        if (std::isnan(m))
+          row.emplace_back(std::string());
+        else
+          row.emplace_back(m);
+      }
+      row.emplace_back(results[i].chatter ? 1LL : 0LL);
+      csv.row(row);
+    }
+  }
+  if (!args.outputs.json.empty()) {
+    json points = json::array();
+    for (std::size_t i = 0; i < results.size(); ++i) {
+      json p{{"value", sweep.values[i]}, {"chatter", results[i].chatter}};
+      const auto m = metrics(results[i]);
+      for (std::size_t k = 0; k < names.size(); ++k)
+        p[names[k]] = std::isnan(m[k]) ? json() : json(m[k]);
+      points.push_back(std::move(p));
+    }
+    json doc{{"command", "simulate"}, {"case", io::to_json(c)}, {"source", c.source},
+             {"sweep", sweep.key},    {"metric", metric},       {"points", std::move(points)}};
+    io::write_json(outputs.open(args.outputs.json), doc);
+  }
+  if (!args.outputs.plot.empty()) {
+    io::PlotSpec spec;
+    spec.title = fmt::format("{} against {}", metric, sweep.key);
+    spec.x_label = sweep.key;
+    spec.y_label = metric;
+    io::PlotSeries series{metric, {}, {}, "linespoints"};
+    for (std::size_t i = 0; i < results.size(); ++i) {
+      const double m = metrics(results[i])[column];
+      if (std::isnan(m)) continue;
+      series.x.push_back(sweep.values[i]);
+      series.y.push_back(m);
+    }
+    spec.series.push_back(std::move(series));
+    io::write_plot(spec, args.outputs.plot, outputs);
+  }
+  outputs.commit();
+  for (const std::string* file : {&args.outputs.csv, &args.outputs.json, &args.outputs.plot})
+    if (!file->empty()) out << "  wrote " << *file << "\n";
+  return 0;
+}
+
 }  // namespace
 
-int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostream& out) {
+int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostream& out,
+                         std::ostream& err) {
+  if (!args.sweep.empty()) return run_sweep(args, c, out, err);
+  if (!args.metric.empty()) throw InvalidInput({"--metric: only with --sweep"}, "command line");
   const SimulationSetup s = setup(args, c);
   MillingSimulationResult r;
   rethrow_as(s.where, "simulate", [&] { r = simulate_milling(s.cut, s.options); });

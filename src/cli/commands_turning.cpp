@@ -183,10 +183,13 @@ int run_check(const CheckArgs& args, std::ostream& out, std::ostream&) {
   return 0;
 }
 
-int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream&) {
+int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err) {
   check_outputs(args.outputs);
   const io::Case c = load_case(args.case_path, kDefaultTurningCase);
-  if (c.process == io::Process::kMilling) return run_simulate_milling(args, c, out);
+  if (c.process == io::Process::kMilling) return run_simulate_milling(args, c, out, err);
+  if (!args.sweep.empty() || !args.metric.empty())
+    throw InvalidInput({"--sweep, --metric: sweeps take milling cases in this version"},
+                       "command line");
   const TurningModel model = turning_model(c, "simulate");
   Validator v;
   TurningSimulationOptions o;

@@ -350,7 +350,9 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
     out.chatter_indicator = mean / pp;
     out.growth_per_period = slope(log_change);
   }
-  out.chatter = out.chatter_indicator > 0.05 && out.growth_per_period > -0.01;
+  // Without regeneration the vibration is forced by construction: no chatter, whatever a slow
+  // transient does to the indicator.
+  out.chatter = cut.regenerative && out.chatter_indicator > 0.05 && out.growth_per_period > -0.01;
   return out;
 }
 

@@ -1,15 +1,11 @@
 #include "cutdyn/stability/lobes.hpp"
 
-#include <omp.h>
-
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <exception>
 #include <limits>
-#include <mutex>
 
 #include "cutdyn/core/error.hpp"
+#include "cutdyn/core/parallel.hpp"
 #include "cutdyn/core/roots.hpp"
 
 namespace cutdyn {
@@ -41,25 +37,12 @@ LobesReport trace_lobes(const std::function<LobePoint(double)>& at_speed, const 
   LobesReport report;
   report.options = o;
   report.points.resize(speeds.size());
-  std::exception_ptr error;
-  std::mutex mutex;
-  std::atomic<int> done{0};
-  const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (int i = 0; i < n; ++i) {
-    try {
-      report.points[static_cast<std::size_t>(i)] = at_speed(speeds[static_cast<std::size_t>(i)]);
-      const int finished = ++done;
-      if (progress) {
-        std::lock_guard<std::mutex> lock(mutex);
-        progress(finished, n);
-      }
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(mutex);
-      if (!error) error = std::current_exception();
-    }
-  }
-  if (error) std::rethrow_exception(error);
+  parallel_for(
+      n, o.threads,
+      [&](int i) {
+        report.points[static_cast<std::size_t>(i)] = at_speed(speeds[static_cast<std::size_t>(i)]);
+      },
+      progress);
   std::string unresolved;
   int unresolved_count = 0;
   for (const LobePoint& p : report.points) {

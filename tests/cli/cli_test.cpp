@@ -406,6 +406,42 @@ TEST_F(Cli, MillingSimulationOfTheS1Preset) {
   EXPECT_EQ(doc["force_law"], "s1");
 }
 
+TEST_F(Cli, MillingSweepTabulatesTheMetricOverTheRange) {
+  // force_law.t2_s = 0, 0.1, ..., 0.3 on the S1 preset: each row equals a single run of the
+  // case with that value, and the CSV has every metric.
+  const Result r =
+      cutdyn({"simulate", "ermolaev2020", "--sweep", "force_law.t2_s=0:0.1:0.3", "--json",
+              path("w.json"), "--out", path("w.csv"), "--plot", path("w.png")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(std::ifstream(path("w.json")));
+  ASSERT_EQ(doc["points"].size(), 4u);
+  EXPECT_EQ(doc["sweep"], "force_law.t2_s");
+  std::string text(*io::example_text("ermolaev2020"));
+  text.replace(text.find("t2_s = 0.2"), 10, "t2_s = 0.3");
+  const Result single = cutdyn({"simulate", write("t03.toml", text), "--json", path("s.json")});
+  ASSERT_EQ(single.code, 0) << single.err;
+  const auto one = nlohmann::json::parse(std::ifstream(path("s.json")));
+  EXPECT_DOUBLE_EQ(doc["points"][3]["value"].get<double>(), 0.3);
+  EXPECT_DOUBLE_EQ(doc["points"][3]["force_pulsation"].get<double>(),
+                   one["summary"]["force_pulsation"].get<double>());
+  const auto lines = csv_lines(path("w.csv"));
+  ASSERT_EQ(lines.size(), 5u);
+  EXPECT_EQ(lines[0].rfind("force_law.t2_s,force_pulsation,mean_force_n,", 0), 0u);
+  EXPECT_TRUE(fs::exists(path("w.png")));
+  // Bad sweeps: the syntax, a value the key does not take, an unknown metric; nothing written.
+  expect_rejected(
+      {"simulate", "ermolaev2020", "--sweep", "force_law.t2_s=0:-1:1", "--out", path("bad.csv")},
+      "STEP must be positive");
+  expect_rejected(
+      {"simulate", "ermolaev2020", "--sweep", "tool.teeth=1:0.5:2", "--out", path("bad.csv")},
+      "with tool.teeth = 1.5: tool.teeth = 1.5: wrong type: expected an integer");
+  expect_rejected({"simulate", "ermolaev2020", "--sweep", "tool.teeth=2:1:3", "--metric", "nope",
+                   "--out", path("bad.csv")},
+                  "--metric = \"nope\": must be one of force_pulsation");
+  expect_rejected({"simulate", "ermolaev2020", "--sweep", "t2_s", "--out", path("bad.csv")},
+                  "expected KEY=FROM:STEP:TO");
+}
+
 TEST_F(Cli, MillingSimulationRejectsIncompleteCases) {
   std::string text(*io::example_text("milling-insperger"));
   const auto without = [&](const std::string& line) {

@@ -634,3 +634,28 @@ initial_displacement_um = 0.7
 
 }  // namespace
 }  // namespace cutdyn::io
+
+namespace cutdyn::io {
+namespace {
+
+TEST(CaseFileWithValue, SetsAKeyAndReadsTheCaseAgainWithEveryCheck) {
+  const Case c = load_example("milling-insperger");
+  const Case deeper = with_value(c, "simulate.depth_mm", 0.08);
+  ASSERT_TRUE(deeper.simulate.depth_m.has_value());
+  EXPECT_NEAR(*deeper.simulate.depth_m, 0.08e-3, 1e-18);
+  EXPECT_EQ(deeper.source, "example milling-insperger with simulate.depth_mm = 0.08");
+  EXPECT_EQ(deeper.tool->teeth, 2);  // the rest unchanged
+  // A table that was absent is created; an integral value is written as an integer.
+  const Case lawful = with_value(c, "force_law.c_n_per_mm", 25.0);
+  ASSERT_TRUE(lawful.force_law.has_value());
+  EXPECT_NEAR(lawful.force_law->c_n_per_m, 25e3, 1e-9);
+  EXPECT_EQ(with_value(c, "tool.teeth", 4.0).tool->teeth, 4);
+  // The loader's checks apply to the new value.
+  EXPECT_THROW(with_value(c, "tool.teeth", 2.5), InvalidInput);
+  EXPECT_THROW(with_value(c, "operation.radial_immersion", 1.5), InvalidInput);
+  EXPECT_THROW(with_value(c, "process.x", 1.0), InvalidInput);  // not a table
+  EXPECT_THROW(with_value(c, "a.b.c", 1.0), InvalidInput);
+}
+
+}  // namespace
+}  // namespace cutdyn::io

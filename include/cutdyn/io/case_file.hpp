@@ -108,6 +108,7 @@ struct SimulateSection {
 
 struct Case {
   std::string source;  // file path as given, or "example NAME"
+  std::string text;    // the TOML it was read from
   Process process = Process::kTurning;
   ModalModel modal;  // from [[modes]], SI
   CuttingSection cutting;
@@ -121,6 +122,11 @@ struct Case {
 
 /// Parses and validates TOML text. `source` names it in error messages.
 Case parse_case(std::string_view toml_text, std::string_view source);
+
+/// The case with one key set to `value` (its table created if absent), read again with
+/// every check: `dotted_key` is "table.key" or a top-level "key". Integral values are
+/// written as TOML integers. Throws cutdyn::InvalidInput naming the key and value.
+Case with_value(const Case& c, std::string_view dotted_key, double value);
 
 /// Reads and parses a file. A missing or unreadable file throws cutdyn::InvalidInput
 /// with where() = the path and a problem saying why.

@@ -1,0 +1,14 @@
+// Independent jobs spread over threads (OpenMP, dynamic schedule): lobe speeds, sweep points.
+#pragma once
+
+#include <functional>
+
+namespace cutdyn {
+
+/// Calls job(i) for i = 0 .. count − 1 on `threads` threads (0: all cores). `progress(done,
+/// count)`, if set, is called from one thread at a time as jobs complete. The first exception
+/// thrown by a job is rethrown after the loop.
+void parallel_for(int count, int threads, const std::function<void(int)>& job,
+                  const std::function<void(int done, int total)>& progress = {});
+
+}  // namespace cutdyn

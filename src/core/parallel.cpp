@@ -1,0 +1,34 @@
+#include "cutdyn/core/parallel.hpp"
+
+#include <omp.h>
+
+#include <atomic>
+#include <exception>
+#include <mutex>
+
+namespace cutdyn {
+
+void parallel_for(int count, int threads, const std::function<void(int)>& job,
+                  const std::function<void(int, int)>& progress) {
+  std::exception_ptr error;
+  std::mutex mutex;
+  std::atomic<int> done{0};
+  const int n_threads = threads > 0 ? threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(n_threads)
+  for (int i = 0; i < count; ++i) {
+    try {
+      job(i);
+      const int finished = ++done;
+      if (progress) {
+        std::lock_guard<std::mutex> lock(mutex);
+        progress(finished, count);
+      }
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!error) error = std::current_exception();
+    }
+  }
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace cutdyn
