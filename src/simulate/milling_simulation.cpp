@@ -16,20 +16,26 @@ using units::kTwoPi;
 
 // Unit force directions on the cutter for a tooth at angle θ (clockwise from +y): t̂ opposes
 // the tooth's motion, r̂ points to the cutter's centre; d(α) = cos α·t̂ + sin α·r̂ is the
-// direction α from the tangent: (−cos(θ − α), sin(θ − α)).
-Eigen::Vector2d direction(double theta, double alpha) {
-  return {-std::cos(theta - alpha), std::sin(theta - alpha)};
-}
+// direction α from the tangent, (−cos u, sin u) with u = θ − α. With a spread L (the S1 closed
+// form) it is averaged over the lags φω in [0, L] (models.md S1.3, with the 1/φN decision):
+// cos u → cos u·sin L/L + sin u·(1 − cos L)/L, sin u → sin u·sin L/L − cos u·(1 − cos L)/L.
+// Evaluated from sin θ and cos θ, which the simulation tabulates per angle bin.
+class Direction2 {
+ public:
+  Direction2(double alpha, double spread)
+      : ca_(std::cos(alpha)),
+        sa_(std::sin(alpha)),
+        a_(spread < 1e-12 ? 1.0 : std::sin(spread) / spread),
+        b_(spread < 1e-12 ? 0.0 : (1.0 - std::cos(spread)) / spread) {}
+  Eigen::Vector2d at(double sin_theta, double cos_theta) const {
+    const double cu = cos_theta * ca_ + sin_theta * sa_;
+    const double su = sin_theta * ca_ - cos_theta * sa_;
+    return {-(cu * a_ + su * b_), su * a_ - cu * b_};
+  }
 
-// Its mean over the lags φω in [0, φN] (models.md S1.3, with the 1/φN decision).
-Eigen::Vector2d mean_direction(double theta, double alpha, double lag) {
-  if (lag < 1e-12) return direction(theta, alpha);
-  const double u = theta - alpha;
-  // (1/φN)∫ cos(u − φω) dφω and (1/φN)∫ sin(u − φω) dφω.
-  const double c = (std::cos(u) * std::sin(lag) + std::sin(u) * (1.0 - std::cos(lag))) / lag;
-  const double s = (std::sin(u) * std::sin(lag) - std::cos(u) * (1.0 - std::cos(lag))) / lag;
-  return {-c, s};
-}
+ private:
+  double ca_, sa_, a_, b_;
+};
 
 double wrap(double angle) {
   double a = std::fmod(angle, kTwoPi);
@@ -179,6 +185,22 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
         "milling simulation");
   }
 
+  // sin θ, cos θ and the window of every slice at every bin of its tooth's tip (θ ≡ bin·Δθ −
+  // lag_j): tabulated once, bin-major (the slices of one bin together), so that a slice
+  // evaluation needs no trigonometry.
+  struct Angle {
+    double s, c;
+    bool in;
+  };
+  std::vector<Angle> angles(static_cast<std::size_t>(n_slices * bins));
+  for (int j = 0; j < n_slices; ++j) {
+    for (long long b = 0; b < bins; ++b) {
+      const double theta = static_cast<double>(b) * dtheta - slice_lag[static_cast<std::size_t>(j)];
+      angles[static_cast<std::size_t>(b * n_slices + j)] = {
+          std::sin(theta), std::cos(theta), in_window(theta, cut.entry_rad, cut.exit_rad)};
+    }
+  }
+
   // Structure.
   const bool rigid = cut.modal.modes.empty();
   std::optional<ModalStepper> stepper;
@@ -203,14 +225,10 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
   for (long long n = -bins; n < 0; ++n) {
     const double t = static_cast<double>(n) * dt;
     for (int k = 0; k < z; ++k) {
-      for (int j = 0; j < n_slices; ++j) {
-        const long long tip = n - behind_bins[static_cast<std::size_t>(k)];
-        const double theta =
-            static_cast<double>(tip) * dtheta - slice_lag[static_cast<std::size_t>(j)];
-        if (!in_window(theta, cut.entry_rad, cut.exit_rad)) continue;
-        surface[static_cast<std::size_t>(j) * bins + bin_of(tip)] =
-            feed_speed * t * std::sin(theta);
-      }
+      const std::size_t first = bin_of(n - behind_bins[static_cast<std::size_t>(k)]) *
+                                static_cast<std::size_t>(n_slices);
+      for (std::size_t at = first; at < first + static_cast<std::size_t>(n_slices); ++at)
+        if (angles[at].in) surface[at] = feed_speed * t * angles[at].s;
     }
   }
 
@@ -241,45 +259,47 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
   else if (cut.entry_rad <= 1e-9)
     finishing = 0.0;
 
+  // Per slice: its width (the whole flute in the closed form) and force directions.
+  const double spread = o.closed_form_helix ? lag : 0.0;
+  const double width = o.closed_form_helix ? cut.width_m : slice_width;
+  const double share = o.closed_form_helix ? 1.0 : 1.0 / n_slices;
+  const Direction2 tangential(0.0, spread), radial(0.5 * kPi, spread);
+  const Direction2 cutting(erm ? erm->phi_rez_rad : 0.0, spread);
+  const Direction2 flank(erm ? erm->phi_skv_rad : 0.0, spread);
+
   for (long long n = 0; n < steps; ++n) {
     const double t = static_cast<double>(n) * dt;
+    const double feed = feed_speed * t;  // feed motion along +x
     const Eigen::Vector2d r =
         rigid ? Eigen::Vector2d::Zero() : Eigen::Vector2d(stepper->output(state));
     Eigen::Vector2d f = Eigen::Vector2d::Zero();
     double engaged = 0.0;
     for (int k = 0; k < z; ++k) {
-      const long long tip_step = n - behind_bins[static_cast<std::size_t>(k)];
-      const double tip = static_cast<double>(tip_step) * dtheta;
+      const std::size_t bin = bin_of(n - behind_bins[static_cast<std::size_t>(k)]);
       for (int j = 0; j < n_slices; ++j) {
-        const double theta = tip - slice_lag[static_cast<std::size_t>(j)];
+        const std::size_t at =
+            bin * static_cast<std::size_t>(n_slices) + static_cast<std::size_t>(j);
+        const Angle& a = angles[at];
         double& u = lagged[static_cast<std::size_t>(k * n_slices + j)];
-        const bool window = in_window(theta, cut.entry_rad, cut.exit_rad);
         double chip = 0.0;
-        if (window) {
-          const double s = std::sin(theta), c = std::cos(theta);
-          double& stored = surface[static_cast<std::size_t>(j) * bins + bin_of(tip_step)];
-          const double here =
-              cut.regenerative ? (feed_speed * t + r.x()) * s + r.y() * c : feed_speed * t * s;
+        if (a.in) {
+          double& stored = surface[at];
+          const double here = cut.regenerative ? (feed + r.x()) * a.s + r.y() * a.c : feed * a.s;
           chip = std::isnan(stored) ? 0.0 : here - stored;
           if (chip > 0.0 || std::isnan(stored)) stored = here;  // else the older surface stays
         }
         const double x_in = chip > 0.0 ? chip : 0.0;
         if (erm) u = x_in + (u - x_in) * relax;  // exact for X held over the step
-        if (!window || chip <= 0.0) continue;
+        if (chip <= 0.0) continue;
         engaged += 1.0 / n_slices;
-        const double share = o.closed_form_helix ? 1.0 : 1.0 / n_slices;
-        const double spread = o.closed_form_helix ? lag : 0.0;
         if (mech) {
-          const double b = o.closed_form_helix ? cut.width_m : slice_width;
-          const double ft = mech->kt_pa * b * chip + mech->kte_n_per_m * b;
-          const double fr = mech->kr_pa * b * chip + mech->kre_n_per_m * b;
-          f += ft * mean_direction(theta, 0.0, spread) +
-               fr * mean_direction(theta, 0.5 * kPi, spread);
+          const double ft = mech->kt_pa * width * chip + mech->kte_n_per_m * width;
+          const double fr = mech->kr_pa * width * chip + mech->kre_n_per_m * width;
+          f += ft * tangential.at(a.s, a.c) + fr * radial.at(a.s, a.c);
         } else {
           const double p = erm->c_n_per_m * (erm->t2_s > 0.0 ? u : chip);
           const double contact = erm->p0_n * std::exp(-chip / erm->t1_m);
-          f += share * (p * mean_direction(theta, erm->phi_rez_rad, spread) +
-                        contact * mean_direction(theta, erm->phi_skv_rad, spread));
+          f += share * (p * cutting.at(a.s, a.c) + contact * flank.at(a.s, a.c));
         }
       }
     }
