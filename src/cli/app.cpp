@@ -76,10 +76,11 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   sim_cmd->add_option("--sweep", sim.sweep,
                       "milling: vary one case key over a range, KEY=FROM:STEP:TO (e.g. "
                       "force_law.t2_s=0:0.05:1), and tabulate the summary at each value");
-  sim_cmd->add_option("--metric", sim.metric,
-                      "with --sweep: the metric to plot (force_pulsation, mean_force_n, "
-                      "peak_force_n, mean_teeth_in_cut, vibration_pp_x_um, vibration_pp_y_um, "
-                      "chatter_indicator, surface_location_error_um; default force_pulsation)");
+  sim_cmd->add_option(
+      "--metric", sim.metric,
+      "with --sweep: the metric to plot (force_pulsation, mean_force_n, "
+      "peak_force_n, mean_teeth_in_cut, vibration_pp_x_um, vibration_pp_y_um, "
+      "chatter_indicator, contact_loss, surface_location_error_um; default force_pulsation)");
   sim_cmd->add_option("--threads", sim.threads, "with --sweep: threads (default: all cores)")
       ->check(CLI::Range(0, 1024));
 

@@ -142,10 +142,11 @@ Sweep parse_sweep(const std::string& spec) {
 }
 
 const std::vector<std::string>& metric_names() {
-  static const std::vector<std::string> names{
-      "force_pulsation",   "mean_force_n",      "peak_force_n",
-      "min_force_n",       "mean_teeth_in_cut", "vibration_pp_x_um",
-      "vibration_pp_y_um", "chatter_indicator", "surface_location_error_um"};
+  static const std::vector<std::string> names{"force_pulsation",   "mean_force_n",
+                                              "peak_force_n",      "min_force_n",
+                                              "mean_teeth_in_cut", "vibration_pp_x_um",
+                                              "vibration_pp_y_um", "chatter_indicator",
+                                              "contact_loss",      "surface_location_error_um"};
   return names;
 }
 
@@ -158,6 +159,7 @@ std::vector<double> metrics(const MillingSimulationResult& r) {
           m_to_um(r.vibration_pp_x_m),
           m_to_um(r.vibration_pp_y_m),
           r.chatter_indicator,
+          r.contact_loss,
           r.surface_location_error_m ? m_to_um(*r.surface_location_error_m)
                                      : std::numeric_limits<double>::quiet_NaN()};
 }
@@ -296,7 +298,8 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
                      human(r.mean_force_n), human(r.min_force_n), human(r.peak_force_n));
   out << fmt::format("    mean force Fx, Fy       {} N, {} N\n", human(r.mean_fx_n),
                      human(r.mean_fy_n));
-  out << fmt::format("    mean teeth in cut       {}\n", human(r.mean_teeth_in_cut));
+  out << fmt::format("    mean teeth in cut       {} (out of the cut inside the window: {} %)\n",
+                     human(r.mean_teeth_in_cut), human(100.0 * r.contact_loss, 3));
   out << fmt::format("    vibration (peak-peak)   x {} µm, y {} µm\n", um(r.vibration_pp_x_m),
                      um(r.vibration_pp_y_m));
   if (r.surface_location_error_m)
@@ -329,6 +332,7 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
                  {"vibration_pp_y_um", m_to_um(r.vibration_pp_y_m)},
                  {"chatter_indicator", r.chatter_indicator},
                  {"growth_per_period", r.growth_per_period},
+                 {"contact_loss", r.contact_loss},
                  {"chatter", r.chatter},
                  {"surface_location_error_um",
                   r.surface_location_error_m ? json(m_to_um(*r.surface_location_error_m)) : json()},

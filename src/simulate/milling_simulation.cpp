@@ -225,8 +225,8 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
   for (long long n = -bins; n < 0; ++n) {
     const double t = static_cast<double>(n) * dt;
     for (int k = 0; k < z; ++k) {
-      const std::size_t first = bin_of(n - behind_bins[static_cast<std::size_t>(k)]) *
-                                static_cast<std::size_t>(n_slices);
+      const std::size_t first =
+          bin_of(n - behind_bins[static_cast<std::size_t>(k)]) * static_cast<std::size_t>(n_slices);
       for (std::size_t at = first; at < first + static_cast<std::size_t>(n_slices); ++at)
         if (angles[at].in) surface[at] = feed_speed * t * angles[at].s;
     }
@@ -267,9 +267,15 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
   const Direction2 cutting(erm ? erm->phi_rez_rad : 0.0, spread);
   const Direction2 flank(erm ? erm->phi_skv_rad : 0.0, spread);
 
+  // Loss of contact inside the window, away from its zero-chip edges (|sin θ| < kEdge), over
+  // the summary revolutions.
+  constexpr double kEdge = 0.05;
+  long long window_count = 0, lost_count = 0;
+
   for (long long n = 0; n < steps; ++n) {
     const double t = static_cast<double>(n) * dt;
     const double feed = feed_speed * t;  // feed motion along +x
+    const bool counting = n >= summary_from;
     const Eigen::Vector2d r =
         rigid ? Eigen::Vector2d::Zero() : Eigen::Vector2d(stepper->output(state));
     Eigen::Vector2d f = Eigen::Vector2d::Zero();
@@ -287,6 +293,10 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
           const double here = cut.regenerative ? (feed + r.x()) * a.s + r.y() * a.c : feed * a.s;
           chip = std::isnan(stored) ? 0.0 : here - stored;
           if (chip > 0.0 || std::isnan(stored)) stored = here;  // else the older surface stays
+        }
+        if (a.in && counting && std::abs(a.s) >= kEdge) {
+          ++window_count;
+          if (chip <= 0.0) ++lost_count;
         }
         const double x_in = chip > 0.0 ? chip : 0.0;
         if (erm) u = x_in + (u - x_in) * relax;  // exact for X held over the step
@@ -370,8 +380,11 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
     out.chatter_indicator = mean / pp;
     out.growth_per_period = slope(log_change);
   }
+  out.contact_loss =
+      window_count > 0 ? static_cast<double>(lost_count) / static_cast<double>(window_count) : 0.0;
   // Without regeneration the vibration is forced by construction: no chatter, whatever a slow
-  // transient does to the indicator.
+  // transient does to the indicator. (Loss of contact is reported but not used: with uneven
+  // pitch a stable forced vibration can throw the teeth out of the cut too.)
   out.chatter = cut.regenerative && out.chatter_indicator > 0.05 && out.growth_per_period > -0.01;
   return out;
 }

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <tuple>
+#include <vector>
 
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
@@ -158,6 +160,60 @@ TEST(MillingSimulation, ConfirmsTheLobesAtThreeSpeeds) {
       EXPECT_EQ(r.chatter, factor > 1.0)
           << rpm << " rpm, " << factor << "× critical: indicator " << r.chatter_indicator
           << ", growth " << r.growth_per_period;
+    }
+  }
+}
+
+// The simulation of `model` at `factor` × the full discretization's critical depth.
+MillingSimulationResult at_factor(const MillingModel& m, double rpm, double critical,
+                                  double factor) {
+  MillingCut c;
+  c.modal = m.modal;
+  c.teeth = m.teeth;
+  c.pitch_rad = m.pitch_rad;
+  c.diameter_m = m.diameter_m;
+  c.helix_rad = m.helix_rad;
+  c.entry_rad = m.entry_angle();
+  c.exit_rad = m.exit_angle();
+  c.spindle_rad_s = units::rpm_to_rad_per_s(rpm);
+  c.feed_per_tooth_m = 0.05e-3;
+  c.width_m = factor * critical;
+  c.law = MechanisticForceLaw{m.kt_pa, m.kr_pa, 0.0, 0.0};
+  MillingSimulationOptions o;
+  o.revolutions = 100;
+  o.summary_revolutions = 5;
+  return simulate_milling(c, o);
+}
+
+TEST(MillingSimulation, ConfirmsTheHelicalAndUnevenPitchLobes) {
+  // Two independent models of the same cutters: the slices and stored surfaces of the
+  // simulation against the stability model's axial slices and delay terms (issue 3).
+  // (a) 4 teeth, 45° helix, a/D = 0.5, structure 30× stiffer (critical depths of 2–18 mm, so
+  //     the flute's lag matters); (b) 4 teeth, 70°/110° pitch, slotting. Stable at 0.9×, chatter
+  //     at 1.1×. (With uneven pitch at partial immersion the forced vibration alone throws the
+  //     teeth out of the cut near the boundary, where a linear boundary does not apply.)
+  MillingModel helical = testing::insperger_benchmark(0.5);
+  helical.teeth = 4;
+  helical.helix_rad = units::deg_to_rad(45.0);
+  for (Mode& mode : helical.modal.modes) mode.stiffness_n_per_m *= 30.0;
+  MillingModel uneven = testing::insperger_benchmark(1.0);
+  uneven.teeth = 4;
+  const double a = units::deg_to_rad(70.0), b = units::deg_to_rad(110.0);
+  uneven.pitch_rad = {a, b, a, b};
+  for (const auto& [model, rpms, depth_max] :
+       {std::tuple{helical, std::vector<double>{5000.0, 9500.0}, 0.03},
+        std::tuple{uneven, std::vector<double>{7000.0}, 3e-3}}) {
+    for (double rpm : rpms) {
+      MillingStabilityOptions so;
+      so.depth_max_m = depth_max;
+      so.rel_tol = 1e-5;
+      const double critical = milling_critical_depth(model, rpm, so).boundary.depth_m;
+      for (double factor : {0.9, 1.1}) {
+        const MillingSimulationResult r = at_factor(model, rpm, critical, factor);
+        EXPECT_EQ(r.chatter, factor > 1.0)
+            << (model.helix_rad > 0 ? "helix " : "pitch ") << rpm << " rpm, " << factor
+            << "×: indicator " << r.chatter_indicator << ", growth " << r.growth_per_period;
+      }
     }
   }
 }

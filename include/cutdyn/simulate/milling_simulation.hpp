@@ -88,8 +88,13 @@ struct MillingSimulationResult {
   /// the peak-to-peak vibration. Near 0 for a periodic (forced) vibration.
   double chatter_indicator = 0.0;
   double growth_per_period = 0.0;  // fitted growth of that change, per period (ln units)
+  /// Fraction of the slice passes inside the window (away from its zero-chip edges,
+  /// |sin θ| >= 0.05) in which the tooth was out of the cut (chip <= 0).
+  double contact_loss = 0.0;
   /// Regenerative chip, indicator > 0.05 and the change not decaying (growth > −0.01):
-  /// thresholds set on the lobes of the Insperger–Stépán benchmark (0.9× vs 1.1×).
+  /// thresholds set on the lobes of the Insperger–Stépán benchmark (0.9× vs 1.1×). With uneven
+  /// pitch a chatter that has thrown the teeth out of the cut can lock to the revolution and
+  /// escape it: look at contact_loss and the vibration too.
   bool chatter = false;
   /// Cutter displacement along the wall normal when a tooth passes the angle that finishes
   /// the wall (π in down-milling, 0 in up-milling), averaged; > 0 is an overcut.
