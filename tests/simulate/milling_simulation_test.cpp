@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <tuple>
 #include <vector>
@@ -113,6 +114,29 @@ TEST(MillingSimulation, ClosedFormHelixAgreesWithSlicesWhenEverySliceIsInCut) {
     ++compared;
   }
   EXPECT_GT(compared, static_cast<int>(slices.time_s.size()) / 2);
+}
+
+TEST(MillingSimulation, S1LawWithoutLagAndContactIsTheMechanisticLaw) {
+  // c = B·√(Kt² + Kr²) at φrez = atan(Kr/Kt), T2 = 0, P0 = 0: the same force at every step,
+  // with regeneration and a helix (docs/models/milling-simulation.md, force frame decision).
+  MillingCut mech = force_study(3, 0.3, kPi);
+  mech.modal = testing::insperger_benchmark(1.0).modal;
+  mech.regenerative = true;
+  mech.helix_rad = units::deg_to_rad(30.0);
+  mech.width_m = 0.05e-3;
+  MillingCut s1 = mech;
+  s1.law = ErmolaevForceLaw{
+      mech.width_m * std::hypot(6e8, 2e8), 0.0, 0.0, 1.0, std::atan2(2e8, 6e8), 0.0};
+  MillingSimulationOptions o = short_run();
+  o.max_recorded_samples = 1000000;
+  const MillingSimulationResult a = simulate_milling(mech, o), b = simulate_milling(s1, o);
+  ASSERT_EQ(a.fx_n.size(), b.fx_n.size());
+  double scale = 0.0;
+  for (double f : a.force_n) scale = std::max(scale, f);
+  for (std::size_t i = 0; i < a.fx_n.size(); ++i) {
+    ASSERT_NEAR(a.fx_n[i], b.fx_n[i], 1e-9 * scale) << i;
+    ASSERT_NEAR(a.fy_n[i], b.fy_n[i], 1e-9 * scale) << i;
+  }
 }
 
 TEST(MillingSimulation, ZeroOrderHoldStepIsTheExactFreeVibration) {
