@@ -355,20 +355,28 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
     const double from =
         r.time_s.empty() ? 0.0 : r.time_s.back() - s.options.summary_revolutions * 60.0 / s.rpm;
     io::PlotSpec spec;
-    spec.title = fmt::format("Cutting force at {} rpm, depth {} mm (ΔP = {} %)", human(s.rpm),
+    spec.title = fmt::format("Force and vibration at {} rpm, depth {} mm (ΔP = {} %)", human(s.rpm),
                              human(m_to_mm(s.cut.width_m)), human(100.0 * r.force_pulsation, 3));
     spec.x_label = "time (s)";
     spec.y_label = "force on the cutter (N)";
+    spec.y2_label = "cutter displacement (µm)";
     io::PlotSeries fx{"Fx (feed)", {}, {}, "lines"}, fy{"Fy", {}, {}, "lines"},
-        f{"|F|", {}, {}, "lines"};
+        f{"|F|", {}, {}, "lines"}, x{"x (right axis)", {}, {}, "lines", true},
+        y{"y (right axis)", {}, {}, "lines", true};
     for (std::size_t i = 0; i < r.time_s.size(); ++i) {
       if (r.time_s[i] < from) continue;
-      for (io::PlotSeries* p : {&fx, &fy, &f}) p->x.push_back(r.time_s[i]);
+      for (io::PlotSeries* p : {&fx, &fy, &f, &x, &y}) p->x.push_back(r.time_s[i]);
       fx.y.push_back(r.fx_n[i]);
       fy.y.push_back(r.fy_n[i]);
       f.y.push_back(r.force_n[i]);
+      x.y.push_back(m_to_um(r.x_m[i]));
+      y.y.push_back(m_to_um(r.y_m[i]));
     }
     spec.series = {std::move(f), std::move(fx), std::move(fy)};
+    if (!s.cut.modal.modes.empty()) {
+      spec.series.push_back(std::move(x));
+      spec.series.push_back(std::move(y));
+    }
     io::write_plot(spec, args.outputs.plot, outputs);
   }
   outputs.commit();

@@ -201,8 +201,14 @@ void write_script(std::ostream& out, const PlotSpec& spec, const FigureFormat& f
   } else {
     out << "set grid xtics ytics linetype 1 linecolor rgb '#dcdcdc' linewidth 1\n";
   }
+  const bool right_axis =
+      std::any_of(spec.series.begin(), spec.series.end(), [](const PlotSeries& p) { return p.y2; });
+  if (right_axis) {
+    out << "set y2label " << label(spec.y2_label) << '\n' << "set y2tics\n";
+    if (!any_data) out << "set y2range [0:1]\n";
+  }
   out << "set tics nomirror out\n"
-      << "set border 3 linewidth 1.2\n"
+      << "set border " << (right_axis ? 11 : 3) << " linewidth 1.2\n"
       << "set key top left reverse Left opaque box linecolor rgb '#bbbbbb' samplen 3 spacing "
          "1.3\n\n";
 
@@ -217,7 +223,8 @@ void write_script(std::ostream& out, const PlotSpec& spec, const FigureFormat& f
   std::vector<std::string> items;
   for (std::size_t s = 0; s < spec.series.size(); ++s) {
     const PlotSeries& series = spec.series[s];
-    const std::string source = "data index " + std::to_string(s) + " using 1:2";
+    const std::string source =
+        "data index " + std::to_string(s) + " using 1:2" + (series.y2 ? " axes x1y2" : "");
     const std::string line_style = " linestyle " + std::to_string(s + 1);
     const std::string title = series.title.empty() ? " notitle" : " title " + label(series.title);
     if (series.style == "stable-region") {

@@ -136,6 +136,25 @@ TEST_F(PlotTest, PngDataAndScriptAppearTogetherOnCommit) {
   EXPECT_FALSE(contains(gp, dir_.string())) << gp;
 }
 
+TEST_F(PlotTest, SeriesOnTheRightHandAxis) {
+  PlotSpec spec;
+  spec.title = "force and vibration";
+  spec.x_label = "t";
+  spec.y_label = "F";
+  spec.y2_label = "x";
+  spec.series = {PlotSeries{"F", {0, 1, 2}, {1, 2, 1}, "lines"},
+                 PlotSeries{"x", {0, 1, 2}, {5, -5, 5}, "lines", true}};
+  OutputTransaction outputs;
+  write_plot(spec, dir_ / "R.png", outputs);
+  outputs.commit();
+  const std::string gp = read_file(dir_ / "R.gp");
+  EXPECT_TRUE(contains(gp, "data index 0 using 1:2 with lines")) << gp;
+  EXPECT_TRUE(contains(gp, "data index 1 using 1:2 axes x1y2 with lines")) << gp;
+  EXPECT_TRUE(contains(gp, "set y2label \"x\"")) << gp;
+  EXPECT_TRUE(contains(gp, "set border 11")) << gp;
+  EXPECT_GT(read_file(dir_ / "R.png").size(), 1000u);
+}
+
 TEST_F(PlotTest, ScriptRedrawsTheFigureInItsFolder) {
   OutputTransaction outputs;
   write_plot(lobe_spec(), dir_ / "F.png", outputs);

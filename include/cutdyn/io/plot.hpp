@@ -19,12 +19,14 @@ struct PlotSeries {
   /// "lines", "points", "linespoints", or "stable-region" (a line with the area below it
   /// shaded, used for the stable side of a lobe diagram).
   std::string style = "lines";
+  bool y2 = false;  // on the right-hand axis (PlotSpec::y2_label)
 };
 
 struct PlotSpec {
   std::string title;
   std::string x_label;
   std::string y_label;
+  std::string y2_label;  // the right-hand axis, for series with y2 = true
   std::vector<PlotSeries> series;
   std::optional<double> y_min;
   std::optional<double> y_max;
