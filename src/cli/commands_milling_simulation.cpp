@@ -252,9 +252,7 @@ int run_sweep(const SimulateArgs& args, const io::Case& c, std::ostream& out, st
     spec.series.push_back(std::move(series));
     io::write_plot(spec, args.outputs.plot, outputs);
   }
-  outputs.commit();
-  for (const std::string* file : {&args.outputs.csv, &args.outputs.json, &args.outputs.plot})
-    if (!file->empty()) out << "  wrote " << *file << "\n";
+  commit_outputs(outputs, args.outputs, out);
   return 0;
 }
 
@@ -379,9 +377,7 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
     }
     io::write_plot(spec, args.outputs.plot, outputs);
   }
-  outputs.commit();
-  for (const std::string* file : {&args.outputs.csv, &args.outputs.json, &args.outputs.plot})
-    if (!file->empty()) out << "  wrote " << *file << "\n";
+  commit_outputs(outputs, args.outputs, out);
   return 0;
 }
 

@@ -308,9 +308,7 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
     }
     io::write_plot(spec, args.outputs.plot, outputs);
   }
-  outputs.commit();
-  for (const std::string* f : {&args.outputs.csv, &args.outputs.json, &args.outputs.plot})
-    if (!f->empty()) out << "  wrote " << *f << "\n";
+  commit_outputs(outputs, args.outputs, out);
   return 0;
 }
 

@@ -298,8 +298,12 @@ void report_lobes(const io::Case& c, const LobesReport& report, const LobesView&
     if (ref) spec.series.push_back(std::move(reference));
     io::write_plot(spec, outputs_args.plot, outputs);
   }
+  commit_outputs(outputs, outputs_args, out);
+}
+
+void commit_outputs(io::OutputTransaction& outputs, const Outputs& o, std::ostream& out) {
   outputs.commit();
-  for (const std::string* f : {&outputs_args.csv, &outputs_args.json, &outputs_args.plot})
+  for (const std::string* f : {&o.csv, &o.json, &o.plot})
     if (!f->empty()) out << "  wrote " << *f << "\n";
 }
 

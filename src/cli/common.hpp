@@ -13,6 +13,7 @@
 #include "cli/commands.hpp"
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/io/case_file.hpp"
+#include "cutdyn/io/output.hpp"
 #include "cutdyn/stability/lobes.hpp"
 #include "cutdyn/stability/milling.hpp"
 #include "cutdyn/stability/turning.hpp"
@@ -37,6 +38,8 @@ LobesOptions lobes_grid(const io::Case& c, int threads);
 
 /// Checks --out/--json/--plot before any work: figure format, existing folders, distinct files.
 void check_outputs(const Outputs& o);
+/// Commits the outputs (they appear together) and lists the files written.
+void commit_outputs(io::OutputTransaction& outputs, const Outputs& o, std::ostream& out);
 /// Adds a problem to `v` if `path`'s folder does not exist.
 void check_output_folder(Validator& v, const char* flag, const std::string& path);
 
