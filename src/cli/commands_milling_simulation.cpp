@@ -42,11 +42,18 @@ SimulationSetup setup(const SimulateArgs& args, const io::Case& c) {
     v.add("tool: missing (required for milling: at least tool.teeth and tool.diameter_mm)");
   if (!c.operation || !c.operation->feed_per_tooth_m)
     v.add("operation.feed_per_tooth_mm: missing (required by `cutdyn simulate` for milling)");
+  const std::string from_flag = args.rpm ? "--rpm" : "simulate.rpm";
+  if (rpm && !(*rpm > 0.0)) v.add(from_flag + " = " + human(*rpm) + ": must be positive");
+  if (depth_m && !(*depth_m > 0.0))
+    v.add(std::string(args.depth_mm ? "--depth-mm" : "simulate.depth_mm") + " = " +
+          human(m_to_mm(*depth_m)) + ": must be positive");
+  if (args.duration_s && !(*args.duration_s > 0.0))
+    v.add("--duration-s = " + human(*args.duration_s) + ": must be positive");
   if (!c.force_law && !c.cutting.kt_pa)
     v.add(
         "cutting.kt_n_per_mm2: missing (the mechanistic force law needs it; or give a "
         "[force_law] table for the S1 law)");
-  v.throw_if_any(c.source);
+  v.throw_if_any(args.rpm || args.depth_mm || args.duration_s ? "command line" : c.source);
 
   SimulationSetup s;
   s.rpm = *rpm;

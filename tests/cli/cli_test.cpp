@@ -455,6 +455,10 @@ TEST_F(Cli, MillingSimulationRejectsIncompleteCases) {
   window.replace(window.find("direction = \"down\""), 18, "entry_deg = 30");
   expect_rejected({"simulate", write("window.toml", window), "--out", path("x.csv")},
                   "operation.entry_deg = 30: give entry_deg and exit_deg together");
+  expect_rejected({"simulate", "milling-insperger", "--rpm", "-5", "--out", path("x.csv")},
+                  "command line: --rpm = -5: must be positive");
+  expect_rejected({"simulate", "milling-insperger", "--depth-mm", "0", "--out", path("x.csv")},
+                  "--depth-mm = 0: must be positive");
   std::string law = text + "\n[force_law]\nt2_s = -1\n";
   expect_rejected({"simulate", write("law.toml", law), "--out", path("x.csv")},
                   "force_law.c_n_per_mm: missing");
