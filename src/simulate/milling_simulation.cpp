@@ -167,14 +167,23 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
   const double lag = cut.lag_angle();
   int n_slices = 1;
   if (lag > 0.0 && !o.closed_form_helix) {
+    // Automatic: one angle step of lag per slice, at most 1000 slices and 8 million
+    // slice-bins (the tables below).
+    const auto most = static_cast<int>(std::clamp(8'000'000LL / bins, 1LL, 1000LL));
     n_slices =
-        o.slices > 0 ? o.slices : std::clamp(static_cast<int>(std::lround(lag / dtheta)), 1, 1000);
+        o.slices > 0 ? o.slices : std::clamp(static_cast<int>(std::lround(lag / dtheta)), 1, most);
   }
   const double slice_width = cut.width_m / n_slices;
   std::vector<double> slice_lag(static_cast<std::size_t>(n_slices), 0.0);
   if (!o.closed_form_helix)
     for (int j = 0; j < n_slices; ++j)
       slice_lag[static_cast<std::size_t>(j)] = (j + 0.5) * lag / n_slices;
+  if (static_cast<double>(n_slices) * static_cast<double>(bins) > 1e8) {
+    throw InvalidInput({"slices = " + std::to_string(n_slices) + " × " + std::to_string(bins) +
+                        " steps per revolution: more than 1e8 slice-bins of surface memory (fewer "
+                        "slices or steps per tooth)"},
+                       "milling simulation");
+  }
   if (static_cast<double>(steps) * z * n_slices > static_cast<double>(kMaxWork)) {
     throw InvalidInput(
         {"revolutions = " + format_value(o.revolutions) + " with " + std::to_string(z) +

@@ -91,10 +91,11 @@ CriticalDepth critical_depth_by_bracketing(const std::function<double(double)>& 
       return result;
     }
   }
+  // g_lo < 0 <= g_hi: the bracket changes sign, so Brent's method returns a root.
   const auto root = brent_root(margin, lo, g_lo, hi, g_hi, rel_tol * hi);
-  result.evaluations += root->evaluations;
   result.found = true;
-  result.depth_m = root->x;
+  result.depth_m = root ? root->x : hi;
+  if (root) result.evaluations += root->evaluations;
   return result;
 }
 

@@ -66,7 +66,7 @@ struct MillingSimulationOptions {
   int steps_per_tooth = 256;
   double revolutions = 30.0;         // simulated
   double summary_revolutions = 2.0;  // the last ones, for the summary
-  int slices = 0;  // 0: automatic — slice lag = one angle step (at most 1000 slices)
+  int slices = 0;  // 0: automatic — slice lag = one angle step (≤ 1000 slices, ≤ 8e6 slice-bins)
   bool closed_form_helix = false;    // S1 eqs. 8–9 instead of slices
   int max_recorded_samples = 20000;  // traces are thinned to at most this many samples
 
