@@ -84,6 +84,27 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   sim_cmd->add_option("--threads", sim.threads, "with --sweep: threads (default: all cores)")
       ->check(CLI::Range(0, 1024));
 
+  // drive
+  DriveArgs drive;
+  auto* drive_cmd = app.add_subcommand(
+      "drive", "feed drives under the milling load: torque and speed ripple, kδ, δ, position error");
+  drive_cmd->add_option("CASE", drive.case_path, "case file (TOML) with [[drives]]");
+  add_outputs(drive_cmd, drive.outputs,
+              "write the traces as CSV: axis,time_s,axis_force_n,load_torque_nm,speed_rad_s,"
+              "position_error_um,epsilon_um");
+  drive_cmd->add_option("--rpm", drive.rpm, "spindle speed (rpm), overrides [simulate].rpm");
+  drive_cmd->add_option("--depth-mm", drive.depth_mm, "axial depth of cut (mm)");
+  drive_cmd->add_option("--currents", drive.currents,
+                        "write the motor phase currents as CSV: time_s,axis,iu_a,iv_a,iw_a,"
+                        "speed_rad_s (needs [drives] motor data)");
+  drive_cmd->add_option("--sweep", drive.sweep,
+                        "vary one case key, KEY=FROM:STEP:TO (e.g. simulate.rpm=1000:500:20000)");
+  drive_cmd->add_option("--metric", drive.metric,
+                        "with --sweep: epsilon_um (default), drive_error_um, cutter_error_um, "
+                        "k_delta, static_error, torque_ripple_nm, speed_ripple_rad_s");
+  drive_cmd->add_option("--threads", drive.threads, "with --sweep: threads (default: all cores)")
+      ->check(CLI::Range(0, 1024));
+
   // force
   ForceArgs force;
   auto* force_cmd =
@@ -139,6 +160,7 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     if (lobes_cmd->parsed()) return run_lobes(lobes, out, err);
     if (check_cmd->parsed()) return run_check(check, out, err);
     if (sim_cmd->parsed()) return run_simulate(sim, out, err);
+    if (drive_cmd->parsed()) return run_drive(drive, out, err);
     if (force_cmd->parsed()) return run_force(force, out, err);
     err << app.help();
     return 2;

@@ -55,6 +55,18 @@ struct ForceArgs {
 };
 int run_force(const ForceArgs& args, std::ostream& out, std::ostream& err);
 
+struct DriveArgs {
+  std::string case_path;
+  Outputs outputs;  // --out: traces per axis; --json; --plot: speed and position error
+  std::optional<double> rpm;
+  std::optional<double> depth_mm;
+  std::string currents;  // --currents F.csv: synthesised motor phase currents
+  std::string sweep;     // KEY=FROM:STEP:TO
+  std::string metric;
+  int threads = 0;
+};
+int run_drive(const DriveArgs& args, std::ostream& out, std::ostream& err);
+
 /// The milling halves of `lobes` and `check` (the commands dispatch on the case's process).
 int run_lobes_milling(const LobesArgs& args, const io::Case& c, std::ostream& out,
                       std::ostream& err);

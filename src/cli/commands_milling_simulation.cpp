@@ -9,6 +9,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/milling_setup.hpp"
 #include "cutdyn/core/parallel.hpp"
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/io/output.hpp"
@@ -24,15 +25,9 @@ using units::m_to_mm;
 using units::m_to_um;
 using units::mm_to_m;
 
-// The cut of the case, with the speed, depth and length from the flags or [simulate].
-struct SimulationSetup {
-  MillingCut cut;
-  MillingSimulationOptions options;
-  double rpm = 0.0;
-  std::string where;  // where the speed/depth came from, for errors
-};
+}  // namespace
 
-SimulationSetup setup(const SimulateArgs& args, const io::Case& c) {
+SimulationSetup milling_setup(const SimulateArgs& args, const io::Case& c) {
   Validator v;
   const auto rpm = args.rpm ? args.rpm : c.simulate.rpm;
   const auto depth_m = args.depth_mm ? std::optional(mm_to_m(*args.depth_mm)) : c.simulate.depth_m;
@@ -100,15 +95,6 @@ SimulationSetup setup(const SimulateArgs& args, const io::Case& c) {
   return s;
 }
 
-std::string um(double m) { return human(m_to_um(m), 4); }
-
-// ---- sweeps ------------------------------------------------------------------------------
-
-struct Sweep {
-  std::string key;
-  std::vector<double> values;
-};
-
 // "KEY=FROM:STEP:TO" (MATLAB's colon notation), at most 10 000 values.
 Sweep parse_sweep(const std::string& spec) {
   const auto fail = [&](const std::string& why) -> Sweep {
@@ -147,6 +133,13 @@ Sweep parse_sweep(const std::string& spec) {
   }
   return sweep;
 }
+
+
+namespace {
+
+std::string um(double m) { return human(m_to_um(m), 4); }
+
+// ---- sweeps ------------------------------------------------------------------------------
 
 const std::vector<std::string>& metric_names() {
   static const std::vector<std::string> names{"force_pulsation",   "mean_force_n",
@@ -188,7 +181,7 @@ int run_sweep(const SimulateArgs& args, const io::Case& c, std::ostream& out, st
     const io::Case varied = io::with_value(c, sweep.key, value);
     if (varied.process != io::Process::kMilling)
       throw InvalidInput({"--sweep: the varied case is not a milling case"}, varied.source);
-    setups.push_back(setup(args, varied));
+    setups.push_back(milling_setup(args, varied));
   }
   std::vector<MillingSimulationResult> results(setups.size());
   parallel_for(
@@ -269,7 +262,7 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
                          std::ostream& err) {
   if (!args.sweep.empty()) return run_sweep(args, c, out, err);
   if (!args.metric.empty()) throw InvalidInput({"--metric: only with --sweep"}, "command line");
-  const SimulationSetup s = setup(args, c);
+  const SimulationSetup s = milling_setup(args, c);
   MillingSimulationResult r;
   rethrow_as(s.where, "simulate", [&] { r = simulate_milling(s.cut, s.options); });
   const bool s1 = c.force_law.has_value();

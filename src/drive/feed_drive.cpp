@@ -157,11 +157,16 @@ FeedDriveResult simulate_feed_drive(const FeedAxis& axis, const std::vector<doub
   r.time_s = t;
   double load_sum = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    // [Ermolaev2020, eq. 11], as the projection on the axis (decision).
+    // [Ermolaev2020, eq. 11] as a projection (decision): the resistance to the axis' motion is
+    // the component of the force on the cutter against it.
     const double fn =
-        fx[i] * axis.direction[0] + fy[i] * axis.direction[1] + fz[i] * axis.direction[2];
+        -(fx[i] * axis.direction[0] + fy[i] * axis.direction[1] + fz[i] * axis.direction[2]);
     r.axis_force_n.push_back(fn);
-    r.load_torque_nm.push_back(tr.load_torque(fn));
+    // Idle torque Mc0 opposes the motion (none for an axis at rest).
+    r.load_torque_nm.push_back(tr.torque_per_newton() * fn + (omega0 > 0.0   ? 1.0
+                                                              : omega0 < 0.0 ? -1.0
+                                                                             : 0.0) *
+                                                                 tr.idle_torque_nm);
     load_sum += r.load_torque_nm.back();
   }
   r.mean_load_torque_nm = load_sum / static_cast<double>(n);
@@ -187,13 +192,16 @@ FeedDriveResult simulate_feed_drive(const FeedAxis& axis, const std::vector<doub
       r.motor_torque_nm.push_back(s.torque);
     }
   }
+  r.moving = omega0 > 0.0;
   r.static_error_ok = r.static_error <= 0.1;
   const auto [tmin, tmax] = std::minmax_element(r.load_torque_nm.begin(), r.load_torque_nm.end());
   r.torque_ripple_nm = 0.5 * (*tmax - *tmin);
   const auto [wmin, wmax] = std::minmax_element(r.speed_rad_s.begin(), r.speed_rad_s.end());
   r.speed_ripple_rad_s = 0.5 * (*wmax - *wmin);
-  r.k_delta = *wmax + *wmin > 0.0 ? (*wmax - *wmin) / (*wmax + *wmin) : 0.0;  // eq. 1, decision
-  if (*wmax + *wmin <= 0.0) r.k_delta = 1.0;  // stalled or reversing: the worst case
+  if (r.moving) {
+    // [Ermolaev2020, eq. 1], decision: half-range over mean. Stalled or reversing: the worst.
+    r.k_delta = *wmax + *wmin > 0.0 ? (*wmax - *wmin) / (*wmax + *wmin) : 1.0;
+  }
   r.k_delta_verdict = nonuniformity_verdict(r.k_delta);
   // Position error about uniform motion at the mean actual speed (trapezoidal integral).
   double mean_speed = 0.0;

@@ -302,6 +302,11 @@ class TableReader {
     return b->get();
   }
 
+  /// A missing key whose need depends on others.
+  void problem_missing(std::string_view key, std::string_view why) {
+    problems_.missing(key_path(key), why);
+  }
+
   /// A problem with the value of `key` (which is present).
   void problem(std::string_view key, std::string_view rule) {
     problems_.at(key_path(key), *get(key), rule);
@@ -457,6 +462,122 @@ void read_modes(TableReader& top, std::optional<Process> process, Case& c) {
     TableReader t(problems, *table, path,
                   {"direction", "natural_hz", "damping_ratio", "stiffness_n_per_m", "mass_kg"});
     read_mode(t, process, c);
+  }
+}
+
+void read_drive(TableReader& t, Case& c) {
+  FeedAxis axis;
+  axis.name = "axis " + std::to_string(c.drives.size());
+  if (auto v = t.choice("axis", {"x", "y", "z"}, Need::kOptional)) {
+    axis.name = *v;
+    for (int k = 0; k < 3; ++k) axis.direction[k] = k == (*v)[0] - 'x' ? 1.0 : 0.0;
+  }
+  if (auto v = t.numbers("direction", Range{}, Need::kOptional)) {
+    const double norm = v->size() == 3 ? std::hypot((*v)[0], (*v)[1], (*v)[2]) : 0.0;
+    if (t.has("axis")) {
+      t.problem("direction", "give axis or direction, not both");
+    } else if (v->size() != 3 || !(norm > 0.0)) {
+      t.problem("direction", "must be three numbers (x, y, z), not all zero");
+    } else {
+      for (int k = 0; k < 3; ++k) axis.direction[k] = (*v)[static_cast<std::size_t>(k)] / norm;
+    }
+  }
+  if (!t.has("axis") && !t.has("direction"))
+    t.problem_missing("axis", "axis or direction is required");
+  Transmission& tr = axis.drive.transmission;
+  if (auto v = t.choice("transmission", {"ball-screw", "lever"}, Need::kRequired))
+    tr.kind = *v == "lever" ? Transmission::Kind::kLeverArm : Transmission::Kind::kBallScrew;
+  const Need screw = tr.kind == Transmission::Kind::kBallScrew ? Need::kRequired : Need::kOptional;
+  const Need arm = tr.kind == Transmission::Kind::kLeverArm ? Need::kRequired : Need::kOptional;
+  if (auto v = t.number("lead_mm", kPositive, screw)) tr.lead_m = mm_to_m(*v);
+  if (auto v = t.number("efficiency", Range{0.0, true, 1.0, false}, Need::kOptional))
+    tr.efficiency = *v;
+  if (auto v = t.number("gear_ratio", kPositive, Need::kOptional)) tr.gear_ratio = *v;
+  if (auto v = t.number("output_diameter_mm", kPositive, arm)) tr.output_diameter_m = mm_to_m(*v);
+  if (auto v = t.number("ratio", kPositive, Need::kOptional)) tr.ratio = *v;
+  if (auto v = t.number("idle_torque_nm", Range{}, Need::kOptional)) tr.idle_torque_nm = *v;
+  FeedDrive& d = axis.drive;
+  if (auto v = t.choice("model", {"static", "dynamic"}, Need::kOptional))
+    d.model = *v == "dynamic" ? FeedDrive::Model::kDynamic : FeedDrive::Model::kStatic;
+  const bool dynamic = d.model == FeedDrive::Model::kDynamic;
+  if (auto v = t.number("stiffness_nm_s_per_rad", Range{},
+                        dynamic ? Need::kOptional : Need::kRequired)) {
+    if (*v == 0.0)
+      t.problem("stiffness_nm_s_per_rad", "must not be 0 (|β|, the slope of the characteristic)");
+    d.stiffness_nm_s_per_rad = *v;
+  }
+  const Need dyn = dynamic ? Need::kRequired : Need::kOptional;
+  if (auto v = t.number("inertia_kg_m2", kPositive, dyn)) d.inertia_kg_m2 = *v;
+  if (auto v = t.number("viscous_nm_s_per_rad", kNonNegative, Need::kOptional))
+    d.viscous_nm_s_per_rad = *v;
+  if (auto v = t.number("kp_nm_s_per_rad", kPositive, dyn)) d.kp_nm_s_per_rad = *v;
+  if (auto v = t.number("ki_nm_per_rad", kNonNegative, dyn)) d.ki_nm_per_rad = *v;
+  if (auto v = t.number("torque_limit_nm", kNonNegative, Need::kOptional)) d.torque_limit_nm = *v;
+  // The motor, for phase currents: given by its torque constant.
+  if (t.has("torque_constant_nm_per_a") || t.has("pole_pairs")) {
+    PmsmMotor m;
+    if (auto v = t.integer("pole_pairs", 1, 100, Need::kRequired)) m.pole_pairs = *v;
+    if (auto v = t.number("torque_constant_nm_per_a", kPositive, Need::kRequired))
+      m.torque_constant_nm_per_a = *v;
+    if (auto v = t.choice("current_measure", {"rms", "space-vector"}, Need::kOptional))
+      m.measure = *parse_current_measure(*v);
+    if (auto v = t.number("current_noise_a", kNonNegative, Need::kOptional)) m.noise_a = *v;
+    if (auto v = t.numbers("current_offset_a", Range{}, Need::kOptional)) {
+      if (v->size() != 3)
+        t.problem("current_offset_a", "must be three numbers (phases u, v, w)");
+      else
+        for (int k = 0; k < 3; ++k) m.offset_a[k] = (*v)[static_cast<std::size_t>(k)];
+    }
+    axis.motor = m;
+  } else {
+    for (const char* key : {"current_measure", "current_noise_a", "current_offset_a"})
+      if (t.has(key)) t.problem(key, "needs the motor: pole_pairs and torque_constant_nm_per_a");
+  }
+  t.report_unknown();
+  c.drives.push_back(axis);
+}
+
+void read_drives(TableReader& top, Case& c) {
+  Problems& problems = top.problems();
+  const toml::node* node = top.get("drives");
+  if (node == nullptr) return;
+  const toml::array* array = node->as_array();
+  if (array == nullptr || array->empty() || array->size() > 3) {
+    problems.at("drives", *node, "must be one to three [[drives]] tables");
+    return;
+  }
+  for (std::size_t i = 0; i < array->size(); ++i) {
+    const std::string path = "drives[" + std::to_string(i) + "]";
+    const toml::node& element = *array->get(i);
+    const toml::table* table = element.as_table();
+    if (table == nullptr) {
+      problems.at(path, element,
+                  std::string("wrong type: expected a table, got ") + type_name(element));
+      continue;
+    }
+    TableReader t(problems, *table, path,
+                  {"axis",
+                   "direction",
+                   "transmission",
+                   "lead_mm",
+                   "efficiency",
+                   "gear_ratio",
+                   "output_diameter_mm",
+                   "ratio",
+                   "idle_torque_nm",
+                   "model",
+                   "stiffness_nm_s_per_rad",
+                   "inertia_kg_m2",
+                   "viscous_nm_s_per_rad",
+                   "kp_nm_s_per_rad",
+                   "ki_nm_per_rad",
+                   "torque_limit_nm",
+                   "pole_pairs",
+                   "torque_constant_nm_per_a",
+                   "current_measure",
+                   "current_noise_a",
+                   "current_offset_a"});
+    read_drive(t, c);
   }
 }
 
@@ -693,13 +814,14 @@ Case parse_case(std::string_view toml_text, std::string_view source) {
 
   TableReader top(problems, root, "",
                   {"process", "modes", "cutting", "tool", "operation", "vibration", "lobes",
-                   "simulate", "force_law"});
+                   "simulate", "force_law", "drives"});
   std::optional<Process> process;
   if (auto v = top.choice("process", {"turning", "milling"}, Need::kRequired)) {
     process = *v == "turning" ? Process::kTurning : Process::kMilling;
     c.process = *process;
   }
   read_modes(top, process, c);
+  read_drives(top, c);
   if (const toml::table* t = top.section("cutting")) {
     TableReader r(problems, *t, "cutting",
                   {"kt_n_per_mm2", "kc_n_per_mm2", "kr_n_per_mm2", "speed_m_per_min",
@@ -875,6 +997,45 @@ nlohmann::json to_json(const Case& c) {
       j["operation"]["entry_deg"] = tidy(units::rad_to_deg(*op.entry_rad));
       j["operation"]["exit_deg"] = tidy(units::rad_to_deg(*op.exit_rad));
     }
+  }
+  if (!c.drives.empty()) {
+    json drives = json::array();
+    for (const FeedAxis& a : c.drives) {
+      const FeedDrive& d = a.drive;
+      const Transmission& tr = d.transmission;
+      json j_axis{
+          {"direction", {tidy(a.direction[0]), tidy(a.direction[1]), tidy(a.direction[2])}},
+          {"transmission", tr.kind == Transmission::Kind::kLeverArm ? "lever" : "ball-screw"},
+          {"idle_torque_nm", tidy(tr.idle_torque_nm)},
+          {"model", d.model == FeedDrive::Model::kDynamic ? "dynamic" : "static"}};
+      if (tr.kind == Transmission::Kind::kLeverArm) {
+        j_axis["output_diameter_mm"] = tidy(m_to_mm(tr.output_diameter_m));
+        j_axis["ratio"] = tidy(tr.ratio);
+      } else {
+        j_axis["lead_mm"] = tidy(m_to_mm(tr.lead_m));
+        j_axis["efficiency"] = tidy(tr.efficiency);
+        j_axis["gear_ratio"] = tidy(tr.gear_ratio);
+      }
+      if (d.model == FeedDrive::Model::kStatic) {
+        j_axis["stiffness_nm_s_per_rad"] = tidy(d.stiffness_nm_s_per_rad);
+      } else {
+        j_axis["inertia_kg_m2"] = tidy(d.inertia_kg_m2);
+        j_axis["viscous_nm_s_per_rad"] = tidy(d.viscous_nm_s_per_rad);
+        j_axis["kp_nm_s_per_rad"] = tidy(d.kp_nm_s_per_rad);
+        j_axis["ki_nm_per_rad"] = tidy(d.ki_nm_per_rad);
+        j_axis["torque_limit_nm"] = tidy(d.torque_limit_nm);
+      }
+      if (a.motor) {
+        j_axis["pole_pairs"] = a.motor->pole_pairs;
+        j_axis["torque_constant_nm_per_a"] = tidy(a.motor->torque_constant_nm_per_a);
+        j_axis["current_measure"] = std::string(to_string(a.motor->measure));
+        j_axis["current_noise_a"] = tidy(a.motor->noise_a);
+        j_axis["current_offset_a"] = {tidy(a.motor->offset_a[0]), tidy(a.motor->offset_a[1]),
+                                      tidy(a.motor->offset_a[2])};
+      }
+      drives.push_back(std::move(j_axis));
+    }
+    j["drives"] = std::move(drives);
   }
   if (c.force_law) {
     const ForceLawSection& f = *c.force_law;

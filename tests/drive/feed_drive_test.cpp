@@ -34,7 +34,8 @@ Transmission screw() {
   return t;
 }
 
-// A force trace along x, F(t) = f0 + f1·sin(ωt), n samples over `periods` periods.
+// A force on the cutter against the feed (−x), so that the x axis is resisted by
+// F(t) = f0 + f1·sin(ωt); n samples over `periods` periods.
 struct Trace {
   std::vector<double> t, fx, fy, fz;
 };
@@ -44,7 +45,7 @@ Trace sine(double f0, double f1, double omega, int periods, int per_period) {
   for (int i = 0; i <= n; ++i) {
     const double t = kTwoPi / omega * i / per_period;
     tr.t.push_back(t);
-    tr.fx.push_back(f0 + f1 * std::sin(omega * t));
+    tr.fx.push_back(-(f0 + f1 * std::sin(omega * t)));
     tr.fy.push_back(0.0);
     tr.fz.push_back(0.0);
   }
@@ -74,7 +75,7 @@ TEST(FeedDrive, TorqueRippleIsEquation14) {
   axis.direction[1] = std::sin(kPi / 6);
   const Trace tr = sine(1000.0, 500.0, 2 * kPi * 10, 3, 400);
   const FeedDriveResult r = simulate_feed_drive(axis, tr.t, tr.fx, tr.fy, tr.fz, 0.01);
-  // The trace's force is along x; its projection on the axis is F·cos 30°.
+  // The trace's force is along −x; its component against the axis is F·cos 30°.
   EXPECT_NEAR(r.torque_ripple_nm, torque_ripple(lever(), 500.0, 1500.0, kPi / 6), 1e-9);
 }
 
@@ -160,7 +161,7 @@ TEST(FeedDrive, DynamicDriveLoadStepMatchesTheAnalyticResponse) {
   tr.fx.push_back(0.0);
   for (int i = 0; i <= 4000; ++i) {
     tr.t.push_back(t1 + i * 5e-5);
-    tr.fx.push_back(force_step);
+    tr.fx.push_back(-force_step);
   }
   tr.fy.assign(tr.t.size(), 0.0);
   tr.fz.assign(tr.t.size(), 0.0);

@@ -1,9 +1,11 @@
 // Feed drives under the cutting load (models.md S1.7; docs/models/feed-drive.md).
 //
-// A feed axis takes the projection of the cutting force on its direction, Fn = F·n (eq. 11,
-// the decision of models.md), and its transmission turns it into the load torque on the motor
-// shaft, lever-arm form Mc = (d/2)·iΣ·Fn + Mc0 (eq. 12) or ball-screw form
-// Mc = Fn·p/(2π·η·i) + Mc0. Two drive models:
+// A feed axis moves the cutter relative to the workpiece along its direction n (feed: +x). The
+// cut resists that motion with Fn = −F·n, F the force on the cutter (eq. 11 as a projection,
+// the decision of models.md: in up-milling Fn > 0, in down-milling the cut can pull the axis,
+// Fn < 0). The transmission turns Fn into the load torque on the motor shaft, lever-arm form
+// Mc = (d/2)·iΣ·Fn + Mc0 (eq. 12) or ball-screw form Mc = Fn·p/(2π·η·i) + Mc0, with the idle
+// torque Mc0 opposing the motion. Two drive models:
 // * static characteristic (eq. 13): Ω(t) = Ω0 − Mc(t)/|β|, speed drop ΔΩ = Mc/|β|, static
 //   error δ = Mc/(Ω0·|β|);
 // * dynamic: motor and load inertia J, viscous loss b, a PI speed loop with a torque (current)
@@ -14,8 +16,11 @@
 // position error is the integral of the speed deviation times the travel per motor radian.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "cutdyn/drive/motor_currents.hpp"
 
 namespace cutdyn {
 
@@ -36,7 +41,7 @@ struct Transmission {
   std::vector<std::string> validate() const;
   /// Table travel per radian of the motor: (d/2)·iΣ or p/(2π·i), m/rad.
   double travel_per_rad() const;
-  /// Load torque Mc for an axis force Fn (N), N·m [Ermolaev2020, eq. 12].
+  /// Load torque Mc for an axis force Fn (N) while moving forward, N·m [Ermolaev2020, eq. 12].
   double load_torque(double axis_force_n) const;
   /// Torque per newton of axis force (without Mc0): (d/2)·iΣ or p/(2π·η·i).
   double torque_per_newton() const;
@@ -63,6 +68,7 @@ struct FeedAxis {
   std::string name = "x";
   double direction[3] = {1.0, 0.0, 0.0};
   FeedDrive drive;
+  std::optional<PmsmMotor> motor;  // for phase currents
 };
 
 enum class Verdict { kAcceptable, kMarginal, kUnstable };
@@ -76,6 +82,8 @@ struct FeedDriveResult {
       position_error_m;
   // Summary over the whole trace.
   double commanded_speed_rad_s = 0.0;  // Ω0
+  /// Ω0 > 0. An axis that does not move (across the feed) has no kδ or δ: they stay 0.
+  bool moving = false;
   double mean_load_torque_nm = 0.0;
   double torque_ripple_nm = 0.0;    // ΔMc = (max − min)/2
   double speed_ripple_rad_s = 0.0;  // ΔΩ = (max − min)/2
@@ -88,7 +96,7 @@ struct FeedDriveResult {
   double position_error_pp_m = 0.0;
 };
 
-/// The drive of `axis` under the force trace (time_s, fx, fy, fz; equal lengths, time
+/// The drive of `axis` under the force on the cutter (time_s, fx, fy, fz; equal lengths, time
 /// increasing) at the commanded table speed `feed_speed_m_per_s`. The dynamic model starts
 /// at the steady state under the mean load (or under the first sample's load). Throws
 /// cutdyn::InvalidInput on bad input.

@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "cutdyn/drive/feed_drive.hpp"
 #include "cutdyn/modal/modal_model.hpp"
 
 namespace cutdyn::io {
@@ -116,6 +117,7 @@ struct Case {
   std::optional<OperationSection> operation;
   std::optional<VibrationSection> vibration;
   std::optional<ForceLawSection> force_law;
+  std::vector<FeedAxis> drives;  // [[drives]]: feed axes for `cutdyn drive`
   LobesSection lobes;
   SimulateSection simulate;
 };

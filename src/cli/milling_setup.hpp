@@ -1,0 +1,34 @@
+// The milling cut of a case, as `cutdyn simulate` and `cutdyn drive` run it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cli/commands.hpp"
+#include "cutdyn/io/case_file.hpp"
+#include "cutdyn/simulate/milling_simulation.hpp"
+
+namespace cutdyn::cli {
+
+// The cut of the case, with the speed, depth and length from the flags or [simulate].
+struct SimulationSetup {
+  MillingCut cut;
+  MillingSimulationOptions options;
+  double rpm = 0.0;
+  std::string where;  // where the speed/depth came from, for errors
+};
+
+/// Every problem with the case or the flags throws cutdyn::InvalidInput.
+SimulationSetup milling_setup(const SimulateArgs& args, const io::Case& c);
+
+/// A sweep of one case key over FROM:STEP:TO.
+struct Sweep {
+  std::string key;
+  std::vector<double> values;
+};
+
+/// "KEY=FROM:STEP:TO" (MATLAB's colon notation), at most 10 000 values; a bad spec throws
+/// cutdyn::InvalidInput at "command line".
+Sweep parse_sweep(const std::string& spec);
+
+}  // namespace cutdyn::cli
