@@ -14,6 +14,7 @@
 #include "cli/app.hpp"
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/io/case_file.hpp"
+#include "cutdyn/monitor/equivalent_current.hpp"
 #include "cutdyn/simulate/milling_simulation.hpp"
 #include "cutdyn/stability/full_discretization.hpp"
 #include "cutdyn/stability/milling.hpp"
@@ -440,6 +441,79 @@ TEST_F(Cli, MillingSweepTabulatesTheMetricOverTheRange) {
                   "--metric = \"nope\": must be one of force_pulsation");
   expect_rejected({"simulate", "ermolaev2020", "--sweep", "t2_s", "--out", path("bad.csv")},
                   "expected KEY=FROM:STEP:TO");
+}
+
+TEST_F(Cli, DriveUnderTheS1PresetLoad) {
+  // `cutdyn drive` (default: ermolaev2020, static drives of β = −10000 N·m·s): the x axis
+  // follows the feed (5 mm/s over 2 mm/rad: Ω0 = 2.5 rad/s) and carries the resistance of the
+  // cut; the y axis stands still (no kδ, no δ). Checked against the closed forms of the static
+  // characteristic from the reported torques.
+  const Result r = cutdyn({"drive", "--json", path("d.json"), "--out", path("d.csv")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(std::ifstream(path("d.json")));
+  ASSERT_EQ(doc["axes"].size(), 2u);
+  const auto& x = doc["axes"][0];
+  EXPECT_EQ(x["axis"], "x");
+  EXPECT_NEAR(x["commanded_speed_rad_s"].get<double>(), 2.5, 1e-12);
+  const double beta = 1e4, mean = x["mean_load_torque_nm"], ripple = x["torque_ripple_nm"];
+  EXPECT_NEAR(x["speed_ripple_rad_s"].get<double>(), ripple / beta, 1e-12);
+  EXPECT_NEAR(x["static_error"].get<double>(), mean / (2.5 * beta), 1e-12);
+  // kδ = ΔΩ/Ω̄ with Ω̄ = Ω0 − (mid-range torque)/β.
+  EXPECT_NEAR(x["k_delta"].get<double>(), (ripple / beta) / 2.5, 1e-9);
+  EXPECT_EQ(x["k_delta_verdict"], "acceptable");
+  const auto& y = doc["axes"][1];
+  EXPECT_TRUE(y["k_delta"].is_null());
+  EXPECT_NEAR(y["commanded_speed_rad_s"].get<double>(), 0.0, 1e-15);
+  // ε is the drive's position error plus the cutter's deflection: here the cutter dominates.
+  EXPECT_LE(x["epsilon_um"].get<double>(),
+            x["drive_error_um"].get<double>() + x["cutter_error_um"].get<double>() + 1e-12);
+  EXPECT_GT(x["cutter_error_um"].get<double>(), 100 * x["drive_error_um"].get<double>());
+  const auto lines = csv_lines(path("d.csv"));
+  EXPECT_EQ(lines[0],
+            "axis,time_s,axis_force_n,load_torque_nm,speed_rad_s,position_error_um,epsilon_um");
+}
+
+TEST_F(Cli, DriveCurrentsAndSweepAndBadDrives) {
+  std::string text(*io::example_text("ermolaev2020"));
+  // Give the y axis a motor too, then the currents CSV has the monitor's input columns and
+  // its equivalent current is |Te|/KT (the static drive's motor torque is the load torque).
+  const auto y = text.find("axis = \"y\"");
+  text.insert(text.find("stiffness_nm_s_per_rad = -10000", y) + 31,
+              "\npole_pairs = 4\ntorque_constant_nm_per_a = 1.627\ncurrent_measure = \"rms\"");
+  const auto file = write("drive.toml", text);
+  const Result r = cutdyn({"drive", file, "--currents", path("i.csv"), "--out", path("d.csv")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto currents = csv_lines(path("i.csv"));
+  ASSERT_GT(currents.size(), 100u);
+  EXPECT_EQ(currents[0], "time_s,axis,iu_a,iv_a,iw_a,speed_rad_s");
+  const auto traces = csv_lines(path("d.csv"));
+  // Row 1 of both: axis x at the first instant.
+  const auto fields = [](const std::string& line) {
+    std::vector<std::string> out;
+    std::stringstream ss(line);
+    for (std::string f; std::getline(ss, f, ',');) out.push_back(f);
+    return out;
+  };
+  const auto i1 = fields(currents[1]), d1 = fields(traces[1]);
+  const double id = equivalent_current(std::stod(i1[2]), std::stod(i1[3]), std::stod(i1[4]),
+                                       CurrentMeasure::kSpaceVector);
+  EXPECT_NEAR(id, std::abs(std::stod(d1[3])) / 1.621, 1e-9);
+  // A sweep of the spindle speed tabulates ε per axis.
+  const Result sweep =
+      cutdyn({"drive", file, "--sweep", "simulate.rpm=60:60:180", "--json", path("s.json")});
+  ASSERT_EQ(sweep.code, 0) << sweep.err;
+  const auto doc = nlohmann::json::parse(std::ifstream(path("s.json")));
+  ASSERT_EQ(doc["points"].size(), 3u);
+  EXPECT_EQ(doc["points"][2]["axes"][1]["axis"], "y");
+  EXPECT_GT(doc["points"][0]["axes"][0]["epsilon_um"].get<double>(), 0.0);
+  // Bad drives: no [[drives]]; a lever without its diameter; currents without a motor.
+  expect_rejected({"drive", "milling-insperger", "--out", path("x.csv")}, "drives: missing");
+  std::string lever = text;
+  lever.replace(lever.find("output_diameter_mm = 40"), 23, "");
+  expect_rejected({"drive", write("lever.toml", lever), "--out", path("x.csv")},
+                  "drives[0].output_diameter_mm: missing");
+  expect_rejected({"drive", "ermolaev2020", "--currents", path("x.csv")},
+                  "drives (axis y): --currents needs the motor");
 }
 
 TEST_F(Cli, MillingSimulationRejectsIncompleteCases) {
