@@ -35,8 +35,12 @@ void Validator::require(bool ok, std::string_view field, double value, std::stri
                         std::string_view rule) {
   if (ok && std::isfinite(value)) return;
   std::string problem = prefix_.empty() ? std::string(field) : prefix_ + "." + std::string(field);
-  problem += " = " + format_value(value);
-  if (!unit.empty()) problem += " " + std::string(unit);
+  problem += " = ";  // appended piecewise: GCC 12 warns (-Wrestrict) on " = " + string
+  problem += format_value(value);
+  if (!unit.empty()) {
+    problem += ' ';
+    problem += unit;
+  }
   problem += ": ";
   problem += std::isfinite(value) ? std::string(rule) : "must be a finite number";
   problems_.push_back(std::move(problem));
