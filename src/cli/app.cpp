@@ -87,7 +87,8 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   // drive
   DriveArgs drive;
   auto* drive_cmd = app.add_subcommand(
-      "drive", "feed drives under the milling load: torque and speed ripple, kδ, δ, position error");
+      "drive",
+      "feed drives under the milling load: torque and speed ripple, kδ, δ, position error");
   drive_cmd->add_option("CASE", drive.case_path, "case file (TOML) with [[drives]]");
   add_outputs(drive_cmd, drive.outputs,
               "write the traces as CSV: axis,time_s,axis_force_n,load_torque_nm,speed_rad_s,"
@@ -112,6 +113,9 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   force_cmd->add_option("CASE", force.case_path, "case file (TOML)");
   force_cmd->add_option("--json", force.json, "write the results as JSON");
   force_cmd->add_option("--plot", force.plot, "draw the force pulses over three vibration periods");
+
+  // monitor calibrate | estimate | teach
+  const auto run_monitor = add_monitor_command(app);
 
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {
@@ -162,6 +166,7 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     if (sim_cmd->parsed()) return run_simulate(sim, out, err);
     if (drive_cmd->parsed()) return run_drive(drive, out, err);
     if (force_cmd->parsed()) return run_force(force, out, err);
+    if (const int code = run_monitor(out, err); code >= 0) return code;
     err << app.help();
     return 2;
   } catch (const InvalidInput& e) {

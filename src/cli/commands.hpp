@@ -2,9 +2,15 @@
 // (cutdyn::InvalidInput → exit 2, anything else → exit 1) and reported by app.cpp.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
 
 namespace cutdyn::io {
 struct Case;
@@ -73,5 +79,62 @@ int run_lobes_milling(const LobesArgs& args, const io::Case& c, std::ostream& ou
 int run_check_milling(const CheckArgs& args, const io::Case& c, std::ostream& out);
 int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostream& out,
                          std::ostream& err);
+
+// ---- monitor: cutting force from servo-motor currents (docs/models/monitor.md) ----------
+
+/// `cutdyn monitor calibrate`: steps 1 (idle logs) and 2 (loaded logs) per axis.
+struct MonitorCalibrateArgs {
+  std::vector<std::string> idle;     // --idle: no-cut logs at constant speeds
+  std::vector<std::string> loaded;   // --loaded: logs with a reference force column
+  std::string base;                  // --base: a calibration file or "zheng2012"
+  std::vector<std::string> kt;       // --kt [AXIS=]VALUE, N·m/A
+  std::vector<std::string> inertia;  // --inertia [AXIS=]VALUE, kg·m²
+  std::string measure;               // --measure rms|space-vector
+  std::string force_column = "force_n";
+  double window_s = 0.05;
+  double steady_tolerance = 0.01;
+  double standstill_rad_s = 0.5;
+  std::string on_bad_line = "stop";
+  std::string out;  // --out calib.json (required)
+};
+int run_monitor_calibrate(const MonitorCalibrateArgs& args, std::ostream& out, std::ostream& err);
+
+/// `cutdyn monitor estimate` and `cutdyn monitor teach` share the estimator's settings.
+struct MonitorEstimatorArgs {
+  std::string calib;  // --calib C.json (or "zheng2012")
+  double bandwidth_hz = 50.0;
+  double standstill_rad_s = 0.5;
+  std::string on_bad_line = "stop";
+};
+
+struct MonitorEstimateArgs {
+  MonitorEstimatorArgs estimator;
+  std::string input = "-";  // INPUT.csv, or - for standard input
+  std::string out;          // --out F.csv (else standard output, line by line)
+  std::string band;         // --band B.json: add level/limits/alarm columns
+  std::string alarms;       // --alarms F.csv: the alarm events
+  double persist_s = 0.005;
+  double wear_fraction = 0.15;
+  double wear_time_constant_s = 0.5;
+};
+int run_monitor_estimate(const MonitorEstimateArgs& args, std::ostream& out, std::ostream& err);
+
+struct MonitorTeachArgs {
+  MonitorEstimatorArgs estimator;
+  std::vector<std::string> inputs;  // reference runs (one cycle each)
+  std::string out;                  // --out band.json (required)
+  double bin_s = 0.01;
+  double smoothing_s = 0.01;
+  double k_sigma = 3.0;
+  double relative_margin = 0.1;
+  double absolute_margin_n = 0.0;
+  double peak_margin = 0.05;
+  double cutting_fraction = 0.2;
+};
+int run_monitor_teach(const MonitorTeachArgs& args, std::ostream& out, std::ostream& err);
+
+/// Registers `monitor` (calibrate, estimate, teach) on `app`. The returned function runs the
+/// subcommand that was parsed and returns its exit code, or −1 if `monitor` was not used.
+std::function<int(std::ostream&, std::ostream&)> add_monitor_command(CLI::App& app);
 
 }  // namespace cutdyn::cli

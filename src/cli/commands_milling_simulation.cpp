@@ -134,7 +134,6 @@ Sweep parse_sweep(const std::string& spec) {
   return sweep;
 }
 
-
 namespace {
 
 std::string um(double m) { return human(m_to_um(m), 4); }

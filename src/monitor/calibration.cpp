@@ -1,0 +1,307 @@
+#include "cutdyn/monitor/calibration.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+#include "cutdyn/core/error.hpp"
+
+namespace cutdyn {
+
+std::vector<std::string> AxisCalibration::validate() const {
+  Validator v;
+  v.merge(model.validate());
+  const auto nonneg = [&](const char* field, double value, const char* unit) {
+    v.require(value >= 0.0, field, value, unit, "must be >= 0");
+  };
+  nonneg("sigma.inertia_kg_m2", sigma.inertia_kg_m2, "kg·m²");
+  nonneg("sigma.torque_constant_nm_per_a", sigma.torque_constant_nm_per_a, "N·m/A");
+  nonneg("sigma.viscous_nm_s_per_rad", sigma.viscous_nm_s_per_rad, "N·m·s/rad");
+  nonneg("sigma.friction_nm", sigma.friction_nm, "N·m");
+  nonneg("sigma.force_gain_m", sigma.force_gain_m, "m");
+  v.require(std::isfinite(sigma.friction_viscous_covariance), "sigma.friction_viscous_covariance",
+            sigma.friction_viscous_covariance, "", "must be finite");
+  nonneg("current_noise_a", current_noise_a, "A");
+  nonneg("speed_noise_rad_s", speed_noise_rad_s, "rad/s");
+  return v.problems();
+}
+
+AxisCalibration zheng2012_calibration(char axis) {
+  AxisCalibration c;
+  c.model = zheng2012_axis(axis);
+  return c;
+}
+
+std::vector<std::string> CalibrationOptions::validate() const {
+  Validator v("calibration");
+  v.require_positive("window_s", window_s, "s");
+  v.require(steady_tolerance >= 0.0, "steady_tolerance", steady_tolerance, "", "must be >= 0");
+  v.require(standstill_rad_s >= 0.0, "standstill_rad_s", standstill_rad_s, "rad/s", "must be >= 0");
+  v.require(min_samples_per_window >= 3, "min_samples_per_window", min_samples_per_window, "",
+            "must be at least 3");
+  return v.problems();
+}
+
+const char* to_string(CalibrationStatus status) {
+  switch (status) {
+    case CalibrationStatus::kSuccess:
+      return "success";
+    case CalibrationStatus::kTooFewWindows:
+      return "too few windows";
+    case CalibrationStatus::kTooFewSpeeds:
+      return "too few speeds";
+    case CalibrationStatus::kNoForce:
+      return "no force";
+  }
+  return "?";
+}
+
+namespace {
+
+// Means over one window of one run.
+struct Window {
+  int n = 0;
+  double speed = 0.0;        // mean ω
+  double accel = 0.0;        // slope of the least-squares line ω(t)
+  double accel_sigma = 0.0;  // its standard error
+  double sign = 0.0;         // the common sign of ω (0: standstill or a change of sign)
+  double current = 0.0;      // mean Id
+  double torque = 0.0;       // mean s·KT·Id
+  double force = 0.0;        // mean reference force
+  double current_ss = 0.0;   // Σ(Id − mean)²
+  double speed_ss = 0.0;     // Σ of squared residuals of ω about its line
+  bool steady = false;
+};
+
+std::vector<Window> windows_of(const AxisModel& m, const AxisRun& run,
+                               const CalibrationOptions& o) {
+  std::vector<Window> out;
+  std::size_t i = 0;
+  while (i < run.size()) {
+    std::size_t j = i;
+    const double t_end = run[i].time_s + o.window_s;
+    while (j < run.size() && run[j].time_s < t_end) ++j;
+    Window w;
+    w.n = static_cast<int>(j - i);
+    if (w.n >= o.min_samples_per_window) {
+      double t_mean = 0.0, moving_sign = 0.0;
+      bool standstill = false;
+      for (std::size_t k = i; k < j; ++k) {
+        const AxisSample& s = run[k];
+        const double id = equivalent_current(s.iu_a, s.iv_a, s.iw_a, m.measure);
+        const double sg = motion_sign(s.speed_rad_s);
+        if (std::abs(s.speed_rad_s) < o.standstill_rad_s ||
+            (moving_sign != 0.0 && sg != moving_sign))
+          standstill = true;
+        moving_sign = sg;
+        t_mean += s.time_s;
+        w.speed += s.speed_rad_s;
+        w.current += id;
+        w.torque += sg * m.torque_constant_nm_per_a * id;
+        w.force += s.force_n;
+      }
+      const double n = w.n;
+      t_mean /= n;
+      w.speed /= n;
+      w.current /= n;
+      w.torque /= n;
+      w.force /= n;
+      w.sign = standstill ? 0.0 : moving_sign;
+      double stt = 0.0, stw = 0.0;
+      for (std::size_t k = i; k < j; ++k) {
+        const double dt = run[k].time_s - t_mean;
+        stt += dt * dt;
+        stw += dt * (run[k].speed_rad_s - w.speed);
+        const double id = equivalent_current(run[k].iu_a, run[k].iv_a, run[k].iw_a, m.measure);
+        w.current_ss += (id - w.current) * (id - w.current);
+      }
+      w.accel = stt > 0.0 ? stw / stt : 0.0;
+      for (std::size_t k = i; k < j; ++k) {
+        const double r = run[k].speed_rad_s - w.speed - w.accel * (run[k].time_s - t_mean);
+        w.speed_ss += r * r;
+      }
+      w.accel_sigma = stt > 0.0 ? std::sqrt(w.speed_ss / (n - 2.0) / stt) : 0.0;
+      // Steady: the speed changes across the window by at most the tolerance, allowing for
+      // three standard errors of the slope.
+      const double change = std::abs(w.accel) * o.window_s;
+      w.steady = w.sign != 0.0 && change <= o.steady_tolerance * std::abs(w.speed) +
+                                                3.0 * w.accel_sigma * o.window_s;
+      out.push_back(w);
+    }
+    i = j;
+  }
+  return out;
+}
+
+int distinct_speeds(std::vector<double> speeds) {
+  std::sort(speeds.begin(), speeds.end());
+  int groups = 0;
+  double last = 0.0;
+  for (double s : speeds) {
+    if (groups == 0 || s - last > 0.02 * std::max(s, 1e-9)) ++groups;
+    last = s;
+  }
+  return groups;
+}
+
+}  // namespace
+
+IdleFit fit_idle(const AxisModel& m, const std::vector<AxisRun>& runs,
+                 const CalibrationOptions& o) {
+  Validator v;
+  v.merge(o.validate());
+  v.require_positive("torque_constant_nm_per_a", m.torque_constant_nm_per_a, "N·m/A");
+  v.require(m.inertia_kg_m2 >= 0.0, "inertia_kg_m2", m.inertia_kg_m2, "kg·m²", "must be >= 0");
+  v.throw_if_any();
+
+  IdleFit fit;
+  std::vector<Window> rows;
+  double current_ss = 0.0, speed_ss = 0.0, current_dof = 0.0, speed_dof = 0.0;
+  for (const AxisRun& run : runs) {
+    const std::vector<Window> ws = windows_of(m, run, o);
+    for (std::size_t k = 0; k < ws.size(); ++k) {
+      // Steady, and so are its neighbours: the edges of a speed change are left out.
+      const bool use =
+          ws[k].steady && (k == 0 || ws[k - 1].steady) && (k + 1 == ws.size() || ws[k + 1].steady);
+      if (!use) {
+        ++fit.report.windows_rejected;
+        continue;
+      }
+      rows.push_back(ws[k]);
+      current_ss += ws[k].current_ss;
+      current_dof += ws[k].n - 1.0;
+      speed_ss += ws[k].speed_ss;
+      speed_dof += ws[k].n - 2.0;
+    }
+  }
+  FitReport& r = fit.report;
+  r.windows = static_cast<int>(rows.size());
+  std::vector<double> magnitudes;
+  for (const Window& w : rows) magnitudes.push_back(std::abs(w.speed));
+  r.distinct_speeds = distinct_speeds(magnitudes);
+  if (current_dof > 0.0) fit.current_noise_a = std::sqrt(current_ss / current_dof);
+  if (speed_dof > 0.0) fit.speed_noise_rad_s = std::sqrt(speed_ss / speed_dof);
+  if (r.windows < 3) {
+    r.status = CalibrationStatus::kTooFewWindows;
+    r.message = "step 1 needs at least 3 steady windows; found " + std::to_string(r.windows) +
+                " (" + std::to_string(r.windows_rejected) +
+                " rejected as not steady or at standstill)";
+    return fit;
+  }
+  if (r.distinct_speeds < 2) {
+    r.status = CalibrationStatus::kTooFewSpeeds;
+    r.message = "step 1 needs steady runs at two or more different speed magnitudes; found " +
+                std::to_string(r.distinct_speeds);
+    return fit;
+  }
+
+  // [Zheng2012, eq. 5] with friction opposing motion: s·KT·Id − J·ε = Tnzm·sign(ω) + X·ω.
+  const Eigen::Index n = r.windows;
+  Eigen::MatrixXd a(n, 2);
+  Eigen::VectorXd y(n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const Window& w = rows[static_cast<std::size_t>(k)];
+    a(k, 0) = w.sign;
+    a(k, 1) = w.speed;
+    y(k) = w.torque - m.inertia_kg_m2 * w.accel;
+  }
+  const Eigen::Matrix2d ata = a.transpose() * a;
+  const Eigen::Matrix2d inv = ata.inverse();
+  const Eigen::Vector2d theta = inv * (a.transpose() * y);
+  const Eigen::VectorXd res = y - a * theta;
+  const double ss_res = res.squaredNorm();
+  const double ss_tot = (y.array() - y.mean()).square().sum();
+  r.r_squared = ss_tot > 0.0 ? 1.0 - ss_res / ss_tot : 1.0;
+  r.residual_rms_nm = std::sqrt(ss_res / static_cast<double>(n));
+  const double var = ss_res / static_cast<double>(n - 2);
+  r.residual_sigma_nm = std::sqrt(var);
+  fit.friction_nm = theta(0);
+  fit.viscous_nm_s_per_rad = theta(1);
+  fit.friction_sigma_nm = std::sqrt(var * inv(0, 0));
+  fit.viscous_sigma = std::sqrt(var * inv(1, 1));
+  fit.covariance = var * inv(0, 1);
+  r.message = "step 1: " + std::to_string(r.windows) + " steady windows at " +
+              std::to_string(r.distinct_speeds) + " speeds";
+  return fit;
+}
+
+LoadFit fit_load(const AxisCalibration& c, const std::vector<AxisRun>& runs,
+                 const CalibrationOptions& o) {
+  Validator v;
+  v.merge(o.validate());
+  const AxisModel& m = c.model;
+  v.require_positive("torque_constant_nm_per_a", m.torque_constant_nm_per_a, "N·m/A");
+  v.throw_if_any();
+
+  LoadFit fit;
+  FitReport& r = fit.report;
+  std::vector<Window> rows;
+  for (const AxisRun& run : runs) {
+    const std::vector<Window> ws = windows_of(m, run, o);
+    for (std::size_t k = 0; k < ws.size(); ++k) {
+      // As in step 1: steady windows with steady neighbours (J·ε of a window that holds a
+      // corner of the speed profile is not its speed line's slope).
+      const bool use =
+          ws[k].steady && (k == 0 || ws[k - 1].steady) && (k + 1 == ws.size() || ws[k + 1].steady);
+      if (!use) {
+        ++r.windows_rejected;
+        continue;
+      }
+      rows.push_back(ws[k]);
+    }
+  }
+  r.windows = static_cast<int>(rows.size());
+  if (r.windows < 2) {
+    r.status = CalibrationStatus::kTooFewWindows;
+    r.message = "step 2 needs at least 2 steady windows; found " + std::to_string(r.windows);
+    return fit;
+  }
+  // Step 2: y = s·KT·Id − X·ω − Tnzm·sign(ω) − J·ε = KBlf·F, through the origin.
+  double sxx = 0.0, sxy = 0.0, sxw = 0.0, sxs = 0.0, sxt = 0.0, sxa = 0.0, ymean = 0.0;
+  std::vector<double> y(rows.size());
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const Window& w = rows[k];
+    y[k] = w.torque - m.viscous_nm_s_per_rad * w.speed - m.friction_nm * w.sign -
+           m.inertia_kg_m2 * w.accel;
+    sxx += w.force * w.force;
+    sxy += w.force * y[k];
+    sxw += w.force * w.speed;
+    sxs += w.force * w.sign;
+    sxt += w.force * w.torque;
+    sxa += w.force * w.accel;
+    ymean += y[k];
+  }
+  ymean /= static_cast<double>(rows.size());
+  if (!(sxx > 0.0)) {
+    r.status = CalibrationStatus::kNoForce;
+    r.message = "step 2: the reference force is zero in every window";
+    return fit;
+  }
+  const double k = sxy / sxx;
+  double ss_res = 0.0, ss_tot = 0.0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    ss_res += (y[i] - k * rows[i].force) * (y[i] - k * rows[i].force);
+    ss_tot += (y[i] - ymean) * (y[i] - ymean);
+  }
+  const double n = static_cast<double>(rows.size());
+  r.r_squared = ss_tot > 0.0 ? 1.0 - ss_res / ss_tot : 1.0;
+  r.residual_rms_nm = std::sqrt(ss_res / n);
+  r.residual_sigma_nm = std::sqrt(ss_res / (n - 1.0));
+  const double var_fit = ss_res / (n - 1.0) / sxx;
+  // Propagated from step 1 and the given constants: K = Σ F·y / Σ F², y linear in them.
+  const double g_x = -sxw / sxx, g_t = -sxs / sxx;
+  const double g_kt = sxt / m.torque_constant_nm_per_a / sxx, g_j = -sxa / sxx;
+  const AxisUncertainty& u = c.sigma;
+  const double var_idle = g_x * g_x * u.viscous_nm_s_per_rad * u.viscous_nm_s_per_rad +
+                          g_t * g_t * u.friction_nm * u.friction_nm +
+                          2.0 * g_x * g_t * u.friction_viscous_covariance +
+                          g_kt * g_kt * u.torque_constant_nm_per_a * u.torque_constant_nm_per_a +
+                          g_j * g_j * u.inertia_kg_m2 * u.inertia_kg_m2;
+  fit.force_gain_m = k;
+  fit.force_gain_sigma_from_idle_m = std::sqrt(std::max(0.0, var_idle));
+  fit.force_gain_sigma_m = std::sqrt(var_fit + std::max(0.0, var_idle));
+  r.message = "step 2: " + std::to_string(r.windows) + " steady windows";
+  return fit;
+}
+
+}  // namespace cutdyn

@@ -1,0 +1,234 @@
+// `cutdyn monitor calibrate | estimate | teach`, in-process through cli::run, and once as a
+// real process reading a pipe line by line.
+#include <gtest/gtest.h>
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli/app.hpp"
+#include "monitor/synthetic_logs.hpp"
+#include "support/temp_dir.hpp"
+
+namespace cutdyn::cli {
+namespace {
+
+using testing::synthetic_run;
+
+struct Result {
+  int code;
+  std::string out;
+  std::string err;
+};
+
+Result cutdyn(std::vector<std::string> args) {
+  std::ostringstream out, err;
+  const int code = run(args, out, err);
+  return {code, out.str(), err.str()};
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+class MonitorCli : public testing::TempDirTest {
+ protected:
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path(name)) << text;
+    return path(name);
+  }
+  // Idle and loaded logs of axes x and y (the preset), and their calibration.
+  std::string calibrate() {
+    const AxisModel x = zheng2012_axis('x'), y = zheng2012_axis('y');
+    const std::string idle_x = testing::to_csv(synthetic_run(x, testing::idle_profile(0.3)), "x");
+    const std::string idle_y = testing::to_csv(synthetic_run(y, testing::idle_profile(0.3)), "y");
+    write("idle.csv", idle_x + idle_y.substr(idle_y.find('\n') + 1));
+    write("loaded_x.csv",
+          testing::to_csv(synthetic_run(x, testing::loaded_profile(0.2)), "x", true));
+    write("loaded_y.csv",
+          testing::to_csv(synthetic_run(y, testing::loaded_profile(0.2)), "y", true));
+    const Result r = cutdyn({"monitor", "calibrate", "--idle", path("idle.csv"), "--loaded",
+                             path("loaded_x.csv"), path("loaded_y.csv"), "--base", "zheng2012",
+                             "--out", path("calib.json")});
+    EXPECT_EQ(r.code, 0) << r.err;
+    return path("calib.json");
+  }
+  // A run must fail with exit 2, say `needle` on stderr and leave no output file.
+  void expect_rejected(std::vector<std::string> args, const std::string& needle) {
+    const auto before = testing::listing(dir_);
+    const Result r = cutdyn(args);
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find(needle), std::string::npos) << "stderr: " << r.err;
+    EXPECT_EQ(r.err.rfind("cutdyn: error: ", 0), 0u) << r.err;
+    EXPECT_EQ(testing::listing(dir_), before) << "a rejected run wrote files";
+  }
+};
+
+TEST_F(MonitorCli, CalibrateWritesTheDocumentedFile) {
+  const std::string calib = calibrate();
+  const auto doc = nlohmann::json::parse(std::ifstream(calib));
+  EXPECT_EQ(doc["format"], "cutdyn monitor calibration");
+  for (char a : {'x', 'y'}) {
+    const AxisModel truth = zheng2012_axis(a);
+    const auto& j = doc["axes"][std::string(1, a)];
+    EXPECT_NEAR(j["friction_nm"].get<double>(), truth.friction_nm, 1e-6 * truth.friction_nm);
+    EXPECT_NEAR(j["viscous_nm_s_per_rad"].get<double>(), truth.viscous_nm_s_per_rad,
+                1e-6 * truth.viscous_nm_s_per_rad);
+    EXPECT_NEAR(j["force_gain_m"].get<double>(), truth.force_gain_m, 1e-6 * truth.force_gain_m);
+    EXPECT_EQ(j["measure"], "rms");
+    EXPECT_EQ(j["idle_fit"]["distinct_speeds"], 5);
+  }
+  // KT and J are needed: without --base or --kt/--inertia the run is refused.
+  expect_rejected({"monitor", "calibrate", "--idle", path("idle.csv"), "--out", path("c2.json")},
+                  "the torque constant is unknown");
+}
+
+TEST_F(MonitorCli, EstimateStreamsTheForce) {
+  const std::string calib = calibrate();
+  const AxisModel x = zheng2012_axis('x');
+  write("cut.csv",
+        testing::to_csv(synthetic_run(x, {{60.0, 0.3, 2500.0}}, 1e-3, {}, 1, true), "x"));
+  const Result r = cutdyn({"monitor", "estimate", "--calib", calib, path("cut.csv")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto lines = lines_of(r.out);
+  ASSERT_EQ(lines.size(), 301u);
+  EXPECT_EQ(lines[0], "time_s,axis,force_n,force_sigma_n,speed_rad_s,accel_rad_s2");
+  EXPECT_EQ(lines[200].rfind("0.199,x,2500,", 0), 0u) << lines[200];  // exact to 7 digits
+  EXPECT_NE(r.err.find("300 samples"), std::string::npos) << r.err;
+  // --out: the same to a file, the summary on stdout.
+  const Result f =
+      cutdyn({"monitor", "estimate", "--calib", calib, path("cut.csv"), "--out", path("est.csv")});
+  ASSERT_EQ(f.code, 0) << f.err;
+  EXPECT_EQ(testing::read_file(path("est.csv")), r.out);
+}
+
+TEST_F(MonitorCli, MalformedInputStopsWithTheLine) {
+  const std::string h = "time_s,axis,iu_a,iv_a,iw_a,speed_rad_s\n";
+  const std::string ok = "0,x,10,-5,-5,50\n0.001,x,10,-5,-5,50\n";
+  const auto args = [&](const std::string& file) {
+    return std::vector<std::string>{"monitor",  "estimate", "--calib",      "zheng2012",
+                                    path(file), "--out",    path("est.csv")};
+  };
+  write("missing.csv", "time_s,axis,iu_a,iv_a,iw_a\n0,x,1,1,1\n");
+  expect_rejected(args("missing.csv"), "missing.csv: line 1: missing column speed_rad_s");
+  write("text.csv", h + ok + "0.002,x,ten,-5,-5,50\n");
+  expect_rejected(args("text.csv"), "text.csv: line 4: iu_a = \"ten\": not a number");
+  write("nan.csv", h + ok + "0.002,x,10,-5,-5,NaN\n");
+  expect_rejected(args("nan.csv"), "nan.csv: line 4: speed_rad_s = \"NaN\": must be a finite");
+  write("back.csv", h + ok + "0,x,10,-5,-5,50\n");
+  expect_rejected(args("back.csv"), "back.csv: line 4: time_s = 0 s on axis x goes backwards");
+  write("empty.csv", "");
+  expect_rejected(args("empty.csv"), "empty.csv: line 1: empty input");
+  write("short.csv", h + ok + "0.002,x,10,-5\n");
+  expect_rejected(args("short.csv"), "short.csv: line 4: missing column iw_a, speed_rad_s");
+  write("axis.csv", h + ok + "0.002,q,10,-5,-5,50\n");
+  expect_rejected(args("axis.csv"), "line 4: axis \"q\" is not in the calibration");
+  expect_rejected(
+      {"monitor", "estimate", "--calib", "zheng2012", path("text.csv"), "--on-bad-line", "maybe"},
+      "--on-bad-line = \"maybe\": must be stop or skip");
+}
+
+TEST_F(MonitorCli, SkipBadLinesReportsTheCount) {
+  write("bad.csv",
+        "time_s,axis,iu_a,iv_a,iw_a,speed_rad_s\n0,x,10,-5,-5,50\n0.001,x,ten,-5,-5,50\n"
+        "0.002,x,10,-5,-5,nan\n0.003,x,10,-5,-5,50\n0.001,x,10,-5,-5,50\n");
+  const Result r = cutdyn(
+      {"monitor", "estimate", "--calib", "zheng2012", path("bad.csv"), "--on-bad-line", "skip"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(lines_of(r.out).size(), 3u);  // header + lines 2 and 5
+  EXPECT_NE(r.err.find("bad.csv: skipped 3 bad lines"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("line 3: iu_a = \"ten\": not a number (skipped)"), std::string::npos);
+  // All lines bad: nothing to estimate, exit 2.
+  write("allbad.csv", "time_s,axis,iu_a,iv_a,iw_a,speed_rad_s\n0,x,a,b,c,d\n");
+  const Result none = cutdyn(
+      {"monitor", "estimate", "--calib", "zheng2012", path("allbad.csv"), "--on-bad-line", "skip"});
+  EXPECT_EQ(none.code, 2);
+  EXPECT_NE(none.err.find("no valid data line (1 skipped)"), std::string::npos) << none.err;
+}
+
+TEST_F(MonitorCli, TeachThenEstimateFlagsOverload) {
+  // Reference: 0.5 s at 60 rad/s and 2000 N. Monitored: the force rises to 3000 N at 0.3 s.
+  const AxisModel x = zheng2012_axis('x');
+  write("ref.csv",
+        testing::to_csv(synthetic_run(x, {{60.0, 0.5, 2000.0}}, 1e-3, {}, 1, true), "x"));
+  write("cut.csv", testing::to_csv(synthetic_run(x, {{60.0, 0.3, 2000.0}, {60.0, 0.2, 3000.0, 0.0}},
+                                                 1e-3, {}, 1, true),
+                                   "x"));
+  const Result t = cutdyn(
+      {"monitor", "teach", "--calib", "zheng2012", path("ref.csv"), "--out", path("band.json")});
+  ASSERT_EQ(t.code, 0) << t.err;
+  const Result r =
+      cutdyn({"monitor", "estimate", "--calib", "zheng2012", path("cut.csv"), "--band",
+              path("band.json"), "--alarms", path("alarms.csv"), "--out", path("est.csv")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("cutdyn: alarm: overload on axis x at 0.30"), std::string::npos) << r.err;
+  const auto alarms = lines_of(testing::read_file(path("alarms.csv")));
+  ASSERT_GE(alarms.size(), 2u);
+  EXPECT_EQ(alarms[0], "time_s,axis,alarm,detected_s,level,limit");
+  // Band 2000 ± (10 % + 5 %): the level (τ 10 ms) passes 2300 N 3.6 ms after the step.
+  const double expected = 0.3 - 0.01 * std::log(1.0 - 300.0 / 1000.0);
+  EXPECT_NEAR(std::stod(alarms[1].substr(0, alarms[1].find(','))), expected, 1.5e-3);
+  const auto est = lines_of(testing::read_file(path("est.csv")));
+  EXPECT_EQ(est[0],
+            "time_s,axis,force_n,force_sigma_n,speed_rad_s,accel_rad_s2,level_n,upper_n,"
+            "lower_n,alarm");
+  EXPECT_EQ(est.back().substr(est.back().rfind(',') + 1).rfind("overload", 0), 0u) << est.back();
+  EXPECT_EQ(est[100].substr(est[100].rfind(',') + 1), "");
+}
+
+TEST_F(MonitorCli, StandardInputIsAnsweredLineByLine) {
+  // A real process on a pipe: each line written gets its estimate before the next is sent
+  // (the pipe stays open), so the estimate is usable live.
+  int to_child[2], from_child[2];
+  ASSERT_EQ(pipe(to_child), 0);
+  ASSERT_EQ(pipe(from_child), 0);
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    dup2(to_child[0], 0);
+    dup2(from_child[1], 1);
+    close(to_child[1]);
+    close(from_child[0]);
+    execl(CUTDYN_BINARY, "cutdyn", "monitor", "estimate", "--calib", "zheng2012", "-",
+          static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  close(to_child[0]);
+  close(from_child[1]);
+  std::string received;
+  const auto read_until_lines = [&](std::size_t want) {
+    char buf[4096];
+    while (lines_of(received).size() < want) {
+      pollfd p{from_child[0], POLLIN, 0};
+      if (poll(&p, 1, 5000) <= 0) return false;
+      const ssize_t n = read(from_child[0], buf, sizeof buf);
+      if (n <= 0) return false;
+      received.append(buf, static_cast<std::size_t>(n));
+    }
+    return true;
+  };
+  const std::string lines[] = {"time_s,axis,iu_a,iv_a,iw_a,speed_rad_s\n0,x,10,-5,-5,50\n",
+                               "0.001,x,10,-5,-5,50\n", "0.002,x,10,-5,-5,50\n"};
+  for (std::size_t k = 0; k < 3; ++k) {
+    ASSERT_EQ(::write(to_child[1], lines[k].data(), lines[k].size()),
+              static_cast<ssize_t>(lines[k].size()));
+    EXPECT_TRUE(read_until_lines(k + 2)) << "no answer to line " << k + 2 << ": " << received;
+  }
+  close(to_child[1]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  close(from_child[0]);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  EXPECT_EQ(lines_of(received).at(3).rfind("0.002,x,", 0), 0u) << received;
+}
+
+}  // namespace
+}  // namespace cutdyn::cli
