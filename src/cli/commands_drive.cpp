@@ -110,15 +110,9 @@ std::vector<double> metrics(const AxisRun& a) {
 
 int run_sweep(const DriveArgs& args, const io::Case& c, std::ostream& out, std::ostream& err) {
   const Sweep sweep = parse_sweep(args.sweep);
-  const std::string metric = args.metric.empty() ? "epsilon_um" : args.metric;
   const auto& names = metric_names();
-  const auto chosen = std::find(names.begin(), names.end(), metric);
-  if (chosen == names.end()) {
-    std::string list;
-    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-    throw InvalidInput({"--metric = \"" + metric + "\": must be one of " + list}, "command line");
-  }
-  const auto column = static_cast<std::size_t>(chosen - names.begin());
+  const std::size_t column = metric_column(args.metric, "epsilon_um", names);
+  const std::string& metric = names[column];
   std::vector<io::Case> cases;
   for (double value : sweep.values) cases.push_back(io::with_value(c, sweep.key, value));
   // Check every case before any runs (the milling part; the drives are checked as they run).

@@ -96,6 +96,18 @@ SimulationSetup milling_setup(const SimulateArgs& args, const io::Case& c) {
 }
 
 // "KEY=FROM:STEP:TO" (MATLAB's colon notation), at most 10 000 values.
+std::size_t metric_column(const std::string& metric, const std::string& fallback,
+                          const std::vector<std::string>& names) {
+  const std::string name = metric.empty() ? fallback : metric;
+  const auto chosen = std::find(names.begin(), names.end(), name);
+  if (chosen == names.end()) {
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw InvalidInput({"--metric = \"" + name + "\": must be one of " + list}, "command line");
+  }
+  return static_cast<std::size_t>(chosen - names.begin());
+}
+
 Sweep parse_sweep(const std::string& spec) {
   const auto fail = [&](const std::string& why) -> Sweep {
     throw InvalidInput({"--sweep = \"" + spec + "\": " + why}, "command line");
@@ -165,15 +177,9 @@ std::vector<double> metrics(const MillingSimulationResult& r) {
 
 int run_sweep(const SimulateArgs& args, const io::Case& c, std::ostream& out, std::ostream& err) {
   const Sweep sweep = parse_sweep(args.sweep);
-  const std::string metric = args.metric.empty() ? "force_pulsation" : args.metric;
   const auto& names = metric_names();
-  const auto chosen = std::find(names.begin(), names.end(), metric);
-  if (chosen == names.end()) {
-    std::string list;
-    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-    throw InvalidInput({"--metric = \"" + metric + "\": must be one of " + list}, "command line");
-  }
-  const auto column = static_cast<std::size_t>(chosen - names.begin());
+  const std::size_t column = metric_column(args.metric, "force_pulsation", names);
+  const std::string& metric = names[column];
   // Every case of the sweep is read and checked before any simulation runs.
   std::vector<SimulationSetup> setups;
   for (double value : sweep.values) {

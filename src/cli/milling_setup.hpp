@@ -31,4 +31,9 @@ struct Sweep {
 /// cutdyn::InvalidInput at "command line".
 Sweep parse_sweep(const std::string& spec);
 
+/// The column of `--metric` (`fallback` when not given) among `names`; an unknown name throws
+/// cutdyn::InvalidInput listing them.
+std::size_t metric_column(const std::string& metric, const std::string& fallback,
+                          const std::vector<std::string>& names);
+
 }  // namespace cutdyn::cli

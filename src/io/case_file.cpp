@@ -405,6 +405,24 @@ using units::um_to_m;
 
 // ---- sections ----------------------------------------------------------------------------
 
+// Calls read(path, table) for every element of an array of tables ("name[i]"); an element
+// that is not a table is a problem.
+template <typename Read>
+void for_each_table(Problems& problems, const toml::array& array, const std::string& name,
+                    Read read) {
+  for (std::size_t i = 0; i < array.size(); ++i) {
+    const std::string path = name + "[" + std::to_string(i) + "]";
+    const toml::node& element = *array.get(i);
+    const toml::table* table = element.as_table();
+    if (table == nullptr) {
+      problems.at(path, element,
+                  std::string("wrong type: expected a table, got ") + type_name(element));
+      continue;
+    }
+    read(path, *table);
+  }
+}
+
 void read_mode(TableReader& t, std::optional<Process> process, Case& c) {
   const auto direction = t.choice("direction", {"x", "y"}, Need::kRequired);
   const auto hz = t.number("natural_hz", kPositive, Need::kRequired);
@@ -450,19 +468,11 @@ void read_modes(TableReader& top, std::optional<Process> process, Case& c) {
     problems.at("modes", *node, "must hold at least one mode");
     return;
   }
-  for (std::size_t i = 0; i < array->size(); ++i) {
-    const std::string path = "modes[" + std::to_string(i) + "]";
-    const toml::node& element = *array->get(i);
-    const toml::table* table = element.as_table();
-    if (table == nullptr) {
-      problems.at(path, element,
-                  std::string("wrong type: expected a table, got ") + type_name(element));
-      continue;
-    }
-    TableReader t(problems, *table, path,
+  for_each_table(problems, *array, "modes", [&](const std::string& path, const toml::table& table) {
+    TableReader t(problems, table, path,
                   {"direction", "natural_hz", "damping_ratio", "stiffness_n_per_m", "mass_kg"});
     read_mode(t, process, c);
-  }
+  });
 }
 
 void read_drive(TableReader& t, Case& c) {
@@ -546,39 +556,32 @@ void read_drives(TableReader& top, Case& c) {
     problems.at("drives", *node, "must be one to three [[drives]] tables");
     return;
   }
-  for (std::size_t i = 0; i < array->size(); ++i) {
-    const std::string path = "drives[" + std::to_string(i) + "]";
-    const toml::node& element = *array->get(i);
-    const toml::table* table = element.as_table();
-    if (table == nullptr) {
-      problems.at(path, element,
-                  std::string("wrong type: expected a table, got ") + type_name(element));
-      continue;
-    }
-    TableReader t(problems, *table, path,
-                  {"axis",
-                   "direction",
-                   "transmission",
-                   "lead_mm",
-                   "efficiency",
-                   "gear_ratio",
-                   "output_diameter_mm",
-                   "ratio",
-                   "idle_torque_nm",
-                   "model",
-                   "stiffness_nm_s_per_rad",
-                   "inertia_kg_m2",
-                   "viscous_nm_s_per_rad",
-                   "kp_nm_s_per_rad",
-                   "ki_nm_per_rad",
-                   "torque_limit_nm",
-                   "pole_pairs",
-                   "torque_constant_nm_per_a",
-                   "current_measure",
-                   "current_noise_a",
-                   "current_offset_a"});
-    read_drive(t, c);
-  }
+  for_each_table(problems, *array, "drives",
+                 [&](const std::string& path, const toml::table& table) {
+                   TableReader t(problems, table, path,
+                                 {"axis",
+                                  "direction",
+                                  "transmission",
+                                  "lead_mm",
+                                  "efficiency",
+                                  "gear_ratio",
+                                  "output_diameter_mm",
+                                  "ratio",
+                                  "idle_torque_nm",
+                                  "model",
+                                  "stiffness_nm_s_per_rad",
+                                  "inertia_kg_m2",
+                                  "viscous_nm_s_per_rad",
+                                  "kp_nm_s_per_rad",
+                                  "ki_nm_per_rad",
+                                  "torque_limit_nm",
+                                  "pole_pairs",
+                                  "torque_constant_nm_per_a",
+                                  "current_measure",
+                                  "current_noise_a",
+                                  "current_offset_a"});
+                   read_drive(t, c);
+                 });
 }
 
 void read_cutting(TableReader& t, Case& c) {

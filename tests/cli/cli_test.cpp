@@ -19,6 +19,7 @@
 #include "cutdyn/stability/full_discretization.hpp"
 #include "cutdyn/stability/milling.hpp"
 #include "cutdyn/stability/tlusty.hpp"
+#include "support/cli_runner.hpp"
 #include "support/reference_cases.hpp"
 #include "support/temp_dir.hpp"
 
@@ -27,17 +28,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code;
-  std::string out;
-  std::string err;
-};
+using Result = testing::CliResult;
 
-Result cutdyn(std::vector<std::string> args) {
-  std::ostringstream out, err;
-  const int code = run(args, out, err);
-  return {code, out.str(), err.str()};
-}
+Result cutdyn(const std::vector<std::string>& args) { return testing::run_cutdyn(args); }
 
 class Cli : public testing::TempDirTest {
  protected:

@@ -12,6 +12,7 @@
 
 #include "cli/app.hpp"
 #include "monitor/synthetic_logs.hpp"
+#include "support/cli_runner.hpp"
 #include "support/temp_dir.hpp"
 
 namespace cutdyn::cli {
@@ -19,17 +20,9 @@ namespace {
 
 using testing::synthetic_run;
 
-struct Result {
-  int code;
-  std::string out;
-  std::string err;
-};
+using Result = testing::CliResult;
 
-Result cutdyn(std::vector<std::string> args) {
-  std::ostringstream out, err;
-  const int code = run(args, out, err);
-  return {code, out.str(), err.str()};
-}
+Result cutdyn(const std::vector<std::string>& args) { return testing::run_cutdyn(args); }
 
 std::vector<std::string> lines_of(const std::string& text) {
   std::vector<std::string> lines;
