@@ -468,11 +468,9 @@ TEST_F(Cli, DriveUnderTheS1PresetLoad) {
 
 TEST_F(Cli, DriveCurrentsAndSweepAndBadDrives) {
   std::string text(*io::example_text("ermolaev2020"));
-  // Give the y axis a motor too, then the currents CSV has the monitor's input columns and
-  // its equivalent current is |Te|/KT (the static drive's motor torque is the load torque).
-  const auto y = text.find("axis = \"y\"");
-  text.insert(text.find("stiffness_nm_s_per_rad = -10000", y) + 31,
-              "\npole_pairs = 4\ntorque_constant_nm_per_a = 1.627\ncurrent_measure = \"rms\"");
+  // Both axes have a motor (x: KT = 1.621 N·m/A in the space-vector measure, the default); the
+  // currents CSV has the monitor's input columns and its equivalent current is |Te|/KT (the
+  // static drive's motor torque is the load torque).
   const auto file = write("drive.toml", text);
   const Result r = cutdyn({"drive", file, "--currents", path("i.csv"), "--out", path("d.csv")});
   ASSERT_EQ(r.code, 0) << r.err;
@@ -505,7 +503,10 @@ TEST_F(Cli, DriveCurrentsAndSweepAndBadDrives) {
   lever.replace(lever.find("output_diameter_mm = 40"), 23, "");
   expect_rejected({"drive", write("lever.toml", lever), "--out", path("x.csv")},
                   "drives[0].output_diameter_mm: missing");
-  expect_rejected({"drive", "ermolaev2020", "--currents", path("x.csv")},
+  std::string no_motor = text;
+  no_motor.replace(no_motor.find("torque_constant_nm_per_a = 1.627"), 32, "");
+  no_motor.replace(no_motor.rfind("pole_pairs = 4"), 14, "");
+  expect_rejected({"drive", write("nomotor.toml", no_motor), "--currents", path("x.csv")},
                   "drives (axis y): --currents needs the motor");
 }
 
