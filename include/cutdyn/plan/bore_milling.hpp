@@ -1,0 +1,72 @@
+// Two-edge face milling of large bores [Zenkin & Shchelupova 2012]: kinematics and quality,
+// models.md S2; docs/models/bore-milling.md.
+//
+// A face mill of diameter D whose knives cut with an outer and an inner edge machines the bore
+// of diameter d of a ring blank turning at n_o; the cutter turns at n_u and feeds axially by S0
+// per blank revolution. The equations (1)–(14) of models.md S2 are evaluated with every square
+// root and arcsine checked: an input outside a formula's domain throws cutdyn::InvalidInput
+// naming the condition and the inputs, never NaN.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace cutdyn {
+
+struct BoreMillingCase {
+  // Bore and blank.
+  double bore_diameter_m = 0.0;  // d, the machined bore
+  double length_m = 0.0;         // L
+  double allowance_m = 0.0;      // t, radial
+  // Cutter.
+  double cutter_diameter_m = 0.0;  // D
+  int teeth = 0;                   // z
+  double offset_m = 0.0;           // h, of the cutter relative to the blank
+  double lead_angle_rad = 0.0;     // φ, 0 < φ <= π/2
+  double inclination_rad = 0.0;    // λ, |λ| < π/2
+  // Process.
+  double cutting_speed_m_per_s = 0.0;  // v
+  double mean_chip_thickness_m = 0.0;  // a_cp, allowed
+  double accuracy_coefficient = 0.0;   // k: Δ1 <= k·t (0.1 roughing … 0.005 finishing)
+
+  std::vector<std::string> validate() const;
+};
+
+/// Everything of S2 at the axial feed `S0` (SI; speeds in rev/s, times in s).
+struct BoreMillingResult {
+  double q_m = 0.0;                           // (1) width of the cut of one pass
+  double axial_feed_m = 0.0;                  // S0 used
+  double max_axial_feed_m = 0.0;              // S0 with Δ1 = k·t, exact inversion of (3)
+  double max_axial_feed_closed_form_m = 0.0;  // (4)
+  double milling_width_m = 0.0;               // (2) bф
+  double straightness_error_m = 0.0;          // (3) Δ1
+  double cutter_rev_per_s = 0.0;              // n_u = v/(π·D)
+  double workpiece_rev_per_s = 0.0;           // (8) n_o for a_cp
+  double feed_per_tooth_m = 0.0;              // (5) S_z
+  double max_chip_thickness_m = 0.0;          // (5) a_max = S_z·sin φ
+  double contact_arc_m = 0.0;                 // (6) l
+  double chip_width_m = 0.0;                  // (6) m = t/(2 sin φ)
+  double mean_chip_thickness_m = 0.0;         // (7) a_cp (= the case's, by (8))
+  double path_per_edge_m = 0.0;               // (9) l_u
+  double edge_width_m = 0.0;                  // (10) b
+  double engaged_fraction = 0.0;              // (11) p
+  int teeth_in_cut = 0;                       // (11) z' = floor(z·p)
+  double total_edge_width_m = 0.0;            // (12) b0
+  double main_time_s = 0.0;                   // (13) t0
+  double faceting_m = 0.0;                    // (14) Δ2
+  double removal_rate_m3_per_s = 0.0;         // π(d·t − t²)·S0·n_o
+};
+
+/// (1): q. Throws if a square root's argument is negative.
+double bore_q(const BoreMillingCase& c);
+/// (3): Δ1 at the axial feed S0.
+double straightness_error(const BoreMillingCase& c, double axial_feed_m);
+/// The largest S0 with Δ1(S0) <= k·t, by Brent's method on (3) to 1e-12 relative.
+double max_axial_feed(const BoreMillingCase& c);
+/// (4), the source's closed form of the same.
+double max_axial_feed_closed_form(const BoreMillingCase& c);
+
+/// All of S2 at S0 = `axial_feed_m` (0: the largest, max_axial_feed). Checks S0 < q.
+BoreMillingResult bore_milling(const BoreMillingCase& c, double axial_feed_m = 0.0);
+
+}  // namespace cutdyn
