@@ -106,6 +106,15 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   drive_cmd->add_option("--threads", drive.threads, "with --sweep: threads (default: all cores)")
       ->check(CLI::Range(0, 1024));
 
+  // plan
+  PlanArgs plan;
+  auto* plan_cmd =
+      app.add_subcommand("plan", "two-edge face milling of a large bore: feeds, speeds, quality");
+  plan_cmd->add_option("CASE", plan.case_path, "case file (TOML) with [bore], [cutter], [process]");
+  plan_cmd->add_option("--json", plan.json, "write every quantity and the effective case as JSON");
+  plan_cmd->add_option("--axial-feed-mm", plan.axial_feed_mm,
+                       "a fixed axial feed S0 (mm per blank revolution) instead of the largest");
+
   // force
   ForceArgs force;
   auto* force_cmd =
@@ -165,6 +174,7 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     if (check_cmd->parsed()) return run_check(check, out, err);
     if (sim_cmd->parsed()) return run_simulate(sim, out, err);
     if (drive_cmd->parsed()) return run_drive(drive, out, err);
+    if (plan_cmd->parsed()) return run_plan(plan, out, err);
     if (force_cmd->parsed()) return run_force(force, out, err);
     if (const int code = run_monitor(out, err); code >= 0) return code;
     err << app.help();

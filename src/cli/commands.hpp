@@ -73,6 +73,13 @@ struct DriveArgs {
 };
 int run_drive(const DriveArgs& args, std::ostream& out, std::ostream& err);
 
+struct PlanArgs {
+  std::string case_path;
+  std::string json;
+  std::optional<double> axial_feed_mm;  // a fixed S0 (else the largest)
+};
+int run_plan(const PlanArgs& args, std::ostream& out, std::ostream& err);
+
 /// The milling halves of `lobes` and `check` (the commands dispatch on the case's process).
 int run_lobes_milling(const LobesArgs& args, const io::Case& c, std::ostream& out,
                       std::ostream& err);

@@ -781,7 +781,15 @@ nlohmann::json tidy(double value) {
 }  // namespace
 
 const char* to_string(Process process) {
-  return process == Process::kTurning ? "turning" : "milling";
+  switch (process) {
+    case Process::kTurning:
+      return "turning";
+    case Process::kMilling:
+      return "milling";
+    case Process::kBoreMilling:
+      return "bore-milling";
+  }
+  return "?";
 }
 
 const char* to_string(StabilityMethod method) {
@@ -796,6 +804,64 @@ const char* to_string(StabilityMethod method) {
       return "full-discretization";
   }
   return "auto";
+}
+
+// A `cutdyn plan` case: [bore], [cutter] and the [process] table (models.md S2; product.md).
+// A [process] TABLE marks it: TOML cannot hold both it and the `process = "..."` key of the
+// dynamics cases (docs/case-files.md).
+void read_bore_case(TableReader& top, Case& c) {
+  Problems& problems = top.problems();
+  c.process = Process::kBoreMilling;
+  BoreMillingCase b;
+  const Range angle{0.0, true, 90.0, false};
+  if (const toml::table* t = top.section("bore")) {
+    TableReader r(problems, *t, "bore", {"diameter_mm", "length_mm", "allowance_mm"});
+    if (auto v = r.number("diameter_mm", kPositive, Need::kRequired))
+      b.bore_diameter_m = mm_to_m(*v);
+    if (auto v = r.number("length_mm", kPositive, Need::kRequired)) b.length_m = mm_to_m(*v);
+    if (auto v = r.number("allowance_mm", kPositive, Need::kRequired)) b.allowance_m = mm_to_m(*v);
+    if (b.bore_diameter_m > 0.0 && b.allowance_m >= 0.5 * b.bore_diameter_m)
+      r.problem("allowance_mm", "must be less than the bore's radius");
+    r.report_unknown();
+  } else {
+    problems.missing("bore", "required by a plan case: diameter_mm, length_mm, allowance_mm");
+  }
+  if (const toml::table* t = top.section("cutter")) {
+    TableReader r(problems, *t, "cutter",
+                  {"diameter_mm", "teeth", "offset_mm", "lead_angle_deg", "inclination_deg"});
+    if (auto v = r.number("diameter_mm", kPositive, Need::kRequired))
+      b.cutter_diameter_m = mm_to_m(*v);
+    if (auto v = r.integer("teeth", 1, 500, Need::kRequired)) b.teeth = *v;
+    if (auto v = r.number("offset_mm", Range{}, Need::kRequired)) b.offset_m = mm_to_m(*v);
+    if (auto v = r.number("lead_angle_deg", angle, Need::kRequired))
+      b.lead_angle_rad = units::deg_to_rad(*v);
+    if (auto v = r.number("inclination_deg", Range{-90.0, true, 90.0, true}, Need::kOptional))
+      b.inclination_rad = units::deg_to_rad(*v);
+    if (b.cutter_diameter_m > 0.0 && b.bore_diameter_m > 0.0 &&
+        b.cutter_diameter_m >= b.bore_diameter_m)
+      r.problem("diameter_mm",
+                "must be less than bore.diameter_mm = " + format_value(m_to_mm(b.bore_diameter_m)));
+    r.report_unknown();
+  } else {
+    problems.missing("cutter",
+                     "required by a plan case: diameter_mm, teeth, offset_mm, lead_angle_deg");
+  }
+  if (const toml::table* t = top.section("process")) {
+    TableReader r(problems, *t, "process",
+                  {"cutting_speed_m_per_min", "mean_chip_thickness_mm", "accuracy_coefficient",
+                   "axial_feed_mm"});
+    if (auto v = r.number("cutting_speed_m_per_min", kPositive, Need::kRequired))
+      b.cutting_speed_m_per_s = *v / 60.0;
+    if (auto v = r.number("mean_chip_thickness_mm", kPositive, Need::kRequired))
+      b.mean_chip_thickness_m = mm_to_m(*v);
+    if (auto v = r.number("accuracy_coefficient", Range{0.0, true, 1.0, true}, Need::kRequired))
+      b.accuracy_coefficient = *v;
+    if (auto v = r.number("axial_feed_mm", kPositive, Need::kOptional))
+      c.axial_feed_m = mm_to_m(*v);
+    r.report_unknown();
+  }
+  c.bore = b;
+  top.report_unknown();
 }
 
 Case parse_case(std::string_view toml_text, std::string_view source) {
@@ -815,6 +881,12 @@ Case parse_case(std::string_view toml_text, std::string_view source) {
   c.source = std::string(source);
   c.text = std::string(toml_text);
 
+  if (const toml::node* p = root.get("process"); p != nullptr && p->is_table()) {
+    TableReader top(problems, root, "", {"process", "bore", "cutter"});
+    read_bore_case(top, c);
+    if (!problems.empty()) throw InvalidInput(problems.take(), std::string(source));
+    return c;
+  }
   TableReader top(problems, root, "",
                   {"process", "modes", "cutting", "tool", "operation", "vibration", "lobes",
                    "simulate", "force_law", "drives"});
@@ -955,6 +1027,22 @@ Case load_example(std::string_view name) {
 nlohmann::json to_json(const Case& c) {
   using nlohmann::json;
   json j;
+  if (c.bore) {
+    const BoreMillingCase& b = *c.bore;
+    j["bore"] = {{"diameter_mm", tidy(m_to_mm(b.bore_diameter_m))},
+                 {"length_mm", tidy(m_to_mm(b.length_m))},
+                 {"allowance_mm", tidy(m_to_mm(b.allowance_m))}};
+    j["cutter"] = {{"diameter_mm", tidy(m_to_mm(b.cutter_diameter_m))},
+                   {"teeth", b.teeth},
+                   {"offset_mm", tidy(m_to_mm(b.offset_m))},
+                   {"lead_angle_deg", tidy(units::rad_to_deg(b.lead_angle_rad))},
+                   {"inclination_deg", tidy(units::rad_to_deg(b.inclination_rad))}};
+    j["process"] = {{"cutting_speed_m_per_min", tidy(60.0 * b.cutting_speed_m_per_s)},
+                    {"mean_chip_thickness_mm", tidy(m_to_mm(b.mean_chip_thickness_m))},
+                    {"accuracy_coefficient", tidy(b.accuracy_coefficient)}};
+    if (c.axial_feed_m) j["process"]["axial_feed_mm"] = tidy(m_to_mm(*c.axial_feed_m));
+    return j;
+  }
   j["process"] = to_string(c.process);
 
   json modes = json::array();

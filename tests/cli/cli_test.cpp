@@ -15,6 +15,7 @@
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/io/case_file.hpp"
 #include "cutdyn/monitor/equivalent_current.hpp"
+#include "cutdyn/plan/bore_milling.hpp"
 #include "cutdyn/simulate/milling_simulation.hpp"
 #include "cutdyn/stability/full_discretization.hpp"
 #include "cutdyn/stability/milling.hpp"
@@ -508,6 +509,39 @@ TEST_F(Cli, DriveCurrentsAndSweepAndBadDrives) {
   no_motor.replace(no_motor.rfind("pole_pairs = 4"), 14, "");
   expect_rejected({"drive", write("nomotor.toml", no_motor), "--currents", path("x.csv")},
                   "drives (axis y): --currents needs the motor");
+}
+
+TEST_F(Cli, PlanReportsTheBoreMillingQuantities) {
+  // The default plan (product.md's example) against the library; the JSON has the keys the
+  // issue fixes.
+  const Result r = cutdyn({"plan", "--json", path("p.json")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(std::ifstream(path("p.json")));
+  const io::Case c = io::load_example("bore-plan");
+  const BoreMillingResult lib = bore_milling(*c.bore);
+  EXPECT_DOUBLE_EQ(doc["max_axial_feed_mm"].get<double>(), 1e3 * lib.max_axial_feed_m);
+  EXPECT_DOUBLE_EQ(doc["max_axial_feed_closed_form_mm"].get<double>(),
+                   1e3 * lib.max_axial_feed_closed_form_m);
+  EXPECT_DOUBLE_EQ(doc["q_mm"].get<double>(), 1e3 * lib.q_m);
+  EXPECT_DOUBLE_EQ(doc["main_time_min"].get<double>(), lib.main_time_s / 60.0);
+  EXPECT_NEAR(doc["straightness_error_mm"].get<double>(), 0.05 * 5.0, 1e-9);  // Δ1 = k·t
+  EXPECT_DOUBLE_EQ(doc["cutter_rpm"].get<double>(), 60.0 * lib.cutter_rev_per_s);
+  EXPECT_DOUBLE_EQ(doc["workpiece_rpm"].get<double>(), 60.0 * lib.workpiece_rev_per_s);
+  for (const char* key : {"faceting_mm", "milling_width_mm"})
+    EXPECT_TRUE(doc[key].is_number()) << key;
+  // A given feed; feeds at or above q leave uncut ridges; an impossible offset; not a plan.
+  const Result given = cutdyn({"plan", "--axial-feed-mm", "10", "--json", path("g.json")});
+  ASSERT_EQ(given.code, 0) << given.err;
+  EXPECT_DOUBLE_EQ(
+      nlohmann::json::parse(std::ifstream(path("g.json")))["axial_feed_mm"].get<double>(), 10.0);
+  expect_rejected({"plan", "--axial-feed-mm", "250", "--json", path("x.json")},
+                  "uncut ridges (S0 < q)");
+  std::string text(*io::example_text("bore-plan"));
+  text.replace(text.find("offset_mm = 10"), 14, "offset_mm = -100");
+  expect_rejected({"plan", write("bad.toml", text), "--json", path("x.json")},
+                  "eq. (1), ((d − t)/2)² − d²/4 + (D/2 + h)²");
+  expect_rejected({"plan", "milling-insperger", "--json", path("x.json")},
+                  "`cutdyn plan` takes a bore-milling case");
 }
 
 TEST_F(Cli, MillingSimulationRejectsIncompleteCases) {

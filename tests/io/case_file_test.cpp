@@ -65,6 +65,12 @@ TEST(CaseFileExamples, ListIsSortedAndEveryExampleLoads) {
     EXPECT_EQ(example_text(name), text);
     const Case c = load_example(name);
     EXPECT_EQ(c.source, "example " + std::string(name));
+    if (name == "bore-plan") {  // a plan case: no modes
+      EXPECT_EQ(c.process, Process::kBoreMilling);
+      ASSERT_TRUE(c.bore.has_value());
+      EXPECT_TRUE(c.bore->validate().empty());
+      continue;
+    }
     EXPECT_TRUE(c.modal.validate().empty());
     if (name.rfind("milling", 0) == 0 || name == "ermolaev2020") {
       EXPECT_EQ(c.process, Process::kMilling);
@@ -143,7 +149,8 @@ TEST(CaseFileExamples, UnknownExampleListsTheAvailableNames) {
     EXPECT_EQ(e.where(), "example nope");
     ASSERT_EQ(e.problems().size(), 1u);
     EXPECT_EQ(e.problems()[0],
-              "no built-in example called \"nope\"; available: ermolaev2020, milling-insperger, "
+              "no built-in example called \"nope\"; available: bore-plan, ermolaev2020, "
+              "milling-insperger, "
               "milling-variable-pitch, "
               "turning-conventional, turning-ultrasonic, turning-ultrasonic-speed, "
               "ultrasonic-force");
@@ -655,6 +662,40 @@ TEST(CaseFileWithValue, SetsAKeyAndReadsTheCaseAgainWithEveryCheck) {
   EXPECT_THROW(with_value(c, "operation.radial_immersion", 1.5), InvalidInput);
   EXPECT_THROW(with_value(c, "process.x", 1.0), InvalidInput);  // not a table
   EXPECT_THROW(with_value(c, "a.b.c", 1.0), InvalidInput);
+}
+
+}  // namespace
+}  // namespace cutdyn::io
+
+namespace cutdyn::io {
+namespace {
+
+TEST(CaseFilePlan, AProcessTableMarksABoreMillingCase) {
+  const Case c = load_example("bore-plan");
+  ASSERT_TRUE(c.bore.has_value());
+  EXPECT_NEAR(c.bore->bore_diameter_m, 0.5, 1e-15);
+  EXPECT_NEAR(c.bore->cutting_speed_m_per_s, 2.0, 1e-15);  // 120 m/min
+  EXPECT_NEAR(c.bore->lead_angle_rad, units::deg_to_rad(60.0), 1e-15);
+  EXPECT_FALSE(c.axial_feed_m.has_value());
+  // Round trip through the JSON echo's keys and units.
+  const auto j = to_json(c);
+  EXPECT_EQ(j["cutter"]["teeth"], 8);
+  EXPECT_EQ(j["process"]["cutting_speed_m_per_min"], 120);
+  // Every problem at once, named by key: a cutter as large as the bore, a missing knife
+  // count, an unknown key, and no [bore] at all.
+  try {
+    parse_case(
+        "[cutter]\ndiameter_mm = 600\noffset_mm = 1\nlead_angle_deg = 60\ncolour = 1\n"
+        "[process]\ncutting_speed_m_per_min = 100\nmean_chip_thickness_mm = 0.1\n"
+        "accuracy_coefficient = 0.05\n",
+        "plan.toml");
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    const std::string all = e.what();
+    EXPECT_NE(all.find("bore: missing"), std::string::npos) << all;
+    EXPECT_NE(all.find("cutter.teeth: missing"), std::string::npos) << all;
+    EXPECT_NE(all.find("cutter.colour"), std::string::npos) << all;
+  }
 }
 
 }  // namespace

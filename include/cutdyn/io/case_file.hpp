@@ -21,10 +21,12 @@
 
 #include "cutdyn/drive/feed_drive.hpp"
 #include "cutdyn/modal/modal_model.hpp"
+#include "cutdyn/plan/bore_milling.hpp"
 
 namespace cutdyn::io {
 
-enum class Process { kTurning, kMilling };
+/// kBoreMilling: a `cutdyn plan` case, marked by a [process] table instead of the key.
+enum class Process { kTurning, kMilling, kBoreMilling };
 
 /// Stability method requested in [lobes].method.
 enum class StabilityMethod { kAuto, kClosedForm, kMultiFrequency, kFullDiscretization };
@@ -118,6 +120,9 @@ struct Case {
   std::optional<VibrationSection> vibration;
   std::optional<ForceLawSection> force_law;
   std::vector<FeedAxis> drives;  // [[drives]]: feed axes for `cutdyn drive`
+  /// A bore-milling plan ([bore], [cutter], [process] tables; `cutdyn plan`).
+  std::optional<BoreMillingCase> bore;
+  std::optional<double> axial_feed_m;  // process.axial_feed_mm: a fixed S0 (else the largest)
   LobesSection lobes;
   SimulateSection simulate;
 };

@@ -1,0 +1,101 @@
+// `cutdyn plan`: two-edge face milling of a large bore (models.md S2;
+// docs/models/bore-milling.md).
+#include <fmt/format.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.hpp"
+#include "cli/common.hpp"
+#include "cutdyn/core/units.hpp"
+#include "cutdyn/io/output.hpp"
+#include "cutdyn/plan/bore_milling.hpp"
+
+namespace cutdyn::cli {
+
+int run_plan(const PlanArgs& args, std::ostream& out, std::ostream&) {
+  check_outputs({"", args.json, ""});
+  const io::Case c = load_case(args.case_path, "bore-plan");
+  if (!c.bore) {
+    throw InvalidInput({"process = \"" + std::string(io::to_string(c.process)) +
+                        "\": `cutdyn plan` takes a bore-milling case ([bore], [cutter] and a "
+                        "[process] table)"},
+                       c.source);
+  }
+  double s0 = c.axial_feed_m.value_or(0.0);
+  std::string where = c.source;
+  if (args.axial_feed_mm) {
+    if (!(*args.axial_feed_mm > 0.0))
+      throw InvalidInput({"--axial-feed-mm = " + human(*args.axial_feed_mm) + ": must be positive"},
+                         "command line");
+    s0 = units::mm_to_m(*args.axial_feed_mm);
+    where = "command line";
+  }
+  BoreMillingResult r;
+  rethrow_as(where, "plan", [&] { r = bore_milling(*c.bore, s0); });
+  const BoreMillingCase& b = *c.bore;
+  const auto mm = [](double m) { return human(units::m_to_mm(m), 5); };
+  const double diff =
+      100.0 * (r.max_axial_feed_closed_form_m - r.max_axial_feed_m) / r.max_axial_feed_m;
+
+  out << "cutdyn plan: " << c.source << "\n";
+  out << fmt::format(
+      "  bore {} mm × {} mm, allowance {} mm; cutter {} mm, {} teeth, h = {} mm, φ = {}°\n",
+      mm(b.bore_diameter_m), mm(b.length_m), mm(b.allowance_m), mm(b.cutter_diameter_m), b.teeth,
+      mm(b.offset_m), human(units::rad_to_deg(b.lead_angle_rad)));
+  out << fmt::format(
+      "  largest axial feed (Δ1 = k·t = {} mm)   {} mm   (eq. 4: {} mm, {:+.2f} %)\n",
+      mm(b.accuracy_coefficient * b.allowance_m), mm(r.max_axial_feed_m),
+      mm(r.max_axial_feed_closed_form_m), diff);
+  out << fmt::format("  axial feed S0                          {} mm{}\n", mm(r.axial_feed_m),
+                     s0 > 0.0 ? " (given)" : "");
+  out << fmt::format("  width of cut q / of milling bф         {} mm / {} mm\n", mm(r.q_m),
+                     mm(r.milling_width_m));
+  out << fmt::format("  cutter / workpiece speed               {} / {} rpm\n",
+                     human(60.0 * r.cutter_rev_per_s), human(60.0 * r.workpiece_rev_per_s, 4));
+  out << fmt::format("  chip: a_max {} mm, a_cp {} mm, feed per tooth {} mm, width {} mm\n",
+                     mm(r.max_chip_thickness_m), mm(r.mean_chip_thickness_m),
+                     mm(r.feed_per_tooth_m), mm(r.chip_width_m));
+  out << fmt::format("  teeth in cut z' = {} (p = {}), contact arc {} mm, edge path {} m\n",
+                     r.teeth_in_cut, human(r.engaged_fraction, 3), mm(r.contact_arc_m),
+                     human(r.path_per_edge_m, 4));
+  out << fmt::format("  straightness error Δ1 {} mm, faceting Δ2 {} mm\n",
+                     mm(r.straightness_error_m), human(units::m_to_mm(r.faceting_m), 3));
+  out << fmt::format("  main time t0 {} min, removal rate {} cm³/min\n",
+                     human(r.main_time_s / 60.0, 4), human(r.removal_rate_m3_per_s * 6e7, 4));
+
+  io::OutputTransaction outputs;
+  if (!args.json.empty()) {
+    using units::m_to_mm;
+    nlohmann::json doc{{"command", "plan"},
+                       {"case", io::to_json(c)},
+                       {"source", c.source},
+                       {"q_mm", m_to_mm(r.q_m)},
+                       {"axial_feed_mm", m_to_mm(r.axial_feed_m)},
+                       {"max_axial_feed_mm", m_to_mm(r.max_axial_feed_m)},
+                       {"max_axial_feed_closed_form_mm", m_to_mm(r.max_axial_feed_closed_form_m)},
+                       {"closed_form_difference_percent", diff},
+                       {"milling_width_mm", m_to_mm(r.milling_width_m)},
+                       {"straightness_error_mm", m_to_mm(r.straightness_error_m)},
+                       {"faceting_mm", m_to_mm(r.faceting_m)},
+                       {"cutter_rpm", 60.0 * r.cutter_rev_per_s},
+                       {"workpiece_rpm", 60.0 * r.workpiece_rev_per_s},
+                       {"feed_per_tooth_mm", m_to_mm(r.feed_per_tooth_m)},
+                       {"max_chip_thickness_mm", m_to_mm(r.max_chip_thickness_m)},
+                       {"mean_chip_thickness_mm", m_to_mm(r.mean_chip_thickness_m)},
+                       {"contact_arc_mm", m_to_mm(r.contact_arc_m)},
+                       {"chip_width_mm", m_to_mm(r.chip_width_m)},
+                       {"path_per_edge_m", r.path_per_edge_m},
+                       {"edge_width_mm", m_to_mm(r.edge_width_m)},
+                       {"engaged_fraction", r.engaged_fraction},
+                       {"teeth_in_cut", r.teeth_in_cut},
+                       {"total_edge_width_mm", m_to_mm(r.total_edge_width_m)},
+                       {"main_time_min", r.main_time_s / 60.0},
+                       {"removal_rate_cm3_per_min", r.removal_rate_m3_per_s * 6e7}};
+    io::write_json(outputs.open(args.json), doc);
+  }
+  commit_outputs(outputs, {"", args.json, ""}, out);
+  return 0;
+}
+
+}  // namespace cutdyn::cli
