@@ -1,6 +1,8 @@
 #include "cutdyn/plan/bore_milling.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/roots.hpp"
@@ -121,7 +123,7 @@ double max_axial_feed_closed_form(const BoreMillingCase& c) {
   return 2.0 * checked_sqrt(inner - a, "eq. (4), outer root", c);
 }
 
-BoreMillingResult bore_milling(const BoreMillingCase& c, double s0) {
+BoreMillingResult bore_milling(const BoreMillingCase& c, double s0, double n_o) {
   if (const auto p = c.validate(); !p.empty()) throw InvalidInput(p, kWhere);
   Validator v;
   v.require(s0 >= 0.0 && std::isfinite(s0), "axial_feed_m", s0, "m", "must not be negative");
@@ -149,8 +151,9 @@ BoreMillingResult bore_milling(const BoreMillingCase& c, double s0) {
   // n_u = v/(π·D); (8) n_o for the allowed mean chip thickness.
   r.cutter_rev_per_s = c.cutting_speed_m_per_s / (kPi * D);
   const double arcs = checked_asin(r.q_m / D, "q/D", c) + checked_asin(S0 / D, "S0/D", c);
-  r.workpiece_rev_per_s = c.mean_chip_thickness_m * r.cutter_rev_per_s * c.teeth * D * arcs /
-                          (2 * d * kPi * S0 * std::sin(phi));
+  r.workpiece_rev_per_s = n_o > 0.0 ? n_o
+                                    : c.mean_chip_thickness_m * r.cutter_rev_per_s * c.teeth * D *
+                                          arcs / (2 * d * kPi * S0 * std::sin(phi));
   // (5)
   r.feed_per_tooth_m = std::sqrt(kPi * kPi * d * d + S0 * S0) * r.workpiece_rev_per_s /
                        (c.teeth * r.cutter_rev_per_s);
@@ -175,6 +178,182 @@ BoreMillingResult bore_milling(const BoreMillingCase& c, double s0) {
   r.faceting_m = d / 2 * (1 - std::cos(half_xi));
   r.removal_rate_m3_per_s = kPi * (d * t - t * t) * S0 * r.workpiece_rev_per_s;
   return r;
+}
+
+std::vector<std::string> BoreMillingLimits::validate() const {
+  Validator v;
+  v.require(
+      std::isfinite(offset_min_m) && std::isfinite(offset_max_m) && offset_max_m >= offset_min_m,
+      "offset_max_m", offset_max_m, "m", "must be finite and at least offset_min_m");
+  v.require_positive("cutting_speed_max_m_per_s", cutting_speed_max_m_per_s, "m/s");
+  v.require_positive("cutter_rev_per_s_max", cutter_rev_per_s_max, "rev/s");
+  v.require_positive("workpiece_rev_per_s_max", workpiece_rev_per_s_max, "rev/s");
+  v.require_positive("faceting_max_m", faceting_max_m, "m");
+  v.require_positive("max_chip_thickness_m", max_chip_thickness_m, "m");
+  v.require(offset_samples >= 2 && offset_samples <= 100000, "offset_samples", offset_samples, "",
+            "must be 2 to 100000");
+  v.require(feed_samples >= 2 && feed_samples <= 100000, "feed_samples", feed_samples, "",
+            "must be 2 to 100000");
+  return v.problems();
+}
+
+namespace {
+
+struct PlanPoint {
+  double t0 = std::numeric_limits<double>::infinity();
+  double n_u = 0.0, n_o = 0.0;
+  std::vector<std::string> binding;
+};
+
+// The best speeds at (h, S0) and the main time; t0 = +∞ when infeasible.
+PlanPoint plan_point(const BoreMillingCase& base, const BoreMillingLimits& lim, double h,
+                     double s0) {
+  PlanPoint p;
+  BoreMillingCase c = base;
+  c.offset_m = h;
+  const double D = c.cutter_diameter_m, d = c.bore_diameter_m, z = c.teeth;
+  const double sphi = std::sin(c.lead_angle_rad);
+  double q = 0.0, delta1 = 0.0;
+  try {
+    q = bore_q(c);
+    if (!(s0 > 0.0 && s0 < q && s0 <= D)) return p;
+    delta1 = straightness_error(c, s0);
+  } catch (const InvalidInput&) {
+    return p;
+  }
+  const double kt = c.accuracy_coefficient * c.allowance_m;
+  if (delta1 > kt * (1.0 + 1e-12)) return p;
+  p.n_u = std::min(lim.cutter_rev_per_s_max, lim.cutting_speed_max_m_per_s / (kPi * D));
+  const double arcs = std::asin(std::min(1.0, q / D)) + std::asin(s0 / D);
+  // The largest n_o/n_u each limit allows.
+  struct Limit {
+    const char* name;
+    double ratio;
+  };
+  const double faceting = 1.0 - 2.0 * lim.faceting_max_m / d;
+  const Limit limits[] = {
+      {"mean chip", c.mean_chip_thickness_m * z * D * arcs / (2 * d * kPi * s0 * sphi)},  // (7)
+      {"max chip", lim.max_chip_thickness_m * z / (std::sqrt(kPi * kPi * d * d + s0 * s0) * sphi)},
+      {"faceting", faceting <= -1.0 ? std::numeric_limits<double>::infinity()
+                                    : z * std::acos(faceting) / kPi},  // (14)
+      {"blank speed", lim.workpiece_rev_per_s_max / p.n_u}};
+  double ratio = std::numeric_limits<double>::infinity();
+  for (const Limit& l : limits) ratio = std::min(ratio, l.ratio);
+  for (const Limit& l : limits)
+    if (l.ratio <= ratio * (1.0 + 1e-6)) p.binding.push_back(l.name);
+  if (delta1 >= kt * (1.0 - 1e-6)) p.binding.push_back("straightness");
+  if (s0 >= q * (1.0 - 1e-6)) p.binding.push_back("uncut ridges");
+  p.n_o = ratio * p.n_u;
+  p.t0 = (c.length_m / s0 + 1.0) / p.n_o;  // (13)
+  return p;
+}
+
+// Golden-section minimum of f on [a, b] (f unimodal near the bracket), to `tol`.
+template <typename F>
+double golden(F f, double a, double b, double tol) {
+  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+  double x1 = b - g * (b - a), x2 = a + g * (b - a);
+  double f1 = f(x1), f2 = f(x2);
+  while (b - a > tol) {
+    if (f1 <= f2) {
+      b = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = b - g * (b - a);
+      f1 = f(x1);
+    } else {
+      a = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = a + g * (b - a);
+      f2 = f(x2);
+    }
+  }
+  return f1 <= f2 ? x1 : x2;
+}
+
+}  // namespace
+
+double bore_milling_main_time(const BoreMillingCase& c, const BoreMillingLimits& limits, double h,
+                              double s0) {
+  return plan_point(c, limits, h, s0).t0;
+}
+
+BoreMillingPlan optimise_bore_milling(const BoreMillingCase& c, const BoreMillingLimits& lim) {
+  Validator v;
+  v.merge(c.validate());
+  v.merge(lim.validate());
+  v.throw_if_any(kWhere);
+  BoreMillingPlan plan;
+  const double D = c.cutter_diameter_m;
+  // For one h: the best S0 (scan, then a golden section around the best sample).
+  const auto best_feed = [&](double h, double& t0) {
+    const int n = lim.feed_samples;
+    double best_s = 0.0;
+    t0 = std::numeric_limits<double>::infinity();
+    for (int i = 1; i <= n; ++i) {
+      const double s = D * i / n;
+      const double t = plan_point(c, lim, h, s).t0;
+      ++plan.evaluations;
+      if (t < t0) {
+        t0 = t;
+        best_s = s;
+      }
+    }
+    if (!std::isfinite(t0)) return best_s;
+    const double step = D / n;
+    const double s = golden(
+        [&](double x) {
+          ++plan.evaluations;
+          return plan_point(c, lim, h, x).t0;
+        },
+        std::max(step * 1e-3, best_s - step), std::min(D, best_s + step), 1e-9 * D);
+    const double t = plan_point(c, lim, h, s).t0;
+    if (t < t0) {
+      t0 = t;
+      best_s = s;
+    }
+    return best_s;
+  };
+  double best_h = lim.offset_min_m, best_t = std::numeric_limits<double>::infinity();
+  const int m = lim.offset_samples;
+  for (int j = 0; j < m; ++j) {
+    const double h = lim.offset_min_m + (lim.offset_max_m - lim.offset_min_m) * j / (m - 1);
+    double t0;
+    best_feed(h, t0);
+    if (t0 < best_t) {
+      best_t = t0;
+      best_h = h;
+    }
+  }
+  if (!std::isfinite(best_t)) return plan;  // no feasible point in the box
+  if (lim.offset_max_m > lim.offset_min_m) {
+    const double step = (lim.offset_max_m - lim.offset_min_m) / (m - 1);
+    const double h = golden(
+        [&](double x) {
+          double t0;
+          best_feed(x, t0);
+          return t0;
+        },
+        std::max(lim.offset_min_m, best_h - step), std::min(lim.offset_max_m, best_h + step),
+        1e-9 * std::max(1e-3, std::abs(best_h) + step));
+    double t0;
+    best_feed(h, t0);
+    if (t0 < best_t) {
+      best_t = t0;
+      best_h = h;
+    }
+  }
+  double t0;
+  const double s0 = best_feed(best_h, t0);
+  const PlanPoint p = plan_point(c, lim, best_h, s0);
+  plan.feasible = true;
+  plan.chosen = c;
+  plan.chosen.offset_m = best_h;
+  plan.chosen.cutting_speed_m_per_s = kPi * D * p.n_u;
+  plan.result = bore_milling(plan.chosen, s0, p.n_o);
+  plan.binding = p.binding;
+  return plan;
 }
 
 }  // namespace cutdyn

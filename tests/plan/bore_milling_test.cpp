@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
@@ -132,6 +133,58 @@ TEST(BoreMilling, OutOfRangeInputsAreListed) {
     EXPECT_NE(all.find("lead_angle_rad"), std::string::npos) << all;
     EXPECT_NE(all.find("accuracy_coefficient"), std::string::npos) << all;
   }
+}
+
+BoreMillingLimits limits() {
+  BoreMillingLimits l;
+  l.offset_min_m = 0.0;
+  l.offset_max_m = 0.04;
+  l.cutting_speed_max_m_per_s = 2.5;     // 150 m/min
+  l.cutter_rev_per_s_max = 10.0;         // 600 rpm
+  l.workpiece_rev_per_s_max = 5.0 / 60;  // 5 rpm
+  l.faceting_max_m = 0.01e-3;            // Δ2 <= 0.01 mm
+  l.max_chip_thickness_m = 1.5e-3;
+  return l;
+}
+
+TEST(BoreMillingPlan, OptimumMeetsEveryConstraintAndBeatsAFineGrid) {
+  const BoreMillingCase c = example();
+  const BoreMillingLimits l = limits();
+  const BoreMillingPlan plan = optimise_bore_milling(c, l);
+  ASSERT_TRUE(plan.feasible);
+  const BoreMillingResult& r = plan.result;
+  // Every constraint, recomputed from the chosen parameters by the plain equations.
+  const double kt = c.accuracy_coefficient * c.allowance_m;
+  EXPECT_LE(r.straightness_error_m, kt * (1 + 1e-9));
+  EXPECT_LT(r.axial_feed_m, r.q_m);
+  EXPECT_LE(r.mean_chip_thickness_m, c.mean_chip_thickness_m * (1 + 1e-9));
+  EXPECT_LE(r.max_chip_thickness_m, l.max_chip_thickness_m * (1 + 1e-9));
+  EXPECT_LE(r.faceting_m, l.faceting_max_m * (1 + 1e-9));
+  EXPECT_LE(r.workpiece_rev_per_s, l.workpiece_rev_per_s_max * (1 + 1e-9));
+  EXPECT_LE(r.cutter_rev_per_s, l.cutter_rev_per_s_max * (1 + 1e-9));
+  EXPECT_LE(plan.chosen.cutting_speed_m_per_s, l.cutting_speed_max_m_per_s * (1 + 1e-9));
+  EXPECT_GE(plan.chosen.offset_m, l.offset_min_m);
+  EXPECT_LE(plan.chosen.offset_m, l.offset_max_m);
+  EXPECT_FALSE(plan.binding.empty());
+  // No worse than a 300 × 300 grid over the same box (h, S0 in (0, D]).
+  double grid = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 300; ++i)
+    for (int j = 1; j <= 300; ++j)
+      grid = std::min(grid, bore_milling_main_time(c, l, l.offset_max_m * i / 299.0,
+                                                   c.cutter_diameter_m * j / 300.0));
+  ASSERT_TRUE(std::isfinite(grid));
+  EXPECT_LE(r.main_time_s, grid * (1 + 1e-9));
+  EXPECT_NEAR(r.main_time_s, bore_milling_main_time(c, l, plan.chosen.offset_m, r.axial_feed_m),
+              1e-9 * r.main_time_s);
+}
+
+TEST(BoreMillingPlan, NoFeasiblePointIsReportedNotThrown) {
+  BoreMillingCase c = example();
+  BoreMillingLimits l = limits();
+  // The box holds only offsets whose geometry is impossible (h ≈ −D/2).
+  l.offset_min_m = -0.101;
+  l.offset_max_m = -0.099;
+  EXPECT_FALSE(optimise_bore_milling(c, l).feasible);
 }
 
 }  // namespace

@@ -66,7 +66,46 @@ double max_axial_feed(const BoreMillingCase& c);
 /// (4), the source's closed form of the same.
 double max_axial_feed_closed_form(const BoreMillingCase& c);
 
-/// All of S2 at S0 = `axial_feed_m` (0: the largest, max_axial_feed). Checks S0 < q.
-BoreMillingResult bore_milling(const BoreMillingCase& c, double axial_feed_m = 0.0);
+/// All of S2 at S0 = `axial_feed_m` (0: the largest, max_axial_feed). Checks S0 < q. The
+/// blank speed n_o is (8)'s for the case's a_cp, or `workpiece_rev_per_s` if given (then a_cp
+/// is (7)'s for it).
+BoreMillingResult bore_milling(const BoreMillingCase& c, double axial_feed_m = 0.0,
+                               double workpiece_rev_per_s = 0.0);
+
+/// The box and the limits of the plan optimiser.
+struct BoreMillingLimits {
+  double offset_min_m = 0.0, offset_max_m = 0.0;  // h
+  double cutting_speed_max_m_per_s = 0.0;         // v of the tool
+  double cutter_rev_per_s_max = 0.0;              // n_u of the spindle
+  double workpiece_rev_per_s_max = 0.0;           // n_o of the blank drive
+  double faceting_max_m = 0.0;                    // Δ2
+  double max_chip_thickness_m = 0.0;              // a_max of the tool
+  int offset_samples = 41;                        // scan of h before refinement
+  int feed_samples = 101;                         // scan of S0 before refinement
+
+  std::vector<std::string> validate() const;
+};
+
+struct BoreMillingPlan {
+  bool feasible = false;
+  BoreMillingCase chosen;    // the case with h and v (= π·D·n_u) chosen
+  BoreMillingResult result;  // at the chosen S0 and n_o
+  /// The constraints active at the optimum: "straightness" (Δ1 = k·t), "uncut ridges"
+  /// (S0 → q), "mean chip" (a_cp), "max chip" (a_max), "faceting" (Δ2), "blank speed"
+  /// (n_o max); n_u is always at its limit (t0 falls with it).
+  std::vector<std::string> binding;
+  int evaluations = 0;
+};
+
+/// Chooses h, S0, n_u and n_o to minimise the main time t0 = (L/S0 + 1)/n_o subject to
+/// Δ1 <= k·t, S0 < q, a_cp <= the case's a_cp, a_max and Δ2 within `limits`, n_o and n_u
+/// within the machine's. The speed constraints depend on n_o/n_u only, so n_u takes its limit
+/// and n_o the largest allowed ratio; (h, S0) are scanned and refined by golden sections.
+BoreMillingPlan optimise_bore_milling(const BoreMillingCase& c, const BoreMillingLimits& limits);
+
+/// The same objective and constraints at one point (h, S0): t0, or +∞ if infeasible. For the
+/// plan's trade-off plot and for checking the optimiser against a grid.
+double bore_milling_main_time(const BoreMillingCase& c, const BoreMillingLimits& limits,
+                              double offset_m, double axial_feed_m);
 
 }  // namespace cutdyn
