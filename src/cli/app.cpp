@@ -112,6 +112,9 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       app.add_subcommand("plan", "two-edge face milling of a large bore: feeds, speeds, quality");
   plan_cmd->add_option("CASE", plan.case_path, "case file (TOML) with [bore], [cutter], [process]");
   plan_cmd->add_option("--json", plan.json, "write every quantity and the effective case as JSON");
+  plan_cmd->add_option(
+      "--plot", plan.plot,
+      "the trade-off: main time and straightness against S0 and h (needs [limits])");
   plan_cmd->add_option("--axial-feed-mm", plan.axial_feed_mm,
                        "a fixed axial feed S0 (mm per blank revolution) instead of the largest");
 

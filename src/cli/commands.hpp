@@ -76,6 +76,7 @@ int run_drive(const DriveArgs& args, std::ostream& out, std::ostream& err);
 struct PlanArgs {
   std::string case_path;
   std::string json;
+  std::string plot;                     // the trade-off (needs [limits])
   std::optional<double> axial_feed_mm;  // a fixed S0 (else the largest)
 };
 int run_plan(const PlanArgs& args, std::ostream& out, std::ostream& err);

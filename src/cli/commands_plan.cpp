@@ -4,17 +4,19 @@
 
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/io/output.hpp"
+#include "cutdyn/io/plot.hpp"
 #include "cutdyn/plan/bore_milling.hpp"
 
 namespace cutdyn::cli {
 
 int run_plan(const PlanArgs& args, std::ostream& out, std::ostream&) {
-  check_outputs({"", args.json, ""});
+  check_outputs({"", args.json, args.plot});
   const io::Case c = load_case(args.case_path, "bore-plan");
   if (!c.bore) {
     throw InvalidInput({"process = \"" + std::string(io::to_string(c.process)) +
@@ -32,8 +34,21 @@ int run_plan(const PlanArgs& args, std::ostream& out, std::ostream&) {
     where = "command line";
   }
   BoreMillingResult r;
-  rethrow_as(where, "plan", [&] { r = bore_milling(*c.bore, s0); });
-  const BoreMillingCase& b = *c.bore;
+  BoreMillingCase b = *c.bore;
+  std::optional<BoreMillingPlan> plan;
+  if (c.bore_limits && s0 == 0.0) {
+    // [limits]: choose h, S0, n_u and n_o for the shortest main time.
+    rethrow_as(c.source, "plan", [&] { plan = optimise_bore_milling(b, *c.bore_limits); });
+    if (!plan->feasible) {
+      throw InvalidInput({"limits: no offset in [offset_min_mm, offset_max_mm] and axial feed "
+                          "meets every limit (accuracy, chip thickness, faceting, speeds)"},
+                         c.source);
+    }
+    b = plan->chosen;
+    r = plan->result;
+  } else {
+    rethrow_as(where, "plan", [&] { r = bore_milling(b, s0); });
+  }
   const auto mm = [](double m) { return human(units::m_to_mm(m), 5); };
   const double diff =
       100.0 * (r.max_axial_feed_closed_form_m - r.max_axial_feed_m) / r.max_axial_feed_m;
@@ -63,6 +78,12 @@ int run_plan(const PlanArgs& args, std::ostream& out, std::ostream&) {
                      mm(r.straightness_error_m), human(units::m_to_mm(r.faceting_m), 3));
   out << fmt::format("  main time t0 {} min, removal rate {} cm³/min\n",
                      human(r.main_time_s / 60.0, 4), human(r.removal_rate_m3_per_s * 6e7, 4));
+  std::string binding;
+  if (plan) {
+    for (const std::string& name : plan->binding) binding += (binding.empty() ? "" : ", ") + name;
+    out << fmt::format("  optimised within [limits]: h = {} mm, v = {} m/min; binding: {}\n",
+                       mm(b.offset_m), human(60.0 * b.cutting_speed_m_per_s), binding);
+  }
 
   io::OutputTransaction outputs;
   if (!args.json.empty()) {
@@ -91,10 +112,50 @@ int run_plan(const PlanArgs& args, std::ostream& out, std::ostream&) {
                        {"teeth_in_cut", r.teeth_in_cut},
                        {"total_edge_width_mm", m_to_mm(r.total_edge_width_m)},
                        {"main_time_min", r.main_time_s / 60.0},
-                       {"removal_rate_cm3_per_min", r.removal_rate_m3_per_s * 6e7}};
+                       {"removal_rate_cm3_per_min", r.removal_rate_m3_per_s * 6e7},
+                       {"offset_mm", m_to_mm(b.offset_m)},
+                       {"cutting_speed_m_per_min", 60.0 * b.cutting_speed_m_per_s},
+                       {"optimised", plan.has_value()}};
+    if (plan) doc["binding_constraints"] = plan->binding;
     io::write_json(outputs.open(args.json), doc);
   }
-  commit_outputs(outputs, {"", args.json, ""}, out);
+  if (!args.plot.empty()) {
+    if (!c.bore_limits)
+      throw InvalidInput({"--plot: the trade-off needs the [limits] table"}, c.source);
+    // t0 against S0 at the chosen h and against h at the chosen S0; Δ1 beside it.
+    io::PlotSpec spec;
+    spec.title =
+        fmt::format("Main time against the axial feed (h = {} mm) and the offset", mm(b.offset_m));
+    spec.x_label = "axial feed S0 (mm) | offset h (mm)";
+    spec.y_label = "main time t0 (min; infeasible points left out)";
+    spec.y2_label = "straightness error Δ1 (mm)";
+    io::PlotSeries t_s{"t0 against S0", {}, {}, "lines"}, t_h{"t0 against h", {}, {}, "lines"},
+        d_s{"Δ1 against S0 (right)", {}, {}, "lines", true};
+    const BoreMillingLimits& l = *c.bore_limits;
+    for (int i = 1; i <= 200; ++i) {
+      const double s = std::min(b.cutter_diameter_m, 3.0 * r.axial_feed_m) * i / 200.0;
+      const double t = bore_milling_main_time(b, l, b.offset_m, s);
+      if (std::isfinite(t)) {
+        t_s.x.push_back(units::m_to_mm(s));
+        t_s.y.push_back(t / 60.0);
+      }
+      try {
+        const double d1 = straightness_error(b, s);
+        d_s.x.push_back(units::m_to_mm(s));
+        d_s.y.push_back(units::m_to_mm(d1));
+      } catch (const InvalidInput&) {
+      }
+      const double h = l.offset_min_m + (l.offset_max_m - l.offset_min_m) * (i - 1) / 199.0;
+      const double th = bore_milling_main_time(b, l, h, r.axial_feed_m);
+      if (std::isfinite(th)) {
+        t_h.x.push_back(units::m_to_mm(h));
+        t_h.y.push_back(th / 60.0);
+      }
+    }
+    spec.series = {t_s, t_h, d_s};
+    io::write_plot(spec, args.plot, outputs);
+  }
+  commit_outputs(outputs, {"", args.json, args.plot}, out);
   return 0;
 }
 

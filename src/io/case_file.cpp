@@ -860,6 +860,29 @@ void read_bore_case(TableReader& top, Case& c) {
       c.axial_feed_m = mm_to_m(*v);
     r.report_unknown();
   }
+  if (const toml::table* t = top.section("limits")) {
+    TableReader r(
+        problems, *t, "limits",
+        {"offset_min_mm", "offset_max_mm", "cutting_speed_max_m_per_min", "cutter_rpm_max",
+         "workpiece_rpm_max", "faceting_max_mm", "max_chip_thickness_mm"});
+    BoreMillingLimits l;
+    if (auto v = r.number("offset_min_mm", Range{}, Need::kRequired)) l.offset_min_m = mm_to_m(*v);
+    if (auto v = r.number("offset_max_mm", Range{}, Need::kRequired)) l.offset_max_m = mm_to_m(*v);
+    if (l.offset_max_m < l.offset_min_m)
+      r.problem("offset_max_mm", "must be at least offset_min_mm");
+    if (auto v = r.number("cutting_speed_max_m_per_min", kPositive, Need::kRequired))
+      l.cutting_speed_max_m_per_s = *v / 60.0;
+    if (auto v = r.number("cutter_rpm_max", kPositive, Need::kRequired))
+      l.cutter_rev_per_s_max = *v / 60.0;
+    if (auto v = r.number("workpiece_rpm_max", kPositive, Need::kRequired))
+      l.workpiece_rev_per_s_max = *v / 60.0;
+    if (auto v = r.number("faceting_max_mm", kPositive, Need::kRequired))
+      l.faceting_max_m = mm_to_m(*v);
+    if (auto v = r.number("max_chip_thickness_mm", kPositive, Need::kRequired))
+      l.max_chip_thickness_m = mm_to_m(*v);
+    r.report_unknown();
+    c.bore_limits = l;
+  }
   c.bore = b;
   top.report_unknown();
 }
@@ -882,7 +905,7 @@ Case parse_case(std::string_view toml_text, std::string_view source) {
   c.text = std::string(toml_text);
 
   if (const toml::node* p = root.get("process"); p != nullptr && p->is_table()) {
-    TableReader top(problems, root, "", {"process", "bore", "cutter"});
+    TableReader top(problems, root, "", {"process", "bore", "cutter", "limits"});
     read_bore_case(top, c);
     if (!problems.empty()) throw InvalidInput(problems.take(), std::string(source));
     return c;
@@ -1041,6 +1064,16 @@ nlohmann::json to_json(const Case& c) {
                     {"mean_chip_thickness_mm", tidy(m_to_mm(b.mean_chip_thickness_m))},
                     {"accuracy_coefficient", tidy(b.accuracy_coefficient)}};
     if (c.axial_feed_m) j["process"]["axial_feed_mm"] = tidy(m_to_mm(*c.axial_feed_m));
+    if (c.bore_limits) {
+      const BoreMillingLimits& l = *c.bore_limits;
+      j["limits"] = {{"offset_min_mm", tidy(m_to_mm(l.offset_min_m))},
+                     {"offset_max_mm", tidy(m_to_mm(l.offset_max_m))},
+                     {"cutting_speed_max_m_per_min", tidy(60.0 * l.cutting_speed_max_m_per_s)},
+                     {"cutter_rpm_max", tidy(60.0 * l.cutter_rev_per_s_max)},
+                     {"workpiece_rpm_max", tidy(60.0 * l.workpiece_rev_per_s_max)},
+                     {"faceting_max_mm", tidy(m_to_mm(l.faceting_max_m))},
+                     {"max_chip_thickness_mm", tidy(m_to_mm(l.max_chip_thickness_m))}};
+    }
     return j;
   }
   j["process"] = to_string(c.process);

@@ -512,12 +512,14 @@ TEST_F(Cli, DriveCurrentsAndSweepAndBadDrives) {
 }
 
 TEST_F(Cli, PlanReportsTheBoreMillingQuantities) {
-  // The default plan (product.md's example) against the library; the JSON has the keys the
-  // issue fixes.
-  const Result r = cutdyn({"plan", "--json", path("p.json")});
+  // product.md's example without [limits] (no optimisation) against the library; the JSON has
+  // the keys the issue fixes.
+  std::string plain(*io::example_text("bore-plan"));
+  plain.erase(plain.find("[limits]"));
+  const Result r = cutdyn({"plan", write("plain.toml", plain), "--json", path("p.json")});
   ASSERT_EQ(r.code, 0) << r.err;
   const auto doc = nlohmann::json::parse(std::ifstream(path("p.json")));
-  const io::Case c = io::load_example("bore-plan");
+  const io::Case c = io::parse_case(plain, "plain");
   const BoreMillingResult lib = bore_milling(*c.bore);
   EXPECT_DOUBLE_EQ(doc["max_axial_feed_mm"].get<double>(), 1e3 * lib.max_axial_feed_m);
   EXPECT_DOUBLE_EQ(doc["max_axial_feed_closed_form_mm"].get<double>(),
@@ -530,13 +532,32 @@ TEST_F(Cli, PlanReportsTheBoreMillingQuantities) {
   for (const char* key : {"faceting_mm", "milling_width_mm"})
     EXPECT_TRUE(doc[key].is_number()) << key;
   // A given feed; feeds at or above q leave uncut ridges; an impossible offset; not a plan.
+  EXPECT_FALSE(doc["optimised"].get<bool>());
+  // The example itself has [limits]: the plan is optimised, within every limit, and no slower
+  // than the example's own h = 10 mm with the same limits.
+  const Result opt = cutdyn({"plan", "--json", path("o.json"), "--plot", path("o.png")});
+  ASSERT_EQ(opt.code, 0) << opt.err;
+  const auto o = nlohmann::json::parse(std::ifstream(path("o.json")));
+  EXPECT_TRUE(o["optimised"].get<bool>());
+  EXPECT_FALSE(o["binding_constraints"].empty());
+  EXPECT_LE(o["straightness_error_mm"].get<double>(), 0.25 * (1 + 1e-9));
+  EXPECT_LE(o["faceting_mm"].get<double>(), 0.01 * (1 + 1e-9));
+  EXPECT_LE(o["max_chip_thickness_mm"].get<double>(), 1.5 * (1 + 1e-9));
+  EXPECT_LE(o["workpiece_rpm"].get<double>(), 5.0 * (1 + 1e-9));
+  EXPECT_LE(o["cutting_speed_m_per_min"].get<double>(), 150.0 * (1 + 1e-9));
+  const io::Case with_limits = io::load_example("bore-plan");
+  EXPECT_LE(o["main_time_min"].get<double>() * 60.0,
+            bore_milling_main_time(*with_limits.bore, *with_limits.bore_limits, 0.01,
+                                   max_axial_feed(*with_limits.bore)) *
+                (1 + 1e-9));
+  EXPECT_TRUE(fs::exists(path("o.png")));
   const Result given = cutdyn({"plan", "--axial-feed-mm", "10", "--json", path("g.json")});
   ASSERT_EQ(given.code, 0) << given.err;
   EXPECT_DOUBLE_EQ(
       nlohmann::json::parse(std::ifstream(path("g.json")))["axial_feed_mm"].get<double>(), 10.0);
   expect_rejected({"plan", "--axial-feed-mm", "250", "--json", path("x.json")},
                   "uncut ridges (S0 < q)");
-  std::string text(*io::example_text("bore-plan"));
+  std::string text = plain;
   text.replace(text.find("offset_mm = 10"), 14, "offset_mm = -100");
   expect_rejected({"plan", write("bad.toml", text), "--json", path("x.json")},
                   "eq. (1), ((d − t)/2)² − d²/4 + (D/2 + h)²");

@@ -119,6 +119,33 @@ TEST(BoreMilling, ImpossibleGeometryNamesTheCondition) {
   }
 }
 
+TEST(BoreMilling, Equation3OutsideItsDomainAndAnAccuracyThatDoesNotLimit) {
+  BoreMillingCase c = example();
+  const auto message = [&](auto call) {
+    try {
+      call();
+    } catch (const InvalidInput& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  // D² − S0² < 0: a feed wider than the cutter.
+  EXPECT_NE(message([&] { straightness_error(c, 0.3); }).find("eq. (3), D² − S0²"),
+            std::string::npos);
+  // h·√(D² − S0²) + (d² − S0²)/4 − D·h < 0: a far offset.
+  c.offset_m = 10.0;
+  EXPECT_NE(message([&] {
+              straightness_error(c, 0.15);
+            }).find("eq. (3), h·√(D² − S0²) + (d² − S0²)/4 − D·h"),
+            std::string::npos);
+  // k·t = 0.9·40 mm above the largest Δ1 (25 mm at S0 = D): the accuracy does not limit.
+  c = example();
+  c.allowance_m = 0.04;
+  c.accuracy_coefficient = 0.9;
+  EXPECT_NE(message([&] { max_axial_feed(c); }).find("the accuracy does not limit the feed"),
+            std::string::npos);
+}
+
 TEST(BoreMilling, OutOfRangeInputsAreListed) {
   BoreMillingCase c = example();
   c.cutter_diameter_m = 0.6;  // larger than the bore

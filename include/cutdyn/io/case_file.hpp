@@ -123,6 +123,7 @@ struct Case {
   /// A bore-milling plan ([bore], [cutter], [process] tables; `cutdyn plan`).
   std::optional<BoreMillingCase> bore;
   std::optional<double> axial_feed_m;  // process.axial_feed_mm: a fixed S0 (else the largest)
+  std::optional<BoreMillingLimits> bore_limits;  // [limits]: `cutdyn plan` then optimises
   LobesSection lobes;
   SimulateSection simulate;
 };
