@@ -44,7 +44,8 @@ double peak_to_peak(const std::vector<double>& v) {
   return *hi - *lo;
 }
 
-DriveRun run_case(const DriveArgs& args, const io::Case& c) {
+// The milling cut of a drive case, every problem with the case or the flags thrown.
+SimulationSetup drive_setup(const DriveArgs& args, const io::Case& c) {
   if (c.process != io::Process::kMilling)
     throw InvalidInput({"process: `cutdyn drive` takes milling cases"}, c.source);
   if (c.drives.empty())
@@ -55,7 +56,11 @@ DriveRun run_case(const DriveArgs& args, const io::Case& c) {
   sim.case_path = args.case_path;
   sim.rpm = args.rpm;
   sim.depth_mm = args.depth_mm;
-  DriveRun run{milling_setup(sim, c), {}};
+  return milling_setup(sim, c);
+}
+
+DriveRun run_case(const io::Case& c, SimulationSetup setup) {
+  DriveRun run{std::move(setup), {}};
   SimulationSetup& s = run.setup;
   s.options.max_recorded_samples = 4'000'000;  // the steady window at full resolution
   MillingSimulationResult r;
@@ -115,18 +120,15 @@ int run_sweep(const DriveArgs& args, const io::Case& c, std::ostream& out, std::
   const std::string& metric = names[column];
   std::vector<io::Case> cases;
   for (double value : sweep.values) cases.push_back(io::with_value(c, sweep.key, value));
-  // Check every case before any runs (the milling part; the drives are checked as they run).
-  for (const io::Case& v : cases) {
-    SimulateArgs sim;
-    sim.rpm = args.rpm;
-    sim.depth_mm = args.depth_mm;
-    milling_setup(sim, v);
-  }
+  // Every case is checked before any runs (the milling part; the drives as they run).
+  std::vector<SimulationSetup> setups;
+  for (const io::Case& v : cases) setups.push_back(drive_setup(args, v));
   std::vector<DriveRun> runs(cases.size());
   parallel_for(
       static_cast<int>(cases.size()), args.threads,
       [&](int i) {
-        runs[static_cast<std::size_t>(i)] = run_case(args, cases[static_cast<std::size_t>(i)]);
+        const auto k = static_cast<std::size_t>(i);
+        runs[k] = run_case(cases[k], setups[k]);
       },
       progress_reporter(err, "sweep"));
 
@@ -205,7 +207,7 @@ int run_drive(const DriveArgs& args, std::ostream& out, std::ostream& err) {
     return run_sweep(args, c, out, err);
   }
   if (!args.metric.empty()) throw InvalidInput({"--metric: only with --sweep"}, "command line");
-  const DriveRun run = run_case(args, c);
+  const DriveRun run = run_case(c, drive_setup(args, c));
   const SimulationSetup& s = run.setup;
   if (!args.currents.empty()) {
     for (const AxisRun& a : run.axes)

@@ -267,6 +267,10 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
     finishing = kPi;
   else if (cut.entry_rad <= 1e-9)
     finishing = 0.0;
+  // Its bin and the wall's normal there (n·r is the overcut).
+  const std::size_t finishing_bin = finishing ? bin_of(std::llround(*finishing / dtheta)) : 0;
+  const double normal_x = finishing ? std::sin(*finishing) : 0.0;
+  const double normal_y = finishing ? std::cos(*finishing) : 0.0;
 
   // Per slice: its width (the whole flute in the closed form) and force directions.
   const double spread = o.closed_form_helix ? lag : 0.0;
@@ -347,8 +351,8 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
       if (finishing) {
         for (int k = 0; k < z; ++k) {
           const long long at = n - behind_bins[static_cast<std::size_t>(k)];
-          if (bin_of(at) == bin_of(std::llround(*finishing / dtheta))) {
-            sle_sum += r.x() * std::sin(*finishing) + r.y() * std::cos(*finishing);
+          if (bin_of(at) == finishing_bin) {
+            sle_sum += r.x() * normal_x + r.y() * normal_y;
             ++sle_count;
           }
         }
