@@ -70,10 +70,13 @@ TurningStabilityOptions stability_options(const io::Case& c, TurningMethod metho
   return o;
 }
 
-std::string describe_model(const TurningModel& m) {
+std::string describe_model(const io::Case& c, const TurningModel& m) {
   std::string s =
       fmt::format("turning, {} mode{} in x, Kt = {} N/mm²", m.modal.modes.size(),
                   m.modal.modes.size() == 1 ? "" : "s", human(units::pa_to_n_per_mm2(m.kt_pa)));
+  if (c.material && !c.cutting.kt_pa)
+    s += fmt::format(" (predicted for {} by Oxley's theory at {} m/min)", c.material->material.name,
+                     human(units::m_per_s_to_m_per_min(*c.cutting.speed_m_per_s)));
   if (m.vibration) {
     s += fmt::format("; vibration {} Hz", human(m.vibration->frequency_hz));
     if (m.vibration->duty_cycle) {
@@ -128,7 +131,7 @@ int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
   }
 
   LobesView view;
-  view.description = describe_model(model);
+  view.description = describe_model(c, model);
   view.method = to_string(method);
   view.depth_max_m = options.depth_max_m;
   view.title = assisted ? "Stability lobes: vibration-assisted and conventional turning"
@@ -163,7 +166,7 @@ int run_check(const CheckArgs& args, std::ostream& out, std::ostream&) {
     throw InvalidInput(problems, c.source);
   const TurningBoundary b = turning_critical_depth(model, args.rpm, options);
   CheckView view;
-  view.description = describe_model(model);
+  view.description = describe_model(c, model);
   view.method = to_string(method);
   view.lobe = b.lobe;
   if (model.vibration) {
@@ -237,7 +240,7 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
   out << "cutdyn simulate: " << c.source << " at " << human(o.rpm) << " rpm, depth "
       << human(m_to_mm(o.depth_m)) << " mm, feed " << human(m_to_mm(o.feed_m)) << " mm/rev, "
       << human(o.duration_s) << " s\n";
-  out << "  " << describe_model(model) << "\n";
+  out << "  " << describe_model(c, model) << "\n";
   for (const Run& r : runs) {
     const auto& s = r.result;
     out << fmt::format(
@@ -320,8 +323,10 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream&) {
   const auto need = [&](const std::optional<double>& x, const char* key) {
     if (!x) v.add(std::string("cutting.") + key + ": missing (required by `cutdyn force`)");
   };
-  need(c.cutting.kc_pa, "kc_n_per_mm2");
-  need(c.cutting.kt_pa, "kt_n_per_mm2");
+  if (!c.material) {
+    need(c.cutting.kc_pa, "kc_n_per_mm2 (or give a [material] to predict it)");
+    need(c.cutting.kt_pa, "kt_n_per_mm2 (or give a [material] to predict it)");
+  }
   need(c.cutting.uncut_chip_thickness_m, "uncut_chip_thickness_mm");
   need(c.cutting.width_m, "width_mm");
   if (c.vibration && !c.vibration->duty_cycle && !c.cutting.speed_m_per_s)
@@ -329,6 +334,11 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream&) {
         "cutting.speed_m_per_min: missing (required by `cutdyn force` to compute the duty cycle; "
         "or give vibration.duty_cycle)");
   v.throw_if_any(c.source);
+
+  std::optional<OxleyPrediction> oxley;
+  if (c.material) oxley = predict_with_oxley(c, "force", true);
+  const double kc = oxley ? oxley->result.kc_pa : *c.cutting.kc_pa;
+  const double kt = oxley ? oxley->result.kt_pa : *c.cutting.kt_pa;
 
   DutyCycle dc;  // conventional: r = 1
   if (c.vibration) {
@@ -338,11 +348,45 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream&) {
                           *c.vibration->amplitude_m);
   }
   const double h = *c.cutting.uncut_chip_thickness_m, w = *c.cutting.width_m;
-  const PulsedForces f = pulsed_forces(*c.cutting.kc_pa, *c.cutting.kt_pa, h, w, dc.ratio);
+  const PulsedForces f = pulsed_forces(kc, kt, h, w, dc.ratio);
 
   out << "cutdyn force: " << c.source << "\n";
-  out << "  Kc = " << human(units::pa_to_n_per_mm2(*c.cutting.kc_pa))
-      << " N/mm², Kt = " << human(units::pa_to_n_per_mm2(*c.cutting.kt_pa))
+  json oxley_json;
+  if (oxley) {
+    const WorkMaterial& m = c.material->material;
+    const OxleyState& s = oxley->result.state;
+    out << "  " << oxley_summary(c, *oxley) << "\n";
+    out << "    material " << m.name << ": " << m.reference << "\n";
+    out << "    shear angle " << human(units::rad_to_deg(s.phi_rad)) << "°, chip thickness "
+        << human(m_to_mm(s.chip_thickness_m)) << " mm (chip ratio "
+        << human(oxley->result.chip_ratio) << "), contact length "
+        << human(m_to_mm(s.contact_length_m)) << " mm\n";
+    out << "    strain-rate constant C0 = " << human(s.c0) << ", secondary zone δ = "
+        << human(s.delta) << " of the chip thickness, friction angle "
+        << human(units::rad_to_deg(s.friction_angle_rad)) << "°\n";
+    out << "    temperatures: shear plane " << human(s.temperature_ab_c, 3)
+        << " °C, tool–chip interface " << human(s.temperature_interface_c, 3) << " °C\n";
+    out << "    flow stress in shear: shear plane " << human(s.shear_flow_stress_pa / 1e6)
+        << " MPa at strain rate " << human(s.strain_rate_ab_per_s, 3) << " 1/s\n";
+    for (const std::string& warning : oxley->result.warnings)
+      out << "    warning: " << warning << "\n";
+    oxley_json = {{"material", m.name},
+                  {"shear_angle_deg", units::rad_to_deg(s.phi_rad)},
+                  {"chip_thickness_mm", m_to_mm(s.chip_thickness_m)},
+                  {"chip_ratio", oxley->result.chip_ratio},
+                  {"strain_rate_constant", s.c0},
+                  {"secondary_zone_ratio", s.delta},
+                  {"contact_length_mm", m_to_mm(s.contact_length_m)},
+                  {"friction_angle_deg", units::rad_to_deg(s.friction_angle_rad)},
+                  {"shear_plane_temperature_c", s.temperature_ab_c},
+                  {"interface_temperature_c", s.temperature_interface_c},
+                  {"shear_plane_strain_rate_per_s", s.strain_rate_ab_per_s},
+                  {"shear_plane_flow_stress_mpa", s.shear_flow_stress_pa / 1e6},
+                  {"interface_strain_rate_per_s", s.strain_rate_interface_per_s},
+                  {"warnings", oxley->result.warnings}};
+  }
+  out << "  Kc = " << human(units::pa_to_n_per_mm2(kc))
+      << " N/mm², Kt = " << human(units::pa_to_n_per_mm2(kt))
       << " N/mm²; h = " << human(m_to_mm(h)) << " mm, w = " << human(m_to_mm(w)) << " mm";
   if (c.cutting.speed_m_per_s)
     out << ", v = " << human(units::m_per_s_to_m_per_min(*c.cutting.speed_m_per_s)) << " m/min";
@@ -390,14 +434,20 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream&) {
     json doc{{"command", "force"},
              {"case", io::to_json(c)},
              {"source", c.source},
-             {"kc_n_per_mm2", units::pa_to_n_per_mm2(*c.cutting.kc_pa)},
-             {"kt_n_per_mm2", units::pa_to_n_per_mm2(*c.cutting.kt_pa)},
+             {"kc_n_per_mm2", units::pa_to_n_per_mm2(kc)},
+             {"kt_n_per_mm2", units::pa_to_n_per_mm2(kt)},
+             {"coefficients", oxley ? "oxley" : "given"},
              {"cutting_force_n", f.peak_cutting_n},
              {"thrust_force_n", f.peak_thrust_n},
              {"mean_cutting_force_n", f.mean_cutting_n},
              {"mean_thrust_force_n", f.mean_thrust_n},
              {"duty_cycle", dc.ratio}};
     if (!vib.is_null()) doc["vibration"] = vib;
+    if (oxley) {
+      doc["shear_angle_deg"] = oxley_json["shear_angle_deg"];
+      doc["chip_thickness_mm"] = oxley_json["chip_thickness_mm"];
+      doc["oxley"] = oxley_json;
+    }
     io::write_json(outputs.open(args.json), doc);
   }
   if (!args.plot.empty()) {

@@ -34,8 +34,55 @@ void require_turning(const io::Case& c, std::string_view command) {
   }
 }
 
+OxleyPrediction predict_with_oxley(const io::Case& c, std::string_view command,
+                                   bool need_width) {
+  Validator v;
+  const io::CuttingSection& cs = c.cutting;
+  const std::string why = "required by `cutdyn " + std::string(command) +
+                          "` to predict the force coefficients from [material]";
+  const auto need = [&](bool present, const char* key) {
+    if (!present) v.add(std::string("cutting.") + key + ": missing (" + why + ")");
+  };
+  need(cs.speed_m_per_s.has_value(), "speed_m_per_min");
+  need(cs.uncut_chip_thickness_m.has_value(), "uncut_chip_thickness_mm");
+  need(cs.rake_rad.has_value(), "rake_deg");
+  if (need_width) need(cs.width_m.has_value(), "width_mm");
+  v.throw_if_any(c.source);
+  OxleyPrediction p;
+  const WorkMaterial& material = c.material->material;
+  p.cut.speed_m_per_s = *cs.speed_m_per_s;
+  p.cut.uncut_chip_thickness_m = *cs.uncut_chip_thickness_m;
+  p.cut.width_m = cs.width_m.value_or(1e-3);
+  p.cut.rake_rad = *cs.rake_rad;
+  p.cut.workpiece_temperature_c =
+      cs.workpiece_temperature_c.value_or(material.flow.reference_temperature_c);
+  try {
+    p.result = oxley_orthogonal(material, p.cut, c.oxley);
+  } catch (const InvalidInput& e) {
+    std::vector<std::string> problems;
+    for (const std::string& problem : e.problems())
+      problems.push_back("[material] " + material.name + " with [cutting]: " + problem);
+    throw InvalidInput(problems, c.source);
+  }
+  return p;
+}
+
+std::string oxley_summary(const io::Case& c, const OxleyPrediction& p) {
+  return fmt::format(
+      "Kc and Kt predicted by Oxley's theory with Johnson–Cook flow stress: {} at {} m/min, "
+      "h = {} mm, rake {}°",
+      c.material->material.name, human(units::m_per_s_to_m_per_min(p.cut.speed_m_per_s)),
+      human(units::m_to_mm(p.cut.uncut_chip_thickness_m)),
+      human(units::rad_to_deg(p.cut.rake_rad)));
+}
+
 TurningModel turning_model(const io::Case& c, std::string_view command) {
   require_turning(c, command);
+  if (c.material && !c.cutting.kt_pa) {
+    io::Case predicted = c;
+    predicted.cutting.kt_pa = predict_with_oxley(c, command, false).result.kt_pa;
+    return turning_model(predicted, command);
+  }
   Validator v;
   if (!c.cutting.kt_pa)
     v.add("cutting.kt_n_per_mm2: missing (required by `cutdyn " + std::string(command) + "`)");

@@ -12,6 +12,7 @@
 
 #include "cli/commands.hpp"
 #include "cutdyn/core/error.hpp"
+#include "cutdyn/forces/oxley.hpp"
 #include "cutdyn/io/case_file.hpp"
 #include "cutdyn/io/output.hpp"
 #include "cutdyn/stability/lobes.hpp"
@@ -29,6 +30,19 @@ void require_turning(const io::Case& c, std::string_view command);
 /// The turning model of a case: modes, Kt and vibration. Checks that [cutting].kt_n_per_mm2
 /// is there and, with vibration, that the duty cycle can be had at every speed.
 TurningModel turning_model(const io::Case& c, std::string_view command);
+
+/// Oxley's prediction for a case with [material], at its [cutting] speed_m_per_min,
+/// uncut_chip_thickness_mm, rake_deg and width_mm (1 mm when absent and `need_width` is
+/// false: the coefficients do not depend on it). Missing keys and a cut outside the theory
+/// throw InvalidInput naming the case.
+struct OxleyPrediction {
+  OrthogonalCut cut;
+  OxleyResult result;
+};
+OxleyPrediction predict_with_oxley(const io::Case& c, std::string_view command, bool need_width);
+
+/// One line: "Kc and Kt predicted by Oxley's theory for AISI1045 at 200 m/min, ...".
+std::string oxley_summary(const io::Case& c, const OxleyPrediction& p);
 
 /// The milling model of a case: modes in x and y, Kt and Kr, [tool] and [operation].
 MillingModel milling_model(const io::Case& c, std::string_view command);

@@ -75,4 +75,67 @@ std::optional<RootResult> brent_root(const std::function<double(double)>& f, dou
   return RootResult{b, fb, evaluations, false};
 }
 
+// Brent (1973), ch. 5 (localmin).
+MinimumResult brent_minimum(const std::function<double(double)>& f, double a, double b,
+                            double x_tol, int max_evaluations) {
+  const double golden = 0.5 * (3.0 - std::sqrt(5.0));
+  const double sqrt_eps = std::sqrt(std::numeric_limits<double>::epsilon());
+  double x = a + golden * (b - a), w = x, v = x;
+  double fx = f(x), fw = fx, fv = fx;
+  double d = 0.0, e = 0.0;
+  int evaluations = 1;
+  while (evaluations < max_evaluations) {
+    const double mid = 0.5 * (a + b);
+    const double tol = sqrt_eps * std::abs(x) + x_tol / 3.0;
+    const double tol2 = 2.0 * tol;
+    if (std::abs(x - mid) <= tol2 - 0.5 * (b - a)) return {x, fx, evaluations, true};
+    bool parabolic = false;
+    if (std::abs(e) > tol) {
+      // Parabola through (v, fv), (w, fw), (x, fx).
+      double r = (x - w) * (fx - fv);
+      double q = (x - v) * (fx - fw);
+      double p = (x - v) * q - (x - w) * r;
+      q = 2.0 * (q - r);
+      if (q > 0.0) p = -p;
+      q = std::abs(q);
+      const double e_prev = e;
+      if (std::abs(p) < std::abs(0.5 * q * e_prev) && p > q * (a - x) && p < q * (b - x)) {
+        e = d;
+        d = p / q;
+        const double u = x + d;
+        if (u - a < tol2 || b - u < tol2) d = x < mid ? tol : -tol;
+        parabolic = true;
+      }
+    }
+    if (!parabolic) {
+      e = (x < mid ? b : a) - x;
+      d = golden * e;
+    }
+    const double u = x + (std::abs(d) >= tol ? d : (d > 0.0 ? tol : -tol));
+    const double fu = f(u);
+    ++evaluations;
+    if (fu <= fx) {
+      (u < x ? b : a) = x;
+      v = w;
+      fv = fw;
+      w = x;
+      fw = fx;
+      x = u;
+      fx = fu;
+    } else {
+      (u < x ? a : b) = u;
+      if (fu <= fw || w == x) {
+        v = w;
+        fv = fw;
+        w = u;
+        fw = fu;
+      } else if (fu <= fv || v == x || v == w) {
+        v = u;
+        fv = fu;
+      }
+    }
+  }
+  return {x, fx, evaluations, false};
+}
+
 }  // namespace cutdyn

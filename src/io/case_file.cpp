@@ -184,6 +184,7 @@ class Problems {
   std::string written(const toml::node& node) const { return source_.as_written(node); }
 
   bool empty() const { return list_.empty(); }
+  std::size_t size() const { return list_.size(); }
   std::vector<std::string> take() { return std::move(list_); }
 
  private:
@@ -288,6 +289,21 @@ class TableReader {
     }
     if (values.size() != array->size()) return std::nullopt;
     return values;
+  }
+
+  std::optional<std::string> text(std::string_view key, Need need) {
+    const toml::node* node = get(key);
+    if (node == nullptr) {
+      if (need == Need::kRequired) problems_.missing(key_path(key));
+      return std::nullopt;
+    }
+    const auto* s = node->as_string();
+    if (s == nullptr) {
+      problems_.at(key_path(key), *node,
+                   std::string("wrong type: expected a string, got ") + type_name(*node));
+      return std::nullopt;
+    }
+    return s->get();
   }
 
   std::optional<bool> boolean(std::string_view key) {
@@ -600,6 +616,11 @@ void read_cutting(TableReader& t, Case& c) {
   if (auto v = t.number("width_mm", kPositive, Need::kOptional)) s.width_m = mm_to_m(*v);
   if (auto v = t.number("kte_n_per_mm", kNonNegative, Need::kOptional)) s.kte_n_per_m = 1e3 * *v;
   if (auto v = t.number("kre_n_per_mm", kNonNegative, Need::kOptional)) s.kre_n_per_m = 1e3 * *v;
+  if (auto v = t.number("rake_deg", Range{-45.0, true, 45.0, true}, Need::kOptional))
+    s.rake_rad = units::deg_to_rad(*v);
+  if (auto v = t.number("workpiece_temperature_c", Range{-273.15, true, kInf, true},
+                        Need::kOptional))
+    s.workpiece_temperature_c = *v;
   t.report_unknown();
 }
 
@@ -763,6 +784,107 @@ void read_force_law(TableReader& t, Case& c) {
   c.force_law = s;
 }
 
+void read_material(TableReader& t, Case& c) {
+  Problems& problems = t.problems();
+  MaterialSection s;
+  const auto name = t.text("name", Need::kOptional);
+  const WorkMaterial* entry = name ? find_material(*name) : nullptr;
+  const toml::table* jc_table = t.section("johnson_cook");
+  const toml::table* th_table = t.section("thermal");
+  if (name && !entry && (jc_table == nullptr || th_table == nullptr)) {
+    std::string names;
+    for (const WorkMaterial& m : material_library())
+      names += (names.empty() ? "" : ", ") + m.name;
+    t.problem("name", "is not in the material library (" + names +
+                          "); give it, or your own [material.johnson_cook] and "
+                          "[material.thermal] tables");
+    t.report_unknown();
+    return;
+  }
+  if (!name && (jc_table == nullptr || th_table == nullptr)) {
+    problems.missing(t.key_path("name"),
+                     "give a library material, or both [material.johnson_cook] and "
+                     "[material.thermal]");
+    t.report_unknown();
+    return;
+  }
+  s.from_library = entry != nullptr;
+  if (entry) s.material = *entry;
+  s.material.name = name.value_or("user material");
+  if (!entry) s.material.reference = "given in the case";
+  // Without a library entry every property is required; with one, each key overrides.
+  const Need need = entry ? Need::kOptional : Need::kRequired;
+  const std::size_t before = problems.size();
+  const auto set = [&](TableReader& r, std::string_view key, const Range& range, Need n,
+                       double scale, double& field) {
+    if (auto v = r.number(key, range, n)) {
+      field = *v * scale;
+      s.overridden = true;
+    }
+  };
+  if (jc_table != nullptr) {
+    TableReader r(problems, *jc_table, t.key_path("johnson_cook"),
+                  {"a_mpa", "b_mpa", "n", "c", "m", "reference_strain_rate_per_s",
+                   "reference_temperature_c", "melting_temperature_c"});
+    JohnsonCook& jc = s.material.flow;
+    const Range celsius{-273.15, true, kInf, true};
+    set(r, "a_mpa", kPositive, need, 1e6, jc.a_pa);
+    set(r, "b_mpa", kNonNegative, need, 1e6, jc.b_pa);
+    set(r, "n", Range{0.0, false, 1.0, true}, need, 1.0, jc.n);
+    set(r, "c", Range{0.0, false, 1.0, true}, need, 1.0, jc.c);
+    set(r, "m", Range{0.0, true, 10.0, false}, need, 1.0, jc.m);
+    set(r, "reference_strain_rate_per_s", kPositive, Need::kOptional, 1.0,
+        jc.reference_strain_rate_per_s);
+    set(r, "reference_temperature_c", celsius, Need::kOptional, 1.0, jc.reference_temperature_c);
+    set(r, "melting_temperature_c", celsius, need, 1.0, jc.melting_temperature_c);
+    r.report_unknown();
+  }
+  if (th_table != nullptr) {
+    TableReader r(problems, *th_table, t.key_path("thermal"),
+                  {"density_kg_per_m3", "specific_heat_j_per_kg_k",
+                   "specific_heat_slope_j_per_kg_k2", "conductivity_w_per_m_k",
+                   "conductivity_slope_w_per_m_k2"});
+    ThermalProperties& th = s.material.thermal;
+    const Range any{-kInf, true, kInf, true};
+    set(r, "density_kg_per_m3", kPositive, need, 1.0, th.density_kg_per_m3);
+    set(r, "specific_heat_j_per_kg_k", kPositive, need, 1.0, th.specific_heat_j_per_kg_k);
+    set(r, "specific_heat_slope_j_per_kg_k2", any, Need::kOptional, 1.0,
+        th.specific_heat_slope_j_per_kg_k2);
+    set(r, "conductivity_w_per_m_k", kPositive, need, 1.0, th.conductivity_w_per_m_k);
+    set(r, "conductivity_slope_w_per_m_k2", any, Need::kOptional, 1.0,
+        th.conductivity_slope_w_per_m_k2);
+    r.report_unknown();
+  }
+  t.report_unknown();
+  if (problems.size() != before) return;
+  // What only the whole material shows (Tm > Tr; S and K positive up to melting).
+  Validator v;
+  validate(s.material, v);
+  for (const std::string& p : v.problems()) problems.add("material." + p);
+  c.material = s;
+}
+
+void read_oxley(TableReader& t, Case& c) {
+  OxleyOptions& o = c.oxley;
+  if (auto v = t.number("c0_min", kPositive, Need::kOptional)) o.c0_min = *v;
+  if (auto v = t.number("c0_max", kPositive, Need::kOptional)) o.c0_max = *v;
+  if (auto v = t.number("delta_min", Range{0.0, true, 1.0, true}, Need::kOptional))
+    o.delta_min = *v;
+  if (auto v = t.number("delta_max", Range{0.0, true, 1.0, true}, Need::kOptional))
+    o.delta_max = *v;
+  if (auto v = t.number("eta", Range{0.0, true, 1.0, false}, Need::kOptional)) o.eta = *v;
+  if (auto v = t.number("psi", Range{0.0, true, 1.0, false}, Need::kOptional)) o.psi = *v;
+  t.report_unknown();
+  if (o.c0_min >= o.c0_max)
+    t.problems().add(t.key_path("c0_min") + " = " + format_value(o.c0_min) + " and " +
+                     t.key_path("c0_max") + " = " + format_value(o.c0_max) +
+                     ": c0_min must be less than c0_max");
+  if (o.delta_min >= o.delta_max)
+    t.problems().add(t.key_path("delta_min") + " = " + format_value(o.delta_min) + " and " +
+                     t.key_path("delta_max") + " = " + format_value(o.delta_max) +
+                     ": delta_min must be less than delta_max");
+}
+
 // ---- JSON --------------------------------------------------------------------------------
 
 // A converted-back value, rounded to 15 significant digits so that the unit round trip
@@ -912,7 +1034,7 @@ Case parse_case(std::string_view toml_text, std::string_view source) {
   }
   TableReader top(problems, root, "",
                   {"process", "modes", "cutting", "tool", "operation", "vibration", "lobes",
-                   "simulate", "force_law", "drives"});
+                   "simulate", "force_law", "drives", "material", "oxley"});
   std::optional<Process> process;
   if (auto v = top.choice("process", {"turning", "milling"}, Need::kRequired)) {
     process = *v == "turning" ? Process::kTurning : Process::kMilling;
@@ -923,7 +1045,8 @@ Case parse_case(std::string_view toml_text, std::string_view source) {
   if (const toml::table* t = top.section("cutting")) {
     TableReader r(problems, *t, "cutting",
                   {"kt_n_per_mm2", "kc_n_per_mm2", "kr_n_per_mm2", "speed_m_per_min",
-                   "uncut_chip_thickness_mm", "width_mm", "kte_n_per_mm", "kre_n_per_mm"});
+                   "uncut_chip_thickness_mm", "width_mm", "kte_n_per_mm", "kre_n_per_mm",
+                   "rake_deg", "workpiece_temperature_c"});
     read_cutting(r, c);
   }
   if (const toml::table* t = top.section("tool")) {
@@ -957,6 +1080,26 @@ Case parse_case(std::string_view toml_text, std::string_view source) {
     TableReader r(problems, *t, "force_law",
                   {"c_n_per_mm", "t2_s", "p0_n", "t1_mm", "phi_rez_deg", "phi_skv_deg"});
     read_force_law(r, c);
+  }
+  if (const toml::table* t = top.section("material")) {
+    TableReader r(problems, *t, "material", {"name", "johnson_cook", "thermal"});
+    read_material(r, c);
+  }
+  if (const toml::table* t = top.section("oxley")) {
+    TableReader r(problems, *t, "oxley",
+                  {"c0_min", "c0_max", "delta_min", "delta_max", "eta", "psi"});
+    read_oxley(r, c);
+  }
+  if (c.material && problems.empty()) {
+    if (c.process == Process::kMilling)
+      problems.add(
+          "material: Oxley's theory is orthogonal cutting, used by the turning commands; for "
+          "milling give cutting.kt_n_per_mm2 and cutting.kr_n_per_mm2");
+    for (const char* key : {"kc_n_per_mm2", "kt_n_per_mm2"})
+      if (const toml::table* t = root["cutting"].as_table(); t && t->contains(key))
+        problems.add(std::string("cutting.") + key +
+                     " and [material]: give the force coefficients or the material to "
+                     "predict them from, not both");
   }
   top.report_unknown();
 
@@ -1099,8 +1242,36 @@ nlohmann::json to_json(const Case& c) {
   if (cs.width_m) cutting["width_mm"] = tidy(m_to_mm(*cs.width_m));
   if (cs.kte_n_per_m) cutting["kte_n_per_mm"] = tidy(1e-3 * *cs.kte_n_per_m);
   if (cs.kre_n_per_m) cutting["kre_n_per_mm"] = tidy(1e-3 * *cs.kre_n_per_m);
+  if (cs.rake_rad) cutting["rake_deg"] = tidy(units::rad_to_deg(*cs.rake_rad));
+  if (cs.workpiece_temperature_c) cutting["workpiece_temperature_c"] = tidy(*cs.workpiece_temperature_c);
   if (!cutting.empty()) j["cutting"] = std::move(cutting);
 
+  if (c.material) {
+    const WorkMaterial& m = c.material->material;
+    const JohnsonCook& jc = m.flow;
+    const ThermalProperties& th = m.thermal;
+    j["material"] = {
+        {"name", m.name},
+        {"johnson_cook",
+         {{"a_mpa", tidy(jc.a_pa / 1e6)},
+          {"b_mpa", tidy(jc.b_pa / 1e6)},
+          {"n", tidy(jc.n)},
+          {"c", tidy(jc.c)},
+          {"m", tidy(jc.m)},
+          {"reference_strain_rate_per_s", tidy(jc.reference_strain_rate_per_s)},
+          {"reference_temperature_c", tidy(jc.reference_temperature_c)},
+          {"melting_temperature_c", tidy(jc.melting_temperature_c)}}},
+        {"thermal",
+         {{"density_kg_per_m3", tidy(th.density_kg_per_m3)},
+          {"specific_heat_j_per_kg_k", tidy(th.specific_heat_j_per_kg_k)},
+          {"specific_heat_slope_j_per_kg_k2", tidy(th.specific_heat_slope_j_per_kg_k2)},
+          {"conductivity_w_per_m_k", tidy(th.conductivity_w_per_m_k)},
+          {"conductivity_slope_w_per_m_k2", tidy(th.conductivity_slope_w_per_m_k2)}}}};
+    const OxleyOptions& o = c.oxley;
+    j["oxley"] = {{"c0_min", tidy(o.c0_min)},       {"c0_max", tidy(o.c0_max)},
+                  {"delta_min", tidy(o.delta_min)}, {"delta_max", tidy(o.delta_max)},
+                  {"eta", tidy(o.eta)},             {"psi", tidy(o.psi)}};
+  }
   if (c.tool) {
     j["tool"] = {{"teeth", c.tool->teeth},
                  {"diameter_mm", tidy(m_to_mm(c.tool->diameter_m))},

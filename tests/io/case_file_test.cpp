@@ -411,8 +411,8 @@ TEST(CaseFileErrors, UnknownKeysAndTables) {
               ElementsAre("lobes.colour: unknown key"));
   EXPECT_THAT(problems_of(with("[lobez]\nrpm_min = 1\n")),
               ElementsAre("lobez: unknown table (did you mean lobes?)"));
-  EXPECT_THAT(problems_of(with("[material]\nname = \"AISI1045\"\n")),
-              ElementsAre("material: unknown table"));
+  EXPECT_THAT(problems_of(with("[coolant]\ntype = \"flood\"\n")),
+              ElementsAre("coolant: unknown table"));
   EXPECT_THAT(problems_of("Process = \"turning\"\n" + with("")),
               ElementsAre("Process: unknown key (did you mean process?)"));
   EXPECT_THAT(problems_of(with("natural_Hz = 3\n")),

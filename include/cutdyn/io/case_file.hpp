@@ -20,6 +20,8 @@
 #include <vector>
 
 #include "cutdyn/drive/feed_drive.hpp"
+#include "cutdyn/forces/oxley.hpp"
+#include "cutdyn/forces/work_material.hpp"
 #include "cutdyn/modal/modal_model.hpp"
 #include "cutdyn/plan/bore_milling.hpp"
 
@@ -45,6 +47,18 @@ struct CuttingSection {
   std::optional<double> width_m;                 // width_mm (turning: depth of cut)
   std::optional<double> kte_n_per_m;             // kte_n_per_mm: milling edge coefficients
   std::optional<double> kre_n_per_m;             // kre_n_per_mm
+  std::optional<double> rake_rad;                // rake_deg: tool rake angle (Oxley)
+  std::optional<double> workpiece_temperature_c;  // before cutting (Oxley); default: the
+                                                  // material's Johnson–Cook reference
+};
+
+/// [material]: the work material for Oxley's predictive force model (`cutdyn force`, and
+/// Kt for the turning commands when [cutting] gives none). `name` picks a library entry;
+/// [material.johnson_cook] and [material.thermal] give or override its values key by key.
+struct MaterialSection {
+  WorkMaterial material;       // complete and validated
+  bool from_library = false;   // name is a library entry
+  bool overridden = false;     // some values come from the case's own tables
 };
 
 /// [force_law]: the S1 force law of milling (models.md S1.1) for `cutdyn simulate`; without
@@ -119,6 +133,8 @@ struct Case {
   std::optional<OperationSection> operation;
   std::optional<VibrationSection> vibration;
   std::optional<ForceLawSection> force_law;
+  std::optional<MaterialSection> material;
+  OxleyOptions oxley;  // [oxley]: search ranges and heat factors of the theory
   std::vector<FeedAxis> drives;  // [[drives]]: feed axes for `cutdyn drive`
   /// A bore-milling plan ([bore], [cutter], [process] tables; `cutdyn plan`).
   std::optional<BoreMillingCase> bore;
