@@ -316,6 +316,11 @@ class Solver {
 
 }  // namespace
 
+double oxley_shear_angle(const WorkMaterial& material, const OrthogonalCut& cut, double c0,
+                         double delta, const OxleyOptions& options) {
+  return Solver(material, cut, options).shear_angle(c0, delta);
+}
+
 OxleyResult oxley_orthogonal(const WorkMaterial& material, const OrthogonalCut& cut,
                              const OxleyOptions& options) {
   {

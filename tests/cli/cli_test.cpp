@@ -13,6 +13,7 @@
 
 #include "cli/app.hpp"
 #include "cutdyn/core/units.hpp"
+#include "cutdyn/forces/oxley.hpp"
 #include "cutdyn/io/case_file.hpp"
 #include "cutdyn/monitor/equivalent_current.hpp"
 #include "cutdyn/plan/bore_milling.hpp"
@@ -179,6 +180,81 @@ TEST_F(Cli, ForceReportsTheSourceTable1Values) {
   EXPECT_NEAR(doc["cutting_force_n"].get<double>(), 63.0, 1e-9);
   EXPECT_NEAR(doc["vibration"]["period_s"].get<double>(), 50e-6, 1e-15);
   EXPECT_NEAR(doc["vibration"]["critical_speed_m_per_min"].get<double>(), 150.796, 1e-3);
+}
+
+TEST_F(Cli, ForcePredictsTheCoefficientsFromTheMaterial) {
+  // product.md's `cutdyn force` case: AISI 1045, 200 m/min, 0.15 mm, 1.6 mm, rake −7°.
+  const Result r = cutdyn({"force", "oxley-aisi1045", "--json", path("f.json")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(std::ifstream(path("f.json")));
+  const OrthogonalCut cut{200.0 / 60.0, 0.15e-3, 1.6e-3, units::deg_to_rad(-7.0), 20.0};
+  const OxleyResult lib = oxley_orthogonal(*find_material("AISI1045"), cut);
+  EXPECT_EQ(doc["coefficients"], "oxley");
+  EXPECT_NEAR(doc["cutting_force_n"].get<double>(), lib.state.cutting_force_n, 1e-9);
+  EXPECT_NEAR(doc["thrust_force_n"].get<double>(), lib.state.thrust_force_n, 1e-9);
+  EXPECT_NEAR(doc["kc_n_per_mm2"].get<double>(), lib.kc_pa / 1e6, 1e-9);
+  EXPECT_NEAR(doc["kt_n_per_mm2"].get<double>(), lib.kt_pa / 1e6, 1e-9);
+  EXPECT_NEAR(doc["shear_angle_deg"].get<double>(), units::rad_to_deg(lib.state.phi_rad), 1e-9);
+  EXPECT_NEAR(doc["chip_thickness_mm"].get<double>(), lib.state.chip_thickness_m * 1e3, 1e-9);
+  EXPECT_NEAR(doc["oxley"]["interface_temperature_c"].get<double>(),
+              lib.state.temperature_interface_c, 1e-9);
+  EXPECT_EQ(doc["case"]["material"]["name"], "AISI1045");
+  // Conventional cutting: the mean is the whole force.
+  EXPECT_NEAR(doc["mean_cutting_force_n"].get<double>(), lib.state.cutting_force_n, 1e-9);
+}
+
+TEST_F(Cli, ForceWithVibrationGivesThePulsedMeansOfThePredictedForces) {
+  const Result r = cutdyn({"force", "ultrasonic-force-aa5083", "--json", path("f.json")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(std::ifstream(path("f.json")));
+  const double duty = doc["duty_cycle"].get<double>();
+  EXPECT_NEAR(duty, 0.4095, 5e-4);  // the source's table 1
+  EXPECT_NEAR(doc["mean_cutting_force_n"].get<double>(),
+              duty * doc["cutting_force_n"].get<double>(), 1e-9);
+  EXPECT_NEAR(doc["mean_thrust_force_n"].get<double>(),
+              duty * doc["thrust_force_n"].get<double>(), 1e-9);
+  EXPECT_NEAR(doc["cutting_force_n"].get<double>(),
+              doc["kc_n_per_mm2"].get<double>() * 0.15 * 0.2, 1e-9);
+}
+
+TEST_F(Cli, LobesUseThePredictedKt) {
+  // The closed-form minimum depth 2ζ(1 + ζ)k/Kt with Kt from the theory.
+  const Result r = cutdyn({"lobes", "oxley-aisi1045", "--json", path("l.json")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("predicted for AISI1045 by Oxley's theory"), std::string::npos) << r.out;
+  const OrthogonalCut cut{200.0 / 60.0, 0.15e-3, 1e-3, units::deg_to_rad(-7.0), 20.0};
+  const double kt = oxley_orthogonal(*find_material("AISI1045"), cut).kt_pa;
+  const auto doc = nlohmann::json::parse(std::ifstream(path("l.json")));
+  double lowest = 1e9;
+  for (const auto& p : doc["points"]) lowest = std::min(lowest, p["critical_depth_mm"].get<double>());
+  const double a_min = 2.0 * 0.01 * 1.01 * 2.26e8 / kt * 1e3;
+  EXPECT_GT(lowest, a_min * (1.0 - 1e-9));
+  EXPECT_LT(lowest, a_min * 1.02);  // 200 speeds sample the lobe bottoms closely
+}
+
+TEST_F(Cli, RejectsMaterialProblems) {
+  const std::string base(*io::example_text("oxley-aisi1045"));
+  const auto with = [&](const std::string& from, const std::string& to) {
+    std::string text = base;
+    text.replace(text.find(from), from.size(), to);
+    return write("case.toml", text);
+  };
+  expect_rejected({"force", with("name = \"AISI1045\"", "name = \"AISI1046\""), "--json",
+                   path("f.json")},
+                  "material.name = \"AISI1046\": is not in the material library (AISI1045");
+  expect_rejected({"force", with("rake_deg = -7", ""), "--json", path("f.json")},
+                  "cutting.rake_deg: missing (required by `cutdyn force` to predict");
+  expect_rejected({"force", with("speed_m_per_min = 200", "speed_m_per_min = 5\nkt_n_per_mm2 = 900"),
+                   "--json", path("f.json")},
+                  "give the force coefficients or the material to predict them from, not both");
+  // Outside the theory: a slow cut of a thin chip.
+  std::string slow = base;
+  slow.replace(slow.find("speed_m_per_min = 200"), 21, "speed_m_per_min = 5");
+  slow.replace(slow.find("uncut_chip_thickness_mm = 0.15"), 30, "uncut_chip_thickness_mm = 0.01");
+  expect_rejected({"force", write("slow.toml", slow), "--json", path("f.json")},
+                  "outside the theory's validity");
+  expect_rejected({"lobes", path("slow.toml"), "--out", path("l.csv")},
+                  "outside the theory's validity");
 }
 
 // One test per kind of bad input in product.md: exit 2, the key named, no output file.

@@ -150,10 +150,9 @@ TEST(CaseFileExamples, UnknownExampleListsTheAvailableNames) {
     ASSERT_EQ(e.problems().size(), 1u);
     EXPECT_EQ(e.problems()[0],
               "no built-in example called \"nope\"; available: bore-plan, ermolaev2020, "
-              "milling-insperger, "
-              "milling-variable-pitch, "
-              "turning-conventional, turning-ultrasonic, turning-ultrasonic-speed, "
-              "ultrasonic-force");
+              "milling-insperger, milling-variable-pitch, oxley-aisi1045, turning-conventional, "
+              "turning-ultrasonic, turning-ultrasonic-speed, ultrasonic-force, "
+              "ultrasonic-force-aa5083");
   }
 }
 
@@ -567,6 +566,106 @@ TEST(CaseFileJson, EchoesTheFileInItsOwnKeysAndUnits) {
           {"rpm", 600}, {"depth_mm", 10}, {"duration_s", 2}, {"initial_displacement_um", 1}}));
   EXPECT_FALSE(j.contains("tool"));
   EXPECT_FALSE(j.contains("operation"));
+}
+
+// ---- [material] and [oxley] -------------------------------------------------------------
+
+TEST(CaseFileMaterial, ALibraryNameWithOverridesAndOwnTables) {
+  // A library entry.
+  const Case lib = parse_case(with("[material]\nname = \"aisi 1045\"\n"), "a.toml");
+  ASSERT_TRUE(lib.material.has_value());
+  EXPECT_TRUE(lib.material->from_library);
+  EXPECT_FALSE(lib.material->overridden);
+  EXPECT_EQ(lib.material->material.flow.a_pa, find_material("AISI1045")->flow.a_pa);
+  // The entry with one value overridden, the rest kept.
+  const Case over = parse_case(
+      with("[material]\nname = \"AISI1045\"\n[material.johnson_cook]\nc = 0.02\n"), "b.toml");
+  EXPECT_TRUE(over.material->overridden);
+  EXPECT_EQ(over.material->material.flow.c, 0.02);
+  EXPECT_EQ(over.material->material.flow.b_pa, 600.8e6);
+  // A material of one's own: every required key, SI inside.
+  const Case own = parse_case(with(R"([material]
+name = "my steel"
+[material.johnson_cook]
+a_mpa = 500
+b_mpa = 400
+n = 0.3
+c = 0.01
+m = 1.1
+reference_strain_rate_per_s = 0.001
+melting_temperature_c = 1450
+[material.thermal]
+density_kg_per_m3 = 7800
+specific_heat_j_per_kg_k = 450
+conductivity_w_per_m_k = 40
+conductivity_slope_w_per_m_k2 = -0.01
+[cutting]
+rake_deg = -5
+workpiece_temperature_c = 300
+[oxley]
+c0_min = 1.5
+delta_max = 0.3
+)"),
+                              "c.toml");
+  const WorkMaterial& m = own.material->material;
+  EXPECT_FALSE(own.material->from_library);
+  EXPECT_EQ(m.name, "my steel");
+  EXPECT_EQ(m.flow.a_pa, 500e6);
+  EXPECT_EQ(m.flow.reference_strain_rate_per_s, 0.001);
+  EXPECT_EQ(m.flow.reference_temperature_c, 20.0);  // the default
+  EXPECT_EQ(m.thermal.conductivity_slope_w_per_m_k2, -0.01);
+  EXPECT_EQ(m.thermal.specific_heat_slope_j_per_kg_k2, 0.0);
+  EXPECT_NEAR(*own.cutting.rake_rad, units::deg_to_rad(-5.0), 1e-15);
+  EXPECT_EQ(*own.cutting.workpiece_temperature_c, 300.0);
+  EXPECT_EQ(own.oxley.c0_min, 1.5);
+  EXPECT_EQ(own.oxley.delta_max, 0.3);
+  EXPECT_EQ(own.oxley.c0_max, OxleyOptions{}.c0_max);
+  // to_json gives the material in full; read back, the same case.
+  const nlohmann::json j = to_json(own);
+  std::string again = with("[cutting]\nrake_deg = -5\nworkpiece_temperature_c = 300\n");
+  again += "[material]\nname = " + j["material"]["name"].dump() + "\n";
+  for (const char* table : {"johnson_cook", "thermal"}) {
+    again += std::string("[material.") + table + "]\n";
+    for (const auto& [key, value] : j["material"][table].items())
+      again += key + " = " + value.dump() + "\n";
+  }
+  again += "[oxley]\n";
+  for (const auto& [key, value] : j["oxley"].items()) again += key + " = " + value.dump() + "\n";
+  EXPECT_EQ(to_json(parse_case(again, "d.toml")), j);
+}
+
+TEST(CaseFileMaterial, ProblemsAreNamed) {
+  EXPECT_THAT(problems_of(with("[material]\nname = \"steel\"\n")),
+              ElementsAre(::testing::StartsWith(
+                  "material.name = \"steel\": is not in the material library (AISI1045, ")));
+  EXPECT_THAT(problems_of(with("[material]\n[material.johnson_cook]\na_mpa = 1\n")),
+              ElementsAre("material.name: missing (give a library material, or both "
+                          "[material.johnson_cook] and [material.thermal])"));
+  // Own tables without a library name: every required key.
+  const auto missing = problems_of(
+      with("[material]\nname = \"x\"\n[material.johnson_cook]\na_mpa = 500\nb_mpa = 1\n"
+           "n = 0.2\nc = 0\nm = 1\n[material.thermal]\ndensity_kg_per_m3 = 7800\n"));
+  EXPECT_THAT(missing, ElementsAre("material.johnson_cook.melting_temperature_c: missing (required)",
+                                   "material.thermal.specific_heat_j_per_kg_k: missing (required)",
+                                   "material.thermal.conductivity_w_per_m_k: missing (required)"));
+  // What only the whole material shows.
+  EXPECT_THAT(problems_of(with("[material]\nname = \"AISI1045\"\n[material.johnson_cook]\n"
+                               "melting_temperature_c = 10\n")),
+              ElementsAre(::testing::StartsWith(
+                  "material.johnson_cook.melting_temperature_c = 10 °C: must be above")));
+  EXPECT_THAT(problems_of(with("[material]\nname = \"AISI1045\"\n[material.johnson_cook]\n"
+                               "n = 1.5\nhardness = 3\n")),
+              ElementsAre("material.johnson_cook.n = 1.5: must be at least 0 and less than 1",
+                          "material.johnson_cook.hardness: unknown key"));
+  // Coefficients and a material together; a material for milling.
+  EXPECT_THAT(problems_of(with("[material]\nname = \"AISI1045\"\n[cutting]\nkt_n_per_mm2 = 900\n")),
+              ElementsAre("cutting.kt_n_per_mm2 and [material]: give the force coefficients or "
+                          "the material to predict them from, not both"));
+  EXPECT_THAT(problems_of(with("[cutting]\nrake_deg = 50\n")),
+              ElementsAre("cutting.rake_deg = 50: must be greater than -45 and less than 45"));
+  EXPECT_THAT(problems_of(with("[oxley]\nc0_min = 5\nc0_max = 4\n")),
+              ElementsAre("oxley.c0_min = 5 and oxley.c0_max = 4: c0_min must be less than "
+                          "c0_max"));
 }
 
 TEST(CaseFileJson, RoundTripsThroughToml) {

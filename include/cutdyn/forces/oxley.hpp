@@ -93,6 +93,12 @@ struct OxleyState {
 OxleyState oxley_state(const WorkMaterial& material, const OrthogonalCut& cut, double phi_rad,
                        double c0, double delta, const OxleyOptions& options = {});
 
+/// The shear angle satisfying the interface condition at (C0, δ): the largest root (the
+/// low-φ roots are not physical), found by a scan down from phi_max_rad and Brent's method;
+/// NaN if there is none. Inputs are assumed valid.
+double oxley_shear_angle(const WorkMaterial& material, const OrthogonalCut& cut, double c0,
+                         double delta, const OxleyOptions& options = {});
+
 struct OxleyResult {
   OxleyState state;   // at the solution
   double kc_pa = 0.0;  // Fc/(t1·w)
