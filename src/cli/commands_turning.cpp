@@ -450,7 +450,37 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream&) {
     }
     io::write_json(outputs.open(args.json), doc);
   }
-  if (!args.plot.empty()) {
+  if (!args.plot.empty() && oxley && !c.vibration) {
+    // The prediction around the case: forces and shear angle against the uncut chip
+    // thickness, from h/4 to 2h (points outside the theory's validity are left out).
+    io::PlotSpec spec;
+    spec.title = fmt::format("Oxley + Johnson–Cook: {} at {} m/min, rake {}°, w = {} mm",
+                             c.material->material.name,
+                             human(units::m_per_s_to_m_per_min(oxley->cut.speed_m_per_s)),
+                             human(units::rad_to_deg(oxley->cut.rake_rad)), human(m_to_mm(w)));
+    spec.x_label = "uncut chip thickness (mm)";
+    spec.y_label = "force (N)";
+    spec.y2_label = "shear angle (°)";
+    spec.y_min = 0.0;
+    io::PlotSeries fc{"cutting force", {}, {}, "linespoints"},
+        ft{"thrust force", {}, {}, "linespoints"}, phi{"shear angle", {}, {}, "linespoints", true},
+        here{"this cut", {m_to_mm(h), m_to_mm(h)}, {f.peak_cutting_n, f.peak_thrust_n}, "points"};
+    for (int i = 0; i <= 14; ++i) {
+      OrthogonalCut cut = oxley->cut;
+      cut.uncut_chip_thickness_m = h * (0.25 + 1.75 * i / 14.0);
+      try {
+        const OxleyResult r = oxley_orthogonal(c.material->material, cut, c.oxley);
+        for (io::PlotSeries* series : {&fc, &ft, &phi}) series->x.push_back(m_to_mm(cut.uncut_chip_thickness_m));
+        fc.y.push_back(r.state.cutting_force_n);
+        ft.y.push_back(r.state.thrust_force_n);
+        phi.y.push_back(units::rad_to_deg(r.state.phi_rad));
+      } catch (const InvalidInput&) {
+        // outside the theory: no point
+      }
+    }
+    spec.series = {fc, ft, here, phi};
+    io::write_plot(spec, args.plot, outputs);
+  } else if (!args.plot.empty()) {
     // Three vibration periods of the pulsed forces g(t)·K·h·w (or a flat line).
     const ContactWindow g = dc.window();
     const double T = c.vibration ? dc.period_s : 1e-3;

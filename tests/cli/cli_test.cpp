@@ -184,8 +184,10 @@ TEST_F(Cli, ForceReportsTheSourceTable1Values) {
 
 TEST_F(Cli, ForcePredictsTheCoefficientsFromTheMaterial) {
   // product.md's `cutdyn force` case: AISI 1045, 200 m/min, 0.15 mm, 1.6 mm, rake −7°.
-  const Result r = cutdyn({"force", "oxley-aisi1045", "--json", path("f.json")});
+  const Result r =
+      cutdyn({"force", "oxley-aisi1045", "--json", path("f.json"), "--plot", path("f.png")});
   ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_GT(fs::file_size(path("f.png")), 1000u);  // forces against the chip thickness
   const auto doc = nlohmann::json::parse(std::ifstream(path("f.json")));
   const OrthogonalCut cut{200.0 / 60.0, 0.15e-3, 1.6e-3, units::deg_to_rad(-7.0), 20.0};
   const OxleyResult lib = oxley_orthogonal(*find_material("AISI1045"), cut);
