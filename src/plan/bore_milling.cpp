@@ -248,30 +248,6 @@ PlanPoint plan_point(const BoreMillingCase& base, const BoreMillingLimits& lim, 
   return p;
 }
 
-// Golden-section minimum of f on [a, b] (f unimodal near the bracket), to `tol`.
-template <typename F>
-double golden(F f, double a, double b, double tol) {
-  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
-  double x1 = b - g * (b - a), x2 = a + g * (b - a);
-  double f1 = f(x1), f2 = f(x2);
-  while (b - a > tol) {
-    if (f1 <= f2) {
-      b = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = b - g * (b - a);
-      f1 = f(x1);
-    } else {
-      a = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = a + g * (b - a);
-      f2 = f(x2);
-    }
-  }
-  return f1 <= f2 ? x1 : x2;
-}
-
 }  // namespace
 
 double bore_milling_main_time(const BoreMillingCase& c, const BoreMillingLimits& limits, double h,
@@ -286,7 +262,7 @@ BoreMillingPlan optimise_bore_milling(const BoreMillingCase& c, const BoreMillin
   v.throw_if_any(kWhere);
   BoreMillingPlan plan;
   const double D = c.cutter_diameter_m;
-  // For one h: the best S0 (scan, then a golden section around the best sample).
+  // For one h: the best S0 (scan, then Brent's minimiser around the best sample).
   const auto best_feed = [&](double h, double& t0) {
     const int n = lim.feed_samples;
     double best_s = 0.0;
@@ -302,12 +278,14 @@ BoreMillingPlan optimise_bore_milling(const BoreMillingCase& c, const BoreMillin
     }
     if (!std::isfinite(t0)) return best_s;
     const double step = D / n;
-    const double s = golden(
-        [&](double x) {
-          ++plan.evaluations;
-          return plan_point(c, lim, h, x).t0;
-        },
-        std::max(step * 1e-3, best_s - step), std::min(D, best_s + step), 1e-9 * D);
+    const double s = brent_minimum(
+                         [&](double x) {
+                           ++plan.evaluations;
+                           return plan_point(c, lim, h, x).t0;
+                         },
+                         std::max(step * 1e-3, best_s - step), std::min(D, best_s + step),
+                         1e-9 * D)
+                         .x;
     const double t = plan_point(c, lim, h, s).t0;
     if (t < t0) {
       t0 = t;
@@ -329,14 +307,16 @@ BoreMillingPlan optimise_bore_milling(const BoreMillingCase& c, const BoreMillin
   if (!std::isfinite(best_t)) return plan;  // no feasible point in the box
   if (lim.offset_max_m > lim.offset_min_m) {
     const double step = (lim.offset_max_m - lim.offset_min_m) / (m - 1);
-    const double h = golden(
-        [&](double x) {
-          double t0;
-          best_feed(x, t0);
-          return t0;
-        },
-        std::max(lim.offset_min_m, best_h - step), std::min(lim.offset_max_m, best_h + step),
-        1e-9 * std::max(1e-3, std::abs(best_h) + step));
+    const double h = brent_minimum(
+                         [&](double x) {
+                           double t0;
+                           best_feed(x, t0);
+                           return t0;
+                         },
+                         std::max(lim.offset_min_m, best_h - step),
+                         std::min(lim.offset_max_m, best_h + step),
+                         1e-9 * std::max(1e-3, std::abs(best_h) + step))
+                         .x;
     double t0;
     best_feed(h, t0);
     if (t0 < best_t) {

@@ -100,7 +100,7 @@ struct BoreMillingPlan {
 /// Chooses h, S0, n_u and n_o to minimise the main time t0 = (L/S0 + 1)/n_o subject to
 /// Δ1 <= k·t, S0 < q, a_cp <= the case's a_cp, a_max and Δ2 within `limits`, n_o and n_u
 /// within the machine's. The speed constraints depend on n_o/n_u only, so n_u takes its limit
-/// and n_o the largest allowed ratio; (h, S0) are scanned and refined by golden sections.
+/// and n_o the largest allowed ratio; (h, S0) are scanned and refined by Brent's minimiser.
 BoreMillingPlan optimise_bore_milling(const BoreMillingCase& c, const BoreMillingLimits& limits);
 
 /// The same objective and constraints at one point (h, S0): t0, or +∞ if infeasible. For the
