@@ -361,8 +361,8 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream&) {
         << human(m_to_mm(s.chip_thickness_m)) << " mm (chip ratio "
         << human(oxley->result.chip_ratio) << "), contact length "
         << human(m_to_mm(s.contact_length_m)) << " mm\n";
-    out << "    strain-rate constant C0 = " << human(s.c0) << ", secondary zone δ = "
-        << human(s.delta) << " of the chip thickness, friction angle "
+    out << "    strain-rate constant C0 = " << human(s.c0)
+        << ", secondary zone δ = " << human(s.delta) << " of the chip thickness, friction angle "
         << human(units::rad_to_deg(s.friction_angle_rad)) << "°\n";
     out << "    temperatures: shear plane " << human(s.temperature_ab_c, 3)
         << " °C, tool–chip interface " << human(s.temperature_interface_c, 3) << " °C\n";
@@ -386,8 +386,8 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream&) {
                   {"warnings", oxley->result.warnings}};
   }
   out << "  Kc = " << human(units::pa_to_n_per_mm2(kc))
-      << " N/mm², Kt = " << human(units::pa_to_n_per_mm2(kt))
-      << " N/mm²; h = " << human(m_to_mm(h)) << " mm, w = " << human(m_to_mm(w)) << " mm";
+      << " N/mm², Kt = " << human(units::pa_to_n_per_mm2(kt)) << " N/mm²; h = " << human(m_to_mm(h))
+      << " mm, w = " << human(m_to_mm(w)) << " mm";
   if (c.cutting.speed_m_per_s)
     out << ", v = " << human(units::m_per_s_to_m_per_min(*c.cutting.speed_m_per_s)) << " m/min";
   out << "\n";
@@ -470,7 +470,8 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream&) {
       cut.uncut_chip_thickness_m = h * (0.25 + 1.75 * i / 14.0);
       try {
         const OxleyResult r = oxley_orthogonal(c.material->material, cut, c.oxley);
-        for (io::PlotSeries* series : {&fc, &ft, &phi}) series->x.push_back(m_to_mm(cut.uncut_chip_thickness_m));
+        for (io::PlotSeries* series : {&fc, &ft, &phi})
+          series->x.push_back(m_to_mm(cut.uncut_chip_thickness_m));
         fc.y.push_back(r.state.cutting_force_n);
         ft.y.push_back(r.state.thrust_force_n);
         phi.y.push_back(units::rad_to_deg(r.state.phi_rad));

@@ -34,8 +34,7 @@ void require_turning(const io::Case& c, std::string_view command) {
   }
 }
 
-OxleyPrediction predict_with_oxley(const io::Case& c, std::string_view command,
-                                   bool need_width) {
+OxleyPrediction predict_with_oxley(const io::Case& c, std::string_view command, bool need_width) {
   Validator v;
   const io::CuttingSection& cs = c.cutting;
   const std::string why = "required by `cutdyn " + std::string(command) +

@@ -21,9 +21,37 @@ constexpr const char* kWhere = "Oxley machining theory";
 // clamped to [0, 1] outside its range (the solution is checked against the range).
 double heat_into_work(double thermal_number, double tan_phi) {
   const double x = thermal_number * tan_phi;
-  const double beta =
-      x <= 10.0 ? 0.5 - 0.35 * std::log10(x) : 0.3 - 0.15 * std::log10(x);
+  const double beta = x <= 10.0 ? 0.5 - 0.35 * std::log10(x) : 0.3 - 0.15 * std::log10(x);
   return std::clamp(beta, 0.0, 1.0);
+}
+
+// The largest root of f on [lo, hi]: f at n equal steps from hi down, stopping at the first
+// sign change between two points where f is defined (not NaN), refined by Brent's method
+// (a NaN inside that cell counts as the lower end's sign). NaN when there is none.
+template <typename F>
+double largest_root(F f, double lo, double hi, int n, double tol) {
+  double upper = kNaN, f_upper = kNaN;
+  for (int i = n - 1; i >= 0; --i) {
+    const double x = lo + (hi - lo) * i / (n - 1);
+    const double fx = f(x);
+    if (std::isnan(fx)) {
+      upper = kNaN;
+      continue;
+    }
+    if (fx == 0.0) return x;
+    if (!std::isnan(upper) && (fx > 0.0) != (f_upper > 0.0)) {
+      const auto root = brent_root(
+          [&](double t) {
+            const double y = f(t);
+            return std::isnan(y) ? fx : y;
+          },
+          x, fx, upper, f_upper, tol);
+      return root ? root->x : kNaN;
+    }
+    upper = x;
+    f_upper = fx;
+  }
+  return kNaN;
 }
 
 }  // namespace
@@ -38,16 +66,16 @@ void OxleyOptions::validate(Validator& v) const {
             "must be > c0_min");
   v.require(std::isfinite(delta_min) && delta_min > 0.0, "oxley.delta_min", delta_min, "",
             "must be > 0");
-  v.require(std::isfinite(delta_max) && delta_max > delta_min && delta_max < 1.0,
-            "oxley.delta_max", delta_max, "", "must be > delta_min and < 1");
+  v.require(std::isfinite(delta_max) && delta_max > delta_min && delta_max < 1.0, "oxley.delta_max",
+            delta_max, "", "must be > delta_min and < 1");
   v.require(std::isfinite(phi_min_rad) && phi_min_rad > 0.0, "oxley.phi_min_rad", phi_min_rad,
             "rad", "must be > 0");
   v.require(std::isfinite(phi_max_rad) && phi_max_rad > phi_min_rad && phi_max_rad < kPi / 2,
             "oxley.phi_max_rad", phi_max_rad, "rad", "must be > phi_min_rad and < π/2");
   v.require(phi_scan_points >= 8 && phi_scan_points <= 10000, "oxley.phi_scan_points",
             phi_scan_points, "", "must be in [8, 10000]");
-  v.require(c0_scan_points >= 3 && c0_scan_points <= 10000, "oxley.c0_scan_points",
-            c0_scan_points, "", "must be in [3, 10000]");
+  v.require(c0_scan_points >= 3 && c0_scan_points <= 10000, "oxley.c0_scan_points", c0_scan_points,
+            "", "must be in [3, 10000]");
   v.require(delta_scan_points >= 3 && delta_scan_points <= 10000, "oxley.delta_scan_points",
             delta_scan_points, "", "must be in [3, 10000]");
   for (const auto& [name, tol] : {std::pair{"oxley.phi_tolerance_rad", phi_tolerance_rad},
@@ -159,8 +187,7 @@ OxleyState oxley_state(const WorkMaterial& material, const OrthogonalCut& cut, d
     T_c = next;
     if (done) break;
   }
-  const double rt_chip =
-      rho * th.specific_heat(T_c) * V * t1 / th.conductivity(T_c);
+  const double rt_chip = rho * th.specific_heat(T_c) * V * t1 / th.conductivity(T_c);
   const double x = rt_chip * t2 / h;
   const double dT_m =
       dT_c * std::pow(10.0, 0.06 - 0.195 * delta * std::sqrt(x) + 0.5 * std::log10(x));
@@ -201,35 +228,10 @@ class Solver {
     return (s.interface_shear_stress_pa - s.chip_flow_stress_pa) / s.shear_flow_stress_pa;
   }
 
-  // The largest shear angle that satisfies the interface condition, or NaN. Scans down from
-  // the top of the range to the first sign change between admissible points.
+  // The largest shear angle that satisfies the interface condition, or NaN.
   double shear_angle(double c0, double delta) {
-    const int n = o_.phi_scan_points;
-    const double step = (o_.phi_max_rad - o_.phi_min_rad) / (n - 1);
-    double upper = kNaN, f_upper = kNaN;
-    for (int i = n - 1; i >= 0; --i) {
-      const double phi = o_.phi_min_rad + step * i;
-      const double f = interface_mismatch(phi, c0, delta);
-      if (std::isnan(f)) {
-        upper = kNaN;
-        continue;
-      }
-      if (!std::isnan(upper) && (f > 0.0) != (f_upper > 0.0)) {
-        const auto root = brent_root(
-            [&](double x) {
-              const double y = interface_mismatch(x, c0, delta);
-              // Admissibility is monotone in φ over one cell in practice; if not, treat
-              // the gap as the lower end's sign.
-              return std::isnan(y) ? f : y;
-            },
-            phi, f, upper, f_upper, o_.phi_tolerance_rad);
-        return root ? root->x : kNaN;
-      }
-      if (f == 0.0) return phi;
-      upper = phi;
-      f_upper = f;
-    }
-    return kNaN;
+    return largest_root([&](double phi) { return interface_mismatch(phi, c0, delta); },
+                        o_.phi_min_rad, o_.phi_max_rad, o_.phi_scan_points, o_.phi_tolerance_rad);
   }
 
   struct Equilibrium {
@@ -238,9 +240,8 @@ class Solver {
   };
 
   // σ_N − σ'_N (relative to k_AB) at the shear angle of (C0, δ); NaN without one.
-  double normal_mismatch(double c0, double delta, double* phi_out = nullptr) {
+  double normal_mismatch(double c0, double delta) {
     const double phi = shear_angle(c0, delta);
-    if (phi_out) *phi_out = phi;
     if (std::isnan(phi)) return kNaN;
     const OxleyState s = state(phi, c0, delta);
     const double g = (s.interface_normal_stress_pa - s.normal_stress_b_pa) / s.shear_flow_stress_pa;
@@ -269,33 +270,11 @@ class Solver {
   // (φ, C0) for one δ: a C0 root of the normal-stress condition; with several, the one of
   // largest C0 (the thinnest primary zone). NaN if none in [c0_min, c0_max].
   Equilibrium equilibrium(double delta) {
-    const int n = o_.c0_scan_points;
-    double upper = kNaN, g_upper = kNaN;
-    for (int i = n - 1; i >= 0; --i) {
-      const double c0 = o_.c0_min + (o_.c0_max - o_.c0_min) * i / (n - 1);
-      const double g = normal_mismatch(c0, delta);
-      if (std::isnan(g)) {
-        upper = kNaN;
-        continue;
-      }
-      if (!std::isnan(upper) && (g > 0.0) != (g_upper > 0.0)) {
-        const auto root = brent_root(
-            [&](double x) {
-              const double y = normal_mismatch(x, delta);
-              return std::isnan(y) ? g : y;
-            },
-            c0, g, upper, g_upper, o_.c0_tolerance);
-        if (!root) return {};
-        Equilibrium e;
-        e.c0 = root->x;
-        e.phi = shear_angle(e.c0, delta);
-        return e;
-      }
-      if (g == 0.0) return {shear_angle(c0, delta), c0};
-      upper = c0;
-      g_upper = g;
-    }
-    return {};
+    Equilibrium e;
+    e.c0 = largest_root([&](double c0) { return normal_mismatch(c0, delta); }, o_.c0_min, o_.c0_max,
+                        o_.c0_scan_points, o_.c0_tolerance);
+    if (!std::isnan(e.c0)) e.phi = shear_angle(e.c0, delta);
+    return e;
   }
 
   // Fc at the equilibrium of δ; +inf without one.
@@ -346,12 +325,11 @@ OxleyResult oxley_orthogonal(const WorkMaterial& material, const OrthogonalCut& 
   if (best < 0) {
     throw InvalidInput(
         {"no equilibrium of Oxley's theory in the physical branch at V = " +
-         format_value(units::m_per_s_to_m_per_min(cut.speed_m_per_s)) + " m/min, t1 = " +
-         format_value(units::m_to_mm(cut.uncut_chip_thickness_m)) + " mm, rake " +
-         format_value(std::round(units::rad_to_deg(cut.rake_rad) * 1e6) / 1e6) +
-         "° for C0 in [" + format_value(options.c0_min) + ", " + format_value(options.c0_max) +
-         "] and δ in [" + format_value(d_lo) + ", " + format_value(d_hi) +
-         "]: " + solver.failure_reason() +
+         format_value(units::m_per_s_to_m_per_min(cut.speed_m_per_s)) +
+         " m/min, t1 = " + format_value(units::m_to_mm(cut.uncut_chip_thickness_m)) + " mm, rake " +
+         format_value(std::round(units::rad_to_deg(cut.rake_rad) * 1e6) / 1e6) + "° for C0 in [" +
+         format_value(options.c0_min) + ", " + format_value(options.c0_max) + "] and δ in [" +
+         format_value(d_lo) + ", " + format_value(d_hi) + "]: " + solver.failure_reason() +
          "; the cut is outside the theory's validity (it describes continuous chips at "
          "moderate to high speeds)"},
         kWhere);
@@ -359,8 +337,8 @@ OxleyResult oxley_orthogonal(const WorkMaterial& material, const OrthogonalCut& 
   const double a = deltas[std::max(0, best - 1)], b = deltas[std::min(n - 1, best + 1)];
   double delta = deltas[best];
   if (b > a) {
-    const MinimumResult m = brent_minimum(
-        [&](double d) { return solver.cutting_force(d); }, a, b, options.delta_tolerance);
+    const MinimumResult m = brent_minimum([&](double d) { return solver.cutting_force(d); }, a, b,
+                                          options.delta_tolerance);
     if (std::isfinite(m.fx) && m.fx <= forces[best]) delta = m.x;
   }
 
@@ -384,10 +362,10 @@ OxleyResult oxley_orthogonal(const WorkMaterial& material, const OrthogonalCut& 
         " is below 0.04, outside Boothroyd's heat-partition correlation (the cutting speed or "
         "the uncut chip thickness is too small for the theory)");
   if (s.temperature_interface_c >= material.flow.melting_temperature_c)
-    problems.push_back("tool–chip interface temperature " + format_value(s.temperature_interface_c) +
-                       " °C reaches the melting temperature " +
-                       format_value(material.flow.melting_temperature_c) +
-                       " °C (the cutting speed is too high for the theory)");
+    problems.push_back(
+        "tool–chip interface temperature " + format_value(s.temperature_interface_c) +
+        " °C reaches the melting temperature " + format_value(material.flow.melting_temperature_c) +
+        " °C (the cutting speed is too high for the theory)");
   if (!problems.empty()) throw InvalidInput(problems, kWhere);
 
   const double c0_margin = 1e-6 * (options.c0_max - options.c0_min);

@@ -14,9 +14,9 @@ double JohnsonCook::rate_factor(double strain_rate_per_s) const {
 }
 
 double JohnsonCook::softening(double temperature_c) const {
-  const double t_star = std::clamp((temperature_c - reference_temperature_c) /
-                                       (melting_temperature_c - reference_temperature_c),
-                                   0.0, 1.0);
+  const double t_star = std::clamp(
+      (temperature_c - reference_temperature_c) / (melting_temperature_c - reference_temperature_c),
+      0.0, 1.0);
   return 1.0 - std::pow(t_star, m);
 }
 

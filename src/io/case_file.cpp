@@ -351,22 +351,12 @@ class TableReader {
 
   std::optional<std::string> choice(std::string_view key,
                                     std::initializer_list<std::string_view> options, Need need) {
-    const toml::node* node = get(key);
-    if (node == nullptr) {
-      if (need == Need::kRequired) problems_.missing(key_path(key));
+    auto value = text(key, need);
+    if (value && std::find(options.begin(), options.end(), *value) == options.end()) {
+      problems_.at(key_path(key), *get(key), "must be one of " + join_quoted(options));
       return std::nullopt;
     }
-    const auto* s = node->as_string();
-    if (s == nullptr) {
-      problems_.at(key_path(key), *node,
-                   std::string("wrong type: expected a string, got ") + type_name(*node));
-      return std::nullopt;
-    }
-    if (std::find(options.begin(), options.end(), s->get()) == options.end()) {
-      problems_.at(key_path(key), *node, "must be one of " + join_quoted(options));
-      return std::nullopt;
-    }
-    return s->get();
+    return value;
   }
 
   // "lobes.rpm_stepz: unknown key (did you mean rpm_steps?)" for every key not in `known`.
@@ -618,8 +608,8 @@ void read_cutting(TableReader& t, Case& c) {
   if (auto v = t.number("kre_n_per_mm", kNonNegative, Need::kOptional)) s.kre_n_per_m = 1e3 * *v;
   if (auto v = t.number("rake_deg", Range{-45.0, true, 45.0, true}, Need::kOptional))
     s.rake_rad = units::deg_to_rad(*v);
-  if (auto v = t.number("workpiece_temperature_c", Range{-273.15, true, kInf, true},
-                        Need::kOptional))
+  if (auto v =
+          t.number("workpiece_temperature_c", Range{-273.15, true, kInf, true}, Need::kOptional))
     s.workpiece_temperature_c = *v;
   t.report_unknown();
 }
@@ -793,8 +783,7 @@ void read_material(TableReader& t, Case& c) {
   const toml::table* th_table = t.section("thermal");
   if (name && !entry && (jc_table == nullptr || th_table == nullptr)) {
     std::string names;
-    for (const WorkMaterial& m : material_library())
-      names += (names.empty() ? "" : ", ") + m.name;
+    for (const WorkMaterial& m : material_library()) names += (names.empty() ? "" : ", ") + m.name;
     t.problem("name", "is not in the material library (" + names +
                           "); give it, or your own [material.johnson_cook] and "
                           "[material.thermal] tables");
@@ -840,10 +829,10 @@ void read_material(TableReader& t, Case& c) {
     r.report_unknown();
   }
   if (th_table != nullptr) {
-    TableReader r(problems, *th_table, t.key_path("thermal"),
-                  {"density_kg_per_m3", "specific_heat_j_per_kg_k",
-                   "specific_heat_slope_j_per_kg_k2", "conductivity_w_per_m_k",
-                   "conductivity_slope_w_per_m_k2"});
+    TableReader r(
+        problems, *th_table, t.key_path("thermal"),
+        {"density_kg_per_m3", "specific_heat_j_per_kg_k", "specific_heat_slope_j_per_kg_k2",
+         "conductivity_w_per_m_k", "conductivity_slope_w_per_m_k2"});
     ThermalProperties& th = s.material.thermal;
     const Range any{-kInf, true, kInf, true};
     set(r, "density_kg_per_m3", kPositive, need, 1.0, th.density_kg_per_m3);
@@ -1243,7 +1232,8 @@ nlohmann::json to_json(const Case& c) {
   if (cs.kte_n_per_m) cutting["kte_n_per_mm"] = tidy(1e-3 * *cs.kte_n_per_m);
   if (cs.kre_n_per_m) cutting["kre_n_per_mm"] = tidy(1e-3 * *cs.kre_n_per_m);
   if (cs.rake_rad) cutting["rake_deg"] = tidy(units::rad_to_deg(*cs.rake_rad));
-  if (cs.workpiece_temperature_c) cutting["workpiece_temperature_c"] = tidy(*cs.workpiece_temperature_c);
+  if (cs.workpiece_temperature_c)
+    cutting["workpiece_temperature_c"] = tidy(*cs.workpiece_temperature_c);
   if (!cutting.empty()) j["cutting"] = std::move(cutting);
 
   if (c.material) {
@@ -1268,9 +1258,12 @@ nlohmann::json to_json(const Case& c) {
           {"conductivity_w_per_m_k", tidy(th.conductivity_w_per_m_k)},
           {"conductivity_slope_w_per_m_k2", tidy(th.conductivity_slope_w_per_m_k2)}}}};
     const OxleyOptions& o = c.oxley;
-    j["oxley"] = {{"c0_min", tidy(o.c0_min)},       {"c0_max", tidy(o.c0_max)},
-                  {"delta_min", tidy(o.delta_min)}, {"delta_max", tidy(o.delta_max)},
-                  {"eta", tidy(o.eta)},             {"psi", tidy(o.psi)}};
+    j["oxley"] = {{"c0_min", tidy(o.c0_min)},
+                  {"c0_max", tidy(o.c0_max)},
+                  {"delta_min", tidy(o.delta_min)},
+                  {"delta_max", tidy(o.delta_max)},
+                  {"eta", tidy(o.eta)},
+                  {"psi", tidy(o.psi)}};
   }
   if (c.tool) {
     j["tool"] = {{"teeth", c.tool->teeth},

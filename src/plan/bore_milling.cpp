@@ -283,8 +283,7 @@ BoreMillingPlan optimise_bore_milling(const BoreMillingCase& c, const BoreMillin
                            ++plan.evaluations;
                            return plan_point(c, lim, h, x).t0;
                          },
-                         std::max(step * 1e-3, best_s - step), std::min(D, best_s + step),
-                         1e-9 * D)
+                         std::max(step * 1e-3, best_s - step), std::min(D, best_s + step), 1e-9 * D)
                          .x;
     const double t = plan_point(c, lim, h, s).t0;
     if (t < t0) {
@@ -307,16 +306,16 @@ BoreMillingPlan optimise_bore_milling(const BoreMillingCase& c, const BoreMillin
   if (!std::isfinite(best_t)) return plan;  // no feasible point in the box
   if (lim.offset_max_m > lim.offset_min_m) {
     const double step = (lim.offset_max_m - lim.offset_min_m) / (m - 1);
-    const double h = brent_minimum(
-                         [&](double x) {
-                           double t0;
-                           best_feed(x, t0);
-                           return t0;
-                         },
-                         std::max(lim.offset_min_m, best_h - step),
-                         std::min(lim.offset_max_m, best_h + step),
-                         1e-9 * std::max(1e-3, std::abs(best_h) + step))
-                         .x;
+    const double h =
+        brent_minimum(
+            [&](double x) {
+              double t0;
+              best_feed(x, t0);
+              return t0;
+            },
+            std::max(lim.offset_min_m, best_h - step), std::min(lim.offset_max_m, best_h + step),
+            1e-9 * std::max(1e-3, std::abs(best_h) + step))
+            .x;
     double t0;
     best_feed(h, t0);
     if (t0 < best_t) {

@@ -213,10 +213,10 @@ TEST_F(Cli, ForceWithVibrationGivesThePulsedMeansOfThePredictedForces) {
   EXPECT_NEAR(duty, 0.4095, 5e-4);  // the source's table 1
   EXPECT_NEAR(doc["mean_cutting_force_n"].get<double>(),
               duty * doc["cutting_force_n"].get<double>(), 1e-9);
-  EXPECT_NEAR(doc["mean_thrust_force_n"].get<double>(),
-              duty * doc["thrust_force_n"].get<double>(), 1e-9);
-  EXPECT_NEAR(doc["cutting_force_n"].get<double>(),
-              doc["kc_n_per_mm2"].get<double>() * 0.15 * 0.2, 1e-9);
+  EXPECT_NEAR(doc["mean_thrust_force_n"].get<double>(), duty * doc["thrust_force_n"].get<double>(),
+              1e-9);
+  EXPECT_NEAR(doc["cutting_force_n"].get<double>(), doc["kc_n_per_mm2"].get<double>() * 0.15 * 0.2,
+              1e-9);
 }
 
 TEST_F(Cli, LobesUseThePredictedKt) {
@@ -228,7 +228,8 @@ TEST_F(Cli, LobesUseThePredictedKt) {
   const double kt = oxley_orthogonal(*find_material("AISI1045"), cut).kt_pa;
   const auto doc = nlohmann::json::parse(std::ifstream(path("l.json")));
   double lowest = 1e9;
-  for (const auto& p : doc["points"]) lowest = std::min(lowest, p["critical_depth_mm"].get<double>());
+  for (const auto& p : doc["points"])
+    lowest = std::min(lowest, p["critical_depth_mm"].get<double>());
   const double a_min = 2.0 * 0.01 * 1.01 * 2.26e8 / kt * 1e3;
   EXPECT_GT(lowest, a_min * (1.0 - 1e-9));
   EXPECT_LT(lowest, a_min * 1.02);  // 200 speeds sample the lobe bottoms closely
@@ -241,14 +242,15 @@ TEST_F(Cli, RejectsMaterialProblems) {
     text.replace(text.find(from), from.size(), to);
     return write("case.toml", text);
   };
-  expect_rejected({"force", with("name = \"AISI1045\"", "name = \"AISI1046\""), "--json",
-                   path("f.json")},
-                  "material.name = \"AISI1046\": is not in the material library (AISI1045");
+  expect_rejected(
+      {"force", with("name = \"AISI1045\"", "name = \"AISI1046\""), "--json", path("f.json")},
+      "material.name = \"AISI1046\": is not in the material library (AISI1045");
   expect_rejected({"force", with("rake_deg = -7", ""), "--json", path("f.json")},
                   "cutting.rake_deg: missing (required by `cutdyn force` to predict");
-  expect_rejected({"force", with("speed_m_per_min = 200", "speed_m_per_min = 5\nkt_n_per_mm2 = 900"),
-                   "--json", path("f.json")},
-                  "give the force coefficients or the material to predict them from, not both");
+  expect_rejected(
+      {"force", with("speed_m_per_min = 200", "speed_m_per_min = 5\nkt_n_per_mm2 = 900"), "--json",
+       path("f.json")},
+      "give the force coefficients or the material to predict them from, not both");
   // Outside the theory: a slow cut of a thin chip.
   std::string slow = base;
   slow.replace(slow.find("speed_m_per_min = 200"), 21, "speed_m_per_min = 5");

@@ -12,8 +12,8 @@ namespace {
 
 TEST(BrentMinimum, FindsTheMinimumOfSmoothAndKinkedFunctions) {
   // Smooth: (x − 1)² + 3 on [−2, 5]; superlinear convergence, few evaluations.
-  const MinimumResult r = brent_minimum([](double x) { return (x - 1.0) * (x - 1.0) + 3.0; },
-                                        -2.0, 5.0, 1e-10);
+  const MinimumResult r =
+      brent_minimum([](double x) { return (x - 1.0) * (x - 1.0) + 3.0; }, -2.0, 5.0, 1e-10);
   EXPECT_TRUE(r.converged);
   EXPECT_NEAR(r.x, 1.0, 1e-7);  // the minimum of a parabola is flat: x to about sqrt(eps)
   EXPECT_NEAR(r.fx, 3.0, 1e-14);
@@ -22,8 +22,7 @@ TEST(BrentMinimum, FindsTheMinimumOfSmoothAndKinkedFunctions) {
   const MinimumResult c = brent_minimum([](double x) { return std::cos(x); }, 2.0, 5.0, 1e-10);
   EXPECT_NEAR(c.x, std::numbers::pi, 1e-7);
   // A kink |x − 0.3| defeats the parabolas; the golden sections still converge.
-  const MinimumResult k =
-      brent_minimum([](double x) { return std::abs(x - 0.3); }, 0.0, 1.0, 1e-9);
+  const MinimumResult k = brent_minimum([](double x) { return std::abs(x - 0.3); }, 0.0, 1.0, 1e-9);
   EXPECT_TRUE(k.converged);
   EXPECT_NEAR(k.x, 0.3, 1e-8);
   // Minimum on the boundary: it ends within the tolerance of the bound.

@@ -21,8 +21,7 @@ const WorkMaterial& aisi1045() { return *find_material("AISI1045"); }
 
 OrthogonalCut cut_of(double speed_m_per_min, double t1_mm, double rake_deg, double width_mm = 1.6,
                      double workpiece_c = 20.0) {
-  return {speed_m_per_min / 60.0, t1_mm / 1e3, width_mm / 1e3, deg_to_rad(rake_deg),
-          workpiece_c};
+  return {speed_m_per_min / 60.0, t1_mm / 1e3, width_mm / 1e3, deg_to_rad(rake_deg), workpiece_c};
 }
 
 // ---- Johnson–Cook ------------------------------------------------------------------------
@@ -44,10 +43,9 @@ TEST(JohnsonCook, HardeningIndexIsTheLogarithmicSlope) {
   for (const WorkMaterial& m : material_library()) {
     for (const double strain : {0.05, 0.3, 1.0, 3.0}) {
       const double h = 1e-5;
-      const double slope =
-          (std::log(m.flow.hardening_pa(strain * std::exp(h))) -
-           std::log(m.flow.hardening_pa(strain * std::exp(-h)))) /
-          (2.0 * h);
+      const double slope = (std::log(m.flow.hardening_pa(strain * std::exp(h))) -
+                            std::log(m.flow.hardening_pa(strain * std::exp(-h)))) /
+                           (2.0 * h);
       EXPECT_NEAR(m.flow.hardening_index(strain), slope, 1e-8) << m.name << " ε = " << strain;
     }
   }
@@ -109,7 +107,8 @@ TEST(Oxley, AgreesWithAnIndependentImplementationForAisi1045) {
   for (const PantaleRun& ref : kPantale) {
     SCOPED_TRACE(std::to_string(ref.speed_m_per_min) + " m/min, " + std::to_string(ref.t1_mm) +
                  " mm");
-    const OxleyResult r = oxley_orthogonal(m, cut_of(ref.speed_m_per_min, ref.t1_mm, -7.0, 1.6, 25.0));
+    const OxleyResult r =
+        oxley_orthogonal(m, cut_of(ref.speed_m_per_min, ref.t1_mm, -7.0, 1.6, 25.0));
     const OxleyState& s = r.state;
     EXPECT_NEAR(rad_to_deg(s.phi_rad), ref.phi_deg, 0.12);
     EXPECT_NEAR(s.c0, ref.c0, 0.1);
@@ -142,7 +141,8 @@ TEST(Oxley, TheSolutionSatisfiesTheThreeConditions) {
   EXPECT_DOUBLE_EQ(again.cutting_force_n, s.cutting_force_n);
   // Consistency: force balance and kinematics.
   EXPECT_NEAR(std::hypot(s.cutting_force_n, s.thrust_force_n), s.resultant_n, 1e-9 * s.resultant_n);
-  EXPECT_NEAR(std::hypot(s.friction_force_n, s.normal_force_n), s.resultant_n, 1e-9 * s.resultant_n);
+  EXPECT_NEAR(std::hypot(s.friction_force_n, s.normal_force_n), s.resultant_n,
+              1e-9 * s.resultant_n);
   EXPECT_NEAR(r.chip_ratio, s.chip_velocity_m_per_s / cut.speed_m_per_s, 1e-12);
   EXPECT_NEAR(r.kc_pa * cut.uncut_chip_thickness_m * cut.width_m, s.cutting_force_n, 1e-9);
   EXPECT_GT(s.temperature_interface_c, s.temperature_ab_c);
@@ -211,8 +211,8 @@ double largest_root_by_scan(const WorkMaterial& m, const OrthogonalCut& cut, dou
 }
 
 TEST(Oxley, TheSolutionIsUniqueInThePhysicalBranch) {
-  for (const auto& [v, t1, rake] : {std::tuple{200.0, 0.15, -7.0}, std::tuple{400.0, 0.3, 0.0},
-                                    std::tuple{120.0, 0.1, 5.0}}) {
+  for (const auto& [v, t1, rake] :
+       {std::tuple{200.0, 0.15, -7.0}, std::tuple{400.0, 0.3, 0.0}, std::tuple{120.0, 0.1, 5.0}}) {
     SCOPED_TRACE(std::to_string(v) + " m/min");
     const OrthogonalCut cut = cut_of(v, t1, rake);
     const OxleyResult r = oxley_orthogonal(aisi1045(), cut);
@@ -263,7 +263,10 @@ TEST(Oxley, SolvesEveryCutOfTheDocumentedGrid) {
     std::initializer_list<double> speeds, thicknesses, rakes;
   };
   const Grid grids[] = {
-      {"AISI1045", {100, 200, 300, 400, 600, 800}, {0.05, 0.1, 0.15, 0.2, 0.3}, {-10, -7, 0, 5, 10}},
+      {"AISI1045",
+       {100, 200, 300, 400, 600, 800},
+       {0.05, 0.1, 0.15, 0.2, 0.3},
+       {-10, -7, 0, 5, 10}},
       {"AA5083-H116", {100, 200, 400}, {0.1, 0.15, 0.2, 0.3}, {-7, -5, 0, 5}},
       {"AISI4340", {100, 200, 400}, {0.1, 0.15, 0.2, 0.3}, {-7, 0, 5, 10}},
   };
@@ -273,9 +276,8 @@ TEST(Oxley, SolvesEveryCutOfTheDocumentedGrid) {
     for (const double v : g.speeds)
       for (const double t1 : g.thicknesses)
         for (const double rake : g.rakes) {
-          const std::string where = std::string(g.material) + " " + std::to_string(v) +
-                                    " m/min, " + std::to_string(t1) + " mm, " +
-                                    std::to_string(rake) + "°";
+          const std::string where = std::string(g.material) + " " + std::to_string(v) + " m/min, " +
+                                    std::to_string(t1) + " mm, " + std::to_string(rake) + "°";
           try {
             const OxleyResult r = oxley_orthogonal(m, cut_of(v, t1, rake));
             const OxleyState& s = r.state;

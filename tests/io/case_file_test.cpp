@@ -642,12 +642,13 @@ TEST(CaseFileMaterial, ProblemsAreNamed) {
               ElementsAre("material.name: missing (give a library material, or both "
                           "[material.johnson_cook] and [material.thermal])"));
   // Own tables without a library name: every required key.
-  const auto missing = problems_of(
-      with("[material]\nname = \"x\"\n[material.johnson_cook]\na_mpa = 500\nb_mpa = 1\n"
-           "n = 0.2\nc = 0\nm = 1\n[material.thermal]\ndensity_kg_per_m3 = 7800\n"));
-  EXPECT_THAT(missing, ElementsAre("material.johnson_cook.melting_temperature_c: missing (required)",
-                                   "material.thermal.specific_heat_j_per_kg_k: missing (required)",
-                                   "material.thermal.conductivity_w_per_m_k: missing (required)"));
+  const auto missing =
+      problems_of(with("[material]\nname = \"x\"\n[material.johnson_cook]\na_mpa = 500\nb_mpa = 1\n"
+                       "n = 0.2\nc = 0\nm = 1\n[material.thermal]\ndensity_kg_per_m3 = 7800\n"));
+  EXPECT_THAT(missing,
+              ElementsAre("material.johnson_cook.melting_temperature_c: missing (required)",
+                          "material.thermal.specific_heat_j_per_kg_k: missing (required)",
+                          "material.thermal.conductivity_w_per_m_k: missing (required)"));
   // What only the whole material shows.
   EXPECT_THAT(problems_of(with("[material]\nname = \"AISI1045\"\n[material.johnson_cook]\n"
                                "melting_temperature_c = 10\n")),

@@ -19,10 +19,10 @@ namespace cutdyn {
 
 /// One orthogonal cut. Speed, thickness and width are SI; rake in rad.
 struct OrthogonalCut {
-  double speed_m_per_s = 0.0;           // V
-  double uncut_chip_thickness_m = 0.0;  // t1
-  double width_m = 0.0;                 // w
-  double rake_rad = 0.0;                // α
+  double speed_m_per_s = 0.0;             // V
+  double uncut_chip_thickness_m = 0.0;    // t1
+  double width_m = 0.0;                   // w
+  double rake_rad = 0.0;                  // α
   double workpiece_temperature_c = 20.0;  // Tw, before cutting
 };
 
@@ -53,14 +53,14 @@ struct OxleyState {
   bool admissible = false;  // the geometry exists: tanθ > 0, 0 < λ < π/2
   double phi_rad = 0.0, c0 = 0.0, delta = 0.0;
   // Shear plane.
-  double shear_plane_length_m = 0.0;  // l = t1/sinφ
-  double shear_velocity_m_per_s = 0.0;  // Vs = V·cosα/cos(φ−α)
-  double chip_velocity_m_per_s = 0.0;   // Vc = V·sinφ/cos(φ−α)
-  double chip_thickness_m = 0.0;        // t2 = t1·cos(φ−α)/sinφ
-  double strain_ab = 0.0;               // equivalent plastic strain at AB
-  double strain_rate_ab_per_s = 0.0;    // equivalent plastic strain rate at AB
-  double thermal_number = 0.0;          // R_T = ρ·S·V·t1/K at T_AB
-  double heat_into_work = 0.0;          // β
+  double shear_plane_length_m = 0.0;      // l = t1/sinφ
+  double shear_velocity_m_per_s = 0.0;    // Vs = V·cosα/cos(φ−α)
+  double chip_velocity_m_per_s = 0.0;     // Vc = V·sinφ/cos(φ−α)
+  double chip_thickness_m = 0.0;          // t2 = t1·cos(φ−α)/sinφ
+  double strain_ab = 0.0;                 // equivalent plastic strain at AB
+  double strain_rate_ab_per_s = 0.0;      // equivalent plastic strain rate at AB
+  double thermal_number = 0.0;            // R_T = ρ·S·V·t1/K at T_AB
+  double heat_into_work = 0.0;            // β
   double temperature_rise_shear_c = 0.0;  // ΔT_SZ
   double temperature_ab_c = 0.0;
   double shear_flow_stress_pa = 0.0;  // k_AB
@@ -75,14 +75,14 @@ struct OxleyState {
   double friction_force_n = 0.0;  // F = R·sinλ, along the rake face
   double normal_force_n = 0.0;    // N = R·cosλ
   // Tool–chip interface.
-  double contact_length_m = 0.0;             // h
-  double interface_shear_stress_pa = 0.0;    // τ_int = F/(h·w)
-  double interface_normal_stress_pa = 0.0;   // σ_N = N/(h·w)
-  double normal_stress_b_pa = 0.0;           // σ'_N at B from the shear-plane analysis
-  double temperature_rise_chip_c = 0.0;      // ΔT_C, mean rise from the interface work
-  double temperature_chip_c = 0.0;           // T_c = Tw + ΔT_SZ + ΔT_C, mean chip temperature
-  double temperature_rise_max_c = 0.0;       // ΔT_M
-  double temperature_interface_c = 0.0;      // T_int
+  double contact_length_m = 0.0;            // h
+  double interface_shear_stress_pa = 0.0;   // τ_int = F/(h·w)
+  double interface_normal_stress_pa = 0.0;  // σ_N = N/(h·w)
+  double normal_stress_b_pa = 0.0;          // σ'_N at B from the shear-plane analysis
+  double temperature_rise_chip_c = 0.0;     // ΔT_C, mean rise from the interface work
+  double temperature_chip_c = 0.0;          // T_c = Tw + ΔT_SZ + ΔT_C, mean chip temperature
+  double temperature_rise_max_c = 0.0;      // ΔT_M
+  double temperature_interface_c = 0.0;     // T_int
   double strain_interface = 0.0;
   double strain_rate_interface_per_s = 0.0;
   double chip_flow_stress_pa = 0.0;  // k_chip at the interface
@@ -100,9 +100,9 @@ double oxley_shear_angle(const WorkMaterial& material, const OrthogonalCut& cut,
                          double delta, const OxleyOptions& options = {});
 
 struct OxleyResult {
-  OxleyState state;   // at the solution
-  double kc_pa = 0.0;  // Fc/(t1·w)
-  double kt_pa = 0.0;  // Ft/(t1·w)
+  OxleyState state;         // at the solution
+  double kc_pa = 0.0;       // Fc/(t1·w)
+  double kt_pa = 0.0;       // Ft/(t1·w)
   double chip_ratio = 0.0;  // t1/t2
   int evaluations = 0;      // oxley_state evaluations
   /// The minimum in δ or the C0 root sits on its search bound (so the range may be too

@@ -18,11 +18,11 @@ namespace cutdyn {
 /// Decisions: ln(ε̇/ε̇0) is taken as 0 below ε̇0 and T* is clamped to [0, 1], so σ is never
 /// raised by a slow rate or a cold workpiece and is 0 at and above melting.
 struct JohnsonCook {
-  double a_pa = 0.0;  // A, initial yield stress
-  double b_pa = 0.0;  // B, hardening modulus
-  double n = 0.0;     // hardening exponent
-  double c = 0.0;     // strain-rate sensitivity
-  double m = 1.0;     // thermal-softening exponent
+  double a_pa = 0.0;                         // A, initial yield stress
+  double b_pa = 0.0;                         // B, hardening modulus
+  double n = 0.0;                            // hardening exponent
+  double c = 0.0;                            // strain-rate sensitivity
+  double m = 1.0;                            // thermal-softening exponent
   double reference_strain_rate_per_s = 1.0;  // ε̇0
   double reference_temperature_c = 20.0;     // Tr
   double melting_temperature_c = 0.0;        // Tm
@@ -32,9 +32,9 @@ struct JohnsonCook {
   double flow_stress_pa(double strain, double strain_rate_per_s, double temperature_c) const {
     return hardening_pa(strain) * rate_factor(strain_rate_per_s) * softening(temperature_c);
   }
-  double hardening_pa(double strain) const;               // A + B·εⁿ
-  double rate_factor(double strain_rate_per_s) const;     // 1 + C·ln(ε̇/ε̇0)
-  double softening(double temperature_c) const;           // 1 − T*ᵐ
+  double hardening_pa(double strain) const;            // A + B·εⁿ
+  double rate_factor(double strain_rate_per_s) const;  // 1 + C·ln(ε̇/ε̇0)
+  double softening(double temperature_c) const;        // 1 − T*ᵐ
   /// Strain-hardening index n_eq = ∂lnσ/∂lnε = n·B·εⁿ/(A + B·εⁿ) [Lalwani2009, eq. 7].
   double hardening_index(double strain) const;
 };
@@ -43,10 +43,10 @@ struct JohnsonCook {
 /// S(T) = S0 + S1·T, K(T) = K0 + K1·T (Oxley's form for plain carbon steels).
 struct ThermalProperties {
   double density_kg_per_m3 = 0.0;
-  double specific_heat_j_per_kg_k = 0.0;        // S0, at 0 °C
+  double specific_heat_j_per_kg_k = 0.0;         // S0, at 0 °C
   double specific_heat_slope_j_per_kg_k2 = 0.0;  // S1, per °C
-  double conductivity_w_per_m_k = 0.0;          // K0, at 0 °C
-  double conductivity_slope_w_per_m_k2 = 0.0;   // K1, per °C
+  double conductivity_w_per_m_k = 0.0;           // K0, at 0 °C
+  double conductivity_slope_w_per_m_k2 = 0.0;    // K1, per °C
 
   double specific_heat(double temperature_c) const {
     return specific_heat_j_per_kg_k + specific_heat_slope_j_per_kg_k2 * temperature_c;

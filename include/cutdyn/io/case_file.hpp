@@ -43,11 +43,11 @@ struct CuttingSection {
   std::optional<double> kc_pa;          // kc_n_per_mm2: turning cutting-direction coefficient
   std::optional<double> kr_pa;          // kr_n_per_mm2: milling radial coefficient
   std::optional<double> speed_m_per_s;  // speed_m_per_min
-  std::optional<double> uncut_chip_thickness_m;  // uncut_chip_thickness_mm (turning: feed/rev)
-  std::optional<double> width_m;                 // width_mm (turning: depth of cut)
-  std::optional<double> kte_n_per_m;             // kte_n_per_mm: milling edge coefficients
-  std::optional<double> kre_n_per_m;             // kre_n_per_mm
-  std::optional<double> rake_rad;                // rake_deg: tool rake angle (Oxley)
+  std::optional<double> uncut_chip_thickness_m;   // uncut_chip_thickness_mm (turning: feed/rev)
+  std::optional<double> width_m;                  // width_mm (turning: depth of cut)
+  std::optional<double> kte_n_per_m;              // kte_n_per_mm: milling edge coefficients
+  std::optional<double> kre_n_per_m;              // kre_n_per_mm
+  std::optional<double> rake_rad;                 // rake_deg: tool rake angle (Oxley)
   std::optional<double> workpiece_temperature_c;  // before cutting (Oxley); default: the
                                                   // material's Johnson–Cook reference
 };
@@ -56,9 +56,9 @@ struct CuttingSection {
 /// Kt for the turning commands when [cutting] gives none). `name` picks a library entry;
 /// [material.johnson_cook] and [material.thermal] give or override its values key by key.
 struct MaterialSection {
-  WorkMaterial material;       // complete and validated
-  bool from_library = false;   // name is a library entry
-  bool overridden = false;     // some values come from the case's own tables
+  WorkMaterial material;      // complete and validated
+  bool from_library = false;  // name is a library entry
+  bool overridden = false;    // some values come from the case's own tables
 };
 
 /// [force_law]: the S1 force law of milling (models.md S1.1) for `cutdyn simulate`; without
@@ -134,7 +134,7 @@ struct Case {
   std::optional<VibrationSection> vibration;
   std::optional<ForceLawSection> force_law;
   std::optional<MaterialSection> material;
-  OxleyOptions oxley;  // [oxley]: search ranges and heat factors of the theory
+  OxleyOptions oxley;            // [oxley]: search ranges and heat factors of the theory
   std::vector<FeedAxis> drives;  // [[drives]]: feed axes for `cutdyn drive`
   /// A bore-milling plan ([bore], [cutter], [process] tables; `cutdyn plan`).
   std::optional<BoreMillingCase> bore;
