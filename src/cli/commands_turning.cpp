@@ -75,7 +75,7 @@ std::string describe_model(const io::Case& c, const TurningModel& m) {
       fmt::format("turning, {} mode{} in x, Kt = {} N/mm²", m.modal.modes.size(),
                   m.modal.modes.size() == 1 ? "" : "s", human(units::pa_to_n_per_mm2(m.kt_pa)));
   if (c.material && !c.cutting.kt_pa)
-    s += fmt::format(" (predicted for {} by Oxley's theory at {} m/min)", c.material->material.name,
+    s += fmt::format(" (predicted for {} by Oxley's theory at {} m/min)", c.material->name,
                      human(units::m_per_s_to_m_per_min(*c.cutting.speed_m_per_s)));
   if (m.vibration) {
     s += fmt::format("; vibration {} Hz", human(m.vibration->frequency_hz));
@@ -353,7 +353,7 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream&) {
   out << "cutdyn force: " << c.source << "\n";
   json oxley_json;
   if (oxley) {
-    const WorkMaterial& m = c.material->material;
+    const WorkMaterial& m = *c.material;
     const OxleyState& s = oxley->result.state;
     out << "  " << oxley_summary(c, *oxley) << "\n";
     out << "    material " << m.name << ": " << m.reference << "\n";
@@ -454,10 +454,10 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream&) {
     // The prediction around the case: forces and shear angle against the uncut chip
     // thickness, from h/4 to 2h (points outside the theory's validity are left out).
     io::PlotSpec spec;
-    spec.title = fmt::format("Oxley + Johnson–Cook: {} at {} m/min, rake {}°, w = {} mm",
-                             c.material->material.name,
-                             human(units::m_per_s_to_m_per_min(oxley->cut.speed_m_per_s)),
-                             human(units::rad_to_deg(oxley->cut.rake_rad)), human(m_to_mm(w)));
+    spec.title =
+        fmt::format("Oxley + Johnson–Cook: {} at {} m/min, rake {}°, w = {} mm", c.material->name,
+                    human(units::m_per_s_to_m_per_min(oxley->cut.speed_m_per_s)),
+                    human(units::rad_to_deg(oxley->cut.rake_rad)), human(m_to_mm(w)));
     spec.x_label = "uncut chip thickness (mm)";
     spec.y_label = "force (N)";
     spec.y2_label = "shear angle (°)";
@@ -469,7 +469,7 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream&) {
       OrthogonalCut cut = oxley->cut;
       cut.uncut_chip_thickness_m = h * (0.25 + 1.75 * i / 14.0);
       try {
-        const OxleyResult r = oxley_orthogonal(c.material->material, cut, c.oxley);
+        const OxleyResult r = oxley_orthogonal(*c.material, cut, c.oxley);
         for (io::PlotSeries* series : {&fc, &ft, &phi})
           series->x.push_back(m_to_mm(cut.uncut_chip_thickness_m));
         fc.y.push_back(r.state.cutting_force_n);

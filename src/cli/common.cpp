@@ -48,7 +48,7 @@ OxleyPrediction predict_with_oxley(const io::Case& c, std::string_view command, 
   if (need_width) need(cs.width_m.has_value(), "width_mm");
   v.throw_if_any(c.source);
   OxleyPrediction p;
-  const WorkMaterial& material = c.material->material;
+  const WorkMaterial& material = *c.material;
   p.cut.speed_m_per_s = *cs.speed_m_per_s;
   p.cut.uncut_chip_thickness_m = *cs.uncut_chip_thickness_m;
   p.cut.width_m = cs.width_m.value_or(1e-3);
@@ -70,20 +70,15 @@ std::string oxley_summary(const io::Case& c, const OxleyPrediction& p) {
   return fmt::format(
       "Kc and Kt predicted by Oxley's theory with Johnson–Cook flow stress: {} at {} m/min, "
       "h = {} mm, rake {}°",
-      c.material->material.name, human(units::m_per_s_to_m_per_min(p.cut.speed_m_per_s)),
+      c.material->name, human(units::m_per_s_to_m_per_min(p.cut.speed_m_per_s)),
       human(units::m_to_mm(p.cut.uncut_chip_thickness_m)),
       human(units::rad_to_deg(p.cut.rake_rad)));
 }
 
 TurningModel turning_model(const io::Case& c, std::string_view command) {
   require_turning(c, command);
-  if (c.material && !c.cutting.kt_pa) {
-    io::Case predicted = c;
-    predicted.cutting.kt_pa = predict_with_oxley(c, command, false).result.kt_pa;
-    return turning_model(predicted, command);
-  }
   Validator v;
-  if (!c.cutting.kt_pa)
+  if (!c.cutting.kt_pa && !c.material)
     v.add("cutting.kt_n_per_mm2: missing (required by `cutdyn " + std::string(command) + "`)");
   if (c.vibration && !c.vibration->duty_cycle && !c.vibration->workpiece_diameter_m)
     v.add(
@@ -92,7 +87,8 @@ TurningModel turning_model(const io::Case& c, std::string_view command) {
   v.throw_if_any(c.source);
   TurningModel m;
   m.modal = c.modal;
-  m.kt_pa = *c.cutting.kt_pa;
+  // Given, or predicted from [material] (the loader allows only one of the two).
+  m.kt_pa = c.cutting.kt_pa ? *c.cutting.kt_pa : predict_with_oxley(c, command, false).result.kt_pa;
   if (c.vibration) {
     VibrationAssist va;
     va.frequency_hz = c.vibration->frequency_hz;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <string>
 
 #include "cutdyn/core/roots.hpp"
@@ -277,18 +278,25 @@ class Solver {
     return e;
   }
 
-  // Fc at the equilibrium of δ; +inf without one.
+  // Fc at the equilibrium of δ; +inf without one. Keeps the state of least Fc seen.
   double cutting_force(double delta) {
     const Equilibrium e = equilibrium(delta);
     if (std::isnan(e.phi) || std::isnan(e.c0)) return std::numeric_limits<double>::infinity();
-    return state(e.phi, e.c0, delta).cutting_force_n;
+    OxleyState s = state(e.phi, e.c0, delta);
+    const double fc = s.cutting_force_n;
+    if (!best_ || fc < best_->cutting_force_n) best_ = std::move(s);
+    return fc;
   }
+
+  // The equilibrium of least Fc among those evaluated (none before any succeeded).
+  const std::optional<OxleyState>& best() const { return best_; }
 
  private:
   const WorkMaterial& material_;
   const OrthogonalCut& cut_;
   const OxleyOptions& o_;
   int evaluations_ = 0;
+  std::optional<OxleyState> best_;
   double normal_min_ = std::numeric_limits<double>::infinity();
   double normal_max_ = -std::numeric_limits<double>::infinity();
 };
@@ -311,16 +319,22 @@ OxleyResult oxley_orthogonal(const WorkMaterial& material, const OrthogonalCut& 
   }
   Solver solver(material, cut, options);
 
-  // δ: scan, then Brent's minimiser between the neighbours of the best sample.
+  // δ: scan, then Brent's minimiser between the neighbours of the best sample; the answer is
+  // the equilibrium of least Fc the solver met.
   const int n = options.delta_scan_points;
   const double d_lo = options.delta_min, d_hi = options.delta_max;
-  std::vector<double> deltas(n), forces(n);
+  // Geometric spacing: the force changes fastest at small δ.
+  const auto delta_at = [&](int i) {
+    return d_lo * std::pow(d_hi / d_lo, static_cast<double>(std::clamp(i, 0, n - 1)) / (n - 1));
+  };
   int best = -1;
+  double least = std::numeric_limits<double>::infinity();
   for (int i = 0; i < n; ++i) {
-    // Geometric spacing: the force changes fastest at small δ.
-    deltas[i] = d_lo * std::pow(d_hi / d_lo, static_cast<double>(i) / (n - 1));
-    forces[i] = solver.cutting_force(deltas[i]);
-    if (std::isfinite(forces[i]) && (best < 0 || forces[i] < forces[best])) best = i;
+    const double fc = solver.cutting_force(delta_at(i));
+    if (fc < least) {
+      least = fc;
+      best = i;
+    }
   }
   if (best < 0) {
     throw InvalidInput(
@@ -334,18 +348,13 @@ OxleyResult oxley_orthogonal(const WorkMaterial& material, const OrthogonalCut& 
          "moderate to high speeds)"},
         kWhere);
   }
-  const double a = deltas[std::max(0, best - 1)], b = deltas[std::min(n - 1, best + 1)];
-  double delta = deltas[best];
-  if (b > a) {
-    const MinimumResult m = brent_minimum([&](double d) { return solver.cutting_force(d); }, a, b,
-                                          options.delta_tolerance);
-    if (std::isfinite(m.fx) && m.fx <= forces[best]) delta = m.x;
-  }
+  const double a = delta_at(best - 1), b = delta_at(best + 1);
+  if (b > a)
+    brent_minimum([&](double d) { return solver.cutting_force(d); }, a, b, options.delta_tolerance);
 
-  // The solution.
-  Solver::Equilibrium e = solver.equilibrium(delta);
   OxleyResult r;
-  r.state = solver.state(e.phi, e.c0, delta);
+  r.state = *solver.best();
+  const double delta = r.state.delta;
   const OxleyState& s = r.state;
   const double t1w = cut.uncut_chip_thickness_m * cut.width_m;
   r.kc_pa = s.cutting_force_n / t1w;

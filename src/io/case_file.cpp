@@ -776,7 +776,7 @@ void read_force_law(TableReader& t, Case& c) {
 
 void read_material(TableReader& t, Case& c) {
   Problems& problems = t.problems();
-  MaterialSection s;
+  WorkMaterial material;
   const auto name = t.text("name", Need::kOptional);
   const WorkMaterial* entry = name ? find_material(*name) : nullptr;
   const toml::table* jc_table = t.section("johnson_cook");
@@ -797,25 +797,21 @@ void read_material(TableReader& t, Case& c) {
     t.report_unknown();
     return;
   }
-  s.from_library = entry != nullptr;
-  if (entry) s.material = *entry;
-  s.material.name = name.value_or("user material");
-  if (!entry) s.material.reference = "given in the case";
+  if (entry) material = *entry;
+  material.name = name.value_or("user material");
+  if (!entry) material.reference = "given in the case";
   // Without a library entry every property is required; with one, each key overrides.
   const Need need = entry ? Need::kOptional : Need::kRequired;
   const std::size_t before = problems.size();
   const auto set = [&](TableReader& r, std::string_view key, const Range& range, Need n,
                        double scale, double& field) {
-    if (auto v = r.number(key, range, n)) {
-      field = *v * scale;
-      s.overridden = true;
-    }
+    if (auto v = r.number(key, range, n)) field = *v * scale;
   };
   if (jc_table != nullptr) {
     TableReader r(problems, *jc_table, t.key_path("johnson_cook"),
                   {"a_mpa", "b_mpa", "n", "c", "m", "reference_strain_rate_per_s",
                    "reference_temperature_c", "melting_temperature_c"});
-    JohnsonCook& jc = s.material.flow;
+    JohnsonCook& jc = material.flow;
     const Range celsius{-273.15, true, kInf, true};
     set(r, "a_mpa", kPositive, need, 1e6, jc.a_pa);
     set(r, "b_mpa", kNonNegative, need, 1e6, jc.b_pa);
@@ -833,7 +829,7 @@ void read_material(TableReader& t, Case& c) {
         problems, *th_table, t.key_path("thermal"),
         {"density_kg_per_m3", "specific_heat_j_per_kg_k", "specific_heat_slope_j_per_kg_k2",
          "conductivity_w_per_m_k", "conductivity_slope_w_per_m_k2"});
-    ThermalProperties& th = s.material.thermal;
+    ThermalProperties& th = material.thermal;
     const Range any{-kInf, true, kInf, true};
     set(r, "density_kg_per_m3", kPositive, need, 1.0, th.density_kg_per_m3);
     set(r, "specific_heat_j_per_kg_k", kPositive, need, 1.0, th.specific_heat_j_per_kg_k);
@@ -848,9 +844,9 @@ void read_material(TableReader& t, Case& c) {
   if (problems.size() != before) return;
   // What only the whole material shows (Tm > Tr; S and K positive up to melting).
   Validator v;
-  validate(s.material, v);
+  validate(material, v);
   for (const std::string& p : v.problems()) problems.add("material." + p);
-  c.material = s;
+  c.material = std::move(material);
 }
 
 void read_oxley(TableReader& t, Case& c) {
@@ -1237,7 +1233,7 @@ nlohmann::json to_json(const Case& c) {
   if (!cutting.empty()) j["cutting"] = std::move(cutting);
 
   if (c.material) {
-    const WorkMaterial& m = c.material->material;
+    const WorkMaterial& m = *c.material;
     const JohnsonCook& jc = m.flow;
     const ThermalProperties& th = m.thermal;
     j["material"] = {

@@ -52,15 +52,6 @@ struct CuttingSection {
                                                   // material's Johnson–Cook reference
 };
 
-/// [material]: the work material for Oxley's predictive force model (`cutdyn force`, and
-/// Kt for the turning commands when [cutting] gives none). `name` picks a library entry;
-/// [material.johnson_cook] and [material.thermal] give or override its values key by key.
-struct MaterialSection {
-  WorkMaterial material;      // complete and validated
-  bool from_library = false;  // name is a library entry
-  bool overridden = false;    // some values come from the case's own tables
-};
-
 /// [force_law]: the S1 force law of milling (models.md S1.1) for `cutdyn simulate`; without
 /// it the simulation uses the mechanistic law of [cutting].
 struct ForceLawSection {
@@ -133,7 +124,11 @@ struct Case {
   std::optional<OperationSection> operation;
   std::optional<VibrationSection> vibration;
   std::optional<ForceLawSection> force_law;
-  std::optional<MaterialSection> material;
+  /// [material]: the work material for Oxley's predictive force model (`cutdyn force`, and
+  /// Kt for the turning commands when [cutting] gives none), complete and validated. `name`
+  /// picks a library entry; [material.johnson_cook] and [material.thermal] give or override
+  /// its values key by key.
+  std::optional<WorkMaterial> material;
   OxleyOptions oxley;            // [oxley]: search ranges and heat factors of the theory
   std::vector<FeedAxis> drives;  // [[drives]]: feed axes for `cutdyn drive`
   /// A bore-milling plan ([bore], [cutter], [process] tables; `cutdyn plan`).
