@@ -15,7 +15,7 @@
 
 namespace cutdyn::cli {
 
-int run_plan(const PlanArgs& args, std::ostream& out, std::ostream&) {
+int run_plan(const PlanArgs& args, std::ostream& out, std::ostream& err) {
   check_outputs({"", args.json, args.plot});
   const io::Case c = load_case(args.case_path, "bore-plan");
   if (!c.bore) {
@@ -78,6 +78,10 @@ int run_plan(const PlanArgs& args, std::ostream& out, std::ostream&) {
                      mm(r.straightness_error_m), human(units::m_to_mm(r.faceting_m), 3));
   out << fmt::format("  main time t0 {} min, removal rate {} cm³/min\n",
                      human(r.main_time_s / 60.0, 4), human(r.removal_rate_m3_per_s * 6e7, 4));
+  for (const std::string& w : r.warnings) {
+    out << "  warning: " << w << "\n";
+    err << "cutdyn: warning: " << where << ": " << w << "\n";
+  }
   std::string binding;
   if (plan) {
     for (const std::string& name : plan->binding) binding += (binding.empty() ? "" : ", ") + name;
@@ -115,7 +119,9 @@ int run_plan(const PlanArgs& args, std::ostream& out, std::ostream&) {
                        {"removal_rate_cm3_per_min", r.removal_rate_m3_per_s * 6e7},
                        {"offset_mm", m_to_mm(b.offset_m)},
                        {"cutting_speed_m_per_min", 60.0 * b.cutting_speed_m_per_s},
-                       {"optimised", plan.has_value()}};
+                       {"optimised", plan.has_value()},
+                       {"accuracy_met", r.accuracy_met},
+                       {"warnings", r.warnings}};
     if (plan) doc["binding_constraints"] = plan->binding;
     io::write_json(outputs.open(args.json), doc);
   }

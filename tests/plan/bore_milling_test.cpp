@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
 
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
@@ -113,7 +115,12 @@ TEST(BoreMilling, ImpossibleGeometryNamesTheCondition) {
       FAIL() << "expected InvalidInput for h = " << h;
     } catch (const InvalidInput& e) {
       EXPECT_NE(std::string(e.what()).find(condition), std::string::npos) << e.what();
-      EXPECT_NE(std::string(e.what()).find("h = " + format_value(h) + " m"), std::string::npos)
+      // The inputs in machinist units: mm to 4 significant digits, not metres to 17.
+      EXPECT_NE(
+          std::string(e.what()).find("h = " + std::to_string(static_cast<int>(h * 1e3)) + " mm"),
+          std::string::npos)
+          << e.what();
+      EXPECT_NE(std::string(e.what()).find("d = 500 mm, D = 200 mm, t = 5 mm"), std::string::npos)
           << e.what();
     }
   }
@@ -138,12 +145,83 @@ TEST(BoreMilling, Equation3OutsideItsDomainAndAnAccuracyThatDoesNotLimit) {
               straightness_error(c, 0.15);
             }).find("eq. (3), h·√(D² − S0²) + (d² − S0²)/4 − D·h"),
             std::string::npos);
-  // k·t = 0.9·40 mm above the largest Δ1 (25 mm at S0 = D): the accuracy does not limit.
+  // h = 0: Δ1(S0 = D) = d/2 − √(d² − D²)/2 = 20.87 mm, below k·t = 0.1·240 mm = 24 mm: the
+  // accuracy does not limit the feed (k at the top of its range, a very large allowance).
   c = example();
-  c.allowance_m = 0.04;
-  c.accuracy_coefficient = 0.9;
+  c.offset_m = 0.0;
+  c.allowance_m = 0.24;
+  c.accuracy_coefficient = 0.1;
   EXPECT_NE(message([&] { max_axial_feed(c); }).find("the accuracy does not limit the feed"),
             std::string::npos);
+}
+
+// mm to 4 significant digits, as the messages print lengths.
+std::string mm4(double m) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.4g", m * 1e3);
+  return std::string(b) + " mm";
+}
+
+// A given axial feed above the largest one breaks Δ1 <= k·t: the plan is computed (an expert
+// may rough beyond the finishing accuracy on purpose) and warned about, naming Δ1, k·t and
+// the largest feed that keeps the accuracy; at or below that feed there is no warning.
+TEST(BoreMilling, AFeedThatBreaksTheAccuracyIsWarnedAbout) {
+  const BoreMillingCase c = example();
+  const double s_max = max_axial_feed(c);
+  const double kt = 0.05 * 0.005;  // 0.25 mm
+  for (double s0 : {0.5 * s_max, s_max}) {
+    const BoreMillingResult r = bore_milling(c, s0);
+    EXPECT_TRUE(r.accuracy_met) << s0;
+    EXPECT_TRUE(r.warnings.empty()) << s0;
+  }
+  const double s0 = 1.2 * s_max;
+  ASSERT_LT(s0, bore_q(c));
+  const BoreMillingResult r = bore_milling(c, s0);
+  EXPECT_FALSE(r.accuracy_met);
+  EXPECT_DOUBLE_EQ(r.axial_feed_m, s0);
+  EXPECT_DOUBLE_EQ(r.straightness_error_m, straightness_error(c, s0));
+  EXPECT_GT(r.straightness_error_m, kt * 1.01);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  const std::string& w = r.warnings[0];
+  EXPECT_NE(w.find("Δ1 = " + mm4(r.straightness_error_m)), std::string::npos) << w;
+  EXPECT_NE(w.find("k·t = 0.25 mm"), std::string::npos) << w;
+  EXPECT_NE(w.find("S0 = " + mm4(s0)), std::string::npos) << w;
+  EXPECT_NE(w.find("the largest axial feed with Δ1 <= k·t is " + mm4(s_max)), std::string::npos)
+      << w;
+}
+
+// k outside the source's range (0.1 roughing … 0.005 finishing) is refused, naming the range.
+TEST(BoreMilling, AccuracyCoefficientOutsideTheSourcesRangeIsRefused) {
+  for (double k : {0.004, 0.101, 0.5}) {
+    BoreMillingCase c = example();
+    c.accuracy_coefficient = k;
+    try {
+      bore_milling(c);
+      FAIL() << "expected InvalidInput for k = " << k;
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find("must be from 0.005 (finishing) to 0.1 (roughing)"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  for (double k : {0.005, 0.1}) {
+    BoreMillingCase c = example();
+    c.accuracy_coefficient = k;
+    EXPECT_NO_THROW(bore_milling(c)) << k;
+  }
+}
+
+TEST(BoreMilling, ErrorsPrintMillimetres) {
+  const BoreMillingCase c = example();
+  try {
+    bore_milling(c, 0.25);
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("axial feed S0 = 250 mm: must be less than q = " + mm4(bore_q(c))),
+              std::string::npos)
+        << m;
+  }
 }
 
 TEST(BoreMilling, OutOfRangeInputsAreListed) {

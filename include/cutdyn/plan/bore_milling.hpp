@@ -13,6 +13,10 @@
 
 namespace cutdyn {
 
+/// The source's range of the accuracy coefficient k: 0.1 roughing … 0.005 finishing.
+inline constexpr double kAccuracyCoefficientMin = 0.005;
+inline constexpr double kAccuracyCoefficientMax = 0.1;
+
 struct BoreMillingCase {
   // Bore and blank.
   double bore_diameter_m = 0.0;  // d, the machined bore
@@ -27,7 +31,7 @@ struct BoreMillingCase {
   // Process.
   double cutting_speed_m_per_s = 0.0;  // v
   double mean_chip_thickness_m = 0.0;  // a_cp, allowed
-  double accuracy_coefficient = 0.0;   // k: Δ1 <= k·t (0.1 roughing … 0.005 finishing)
+  double accuracy_coefficient = 0.0;   // k: Δ1 <= k·t, 0.005 (finishing) … 0.1 (roughing)
 
   std::vector<std::string> validate() const;
 };
@@ -55,6 +59,10 @@ struct BoreMillingResult {
   double main_time_s = 0.0;                   // (13) t0
   double faceting_m = 0.0;                    // (14) Δ2
   double removal_rate_m3_per_s = 0.0;         // π(d·t − t²)·S0·n_o
+  /// False when the axial feed breaks Δ1 <= k·t (a given S0 above max_axial_feed_m); then
+  /// `warnings` says by how much and names the largest feed that keeps it.
+  bool accuracy_met = true;
+  std::vector<std::string> warnings;  // in machinist units (mm, 4 significant digits)
 };
 
 /// (1): q. Throws if a square root's argument is negative.
@@ -66,7 +74,8 @@ double max_axial_feed(const BoreMillingCase& c);
 /// (4), the source's closed form of the same.
 double max_axial_feed_closed_form(const BoreMillingCase& c);
 
-/// All of S2 at S0 = `axial_feed_m` (0: the largest, max_axial_feed). Checks S0 < q. The
+/// All of S2 at S0 = `axial_feed_m` (0: the largest, max_axial_feed). Checks S0 < q (an
+/// error); a given S0 that breaks Δ1 <= k·t is computed and warned about. The
 /// blank speed n_o is (8)'s for the case's a_cp, or `workpiece_rev_per_s` if given (then a_cp
 /// is (7)'s for it).
 BoreMillingResult bore_milling(const BoreMillingCase& c, double axial_feed_m = 0.0,
