@@ -961,8 +961,13 @@ void read_bore_case(TableReader& top, Case& c) {
       b.cutting_speed_m_per_s = *v / 60.0;
     if (auto v = r.number("mean_chip_thickness_mm", kPositive, Need::kRequired))
       b.mean_chip_thickness_m = mm_to_m(*v);
-    if (auto v = r.number("accuracy_coefficient", Range{0.0, true, 1.0, true}, Need::kRequired))
-      b.accuracy_coefficient = *v;
+    if (auto v = r.number("accuracy_coefficient", Range{}, Need::kRequired)) {
+      if (*v < kAccuracyCoefficientMin || *v > kAccuracyCoefficientMax)
+        r.problem("accuracy_coefficient",
+                  "must be from 0.005 (finishing) to 0.1 (roughing), the source's range of k");
+      else
+        b.accuracy_coefficient = *v;
+    }
     if (auto v = r.number("axial_feed_mm", kPositive, Need::kOptional))
       c.axial_feed_m = mm_to_m(*v);
     r.report_unknown();
@@ -992,6 +997,120 @@ void read_bore_case(TableReader& top, Case& c) {
   }
   c.bore = b;
   top.report_unknown();
+}
+
+// ---- which process takes which key ----------------------------------------------------------
+
+// The keys of a table that each process uses, and the tables a process does not take. A key
+// or table that the case's process does not use is an error (it would be silently ignored):
+// it is reported here and taken out before the tables are read, so it gets this one problem.
+struct ProcessKeys {
+  std::string_view table;
+  std::initializer_list<std::string_view> turning, milling;
+};
+
+constexpr std::string_view kTurningCutting[] = {
+    "kt_n_per_mm2", "kc_n_per_mm2", "speed_m_per_min",        "uncut_chip_thickness_mm",
+    "width_mm",     "rake_deg",     "workpiece_temperature_c"};
+constexpr std::string_view kMillingCutting[] = {"kt_n_per_mm2", "kr_n_per_mm2", "kte_n_per_mm",
+                                                "kre_n_per_mm"};
+constexpr std::string_view kTurningSimulate[] = {"rpm", "depth_mm", "duration_s",
+                                                 "initial_displacement_um"};
+constexpr std::string_view kMillingSimulate[] = {
+    "rpm",          "depth_mm",        "revolutions", "summary_revolutions",
+    "regenerative", "steps_per_tooth", "slices",      "closed_form_helix"};
+
+template <std::size_t N>
+bool listed(const std::string_view (&keys)[N], std::string_view key) {
+  return std::find(std::begin(keys), std::end(keys), key) != std::end(keys);
+}
+
+template <std::size_t N>
+std::string list_text(const std::string_view (&keys)[N]) {
+  std::string text;
+  for (std::string_view k : keys) text += (text.empty() ? "" : ", ") + std::string(k);
+  return text;
+}
+
+// Takes out of `root` every key and table that `process` does not use, with a problem for
+// each (docs/case-files.md, "Which process takes which key").
+void remove_unused(toml::table& root, Process process, Problems& problems) {
+  const bool milling = process == Process::kMilling;
+  const char* name = milling ? "milling" : "turning";
+  // Whole tables of the other process.
+  const auto drop_table = [&](std::string_view table, std::string_view why) {
+    if (const toml::node* node = root.get(table)) {
+      problems.at(std::string(table), *node, why);
+      root.erase(table);
+    }
+  };
+  if (milling) {
+    drop_table("vibration",
+               "not used in a milling case (vibration-assisted cutting is modelled for turning)");
+  } else {
+    for (std::string_view t : {"tool", "operation", "force_law"})
+      drop_table(t, "not used in a turning case (" + std::string(t) +
+                        " is a milling table: tool, operation, force_law)");
+    drop_table("drives",
+               "not used in a turning case (`cutdyn drive` takes milling cases: the feed drives "
+               "under the milling force)");
+  }
+  if (!root.contains("material"))
+    drop_table("oxley", "used only with a [material] (the settings of Oxley's theory)");
+  // Keys of the other process in the shared tables.
+  const auto drop_keys = [&](std::string_view table, auto&& used, const std::string& takes) {
+    toml::table* t = root[table].as_table();
+    if (t == nullptr) return;
+    std::vector<std::string> unused;
+    for (auto&& [key, node] : *t)
+      if (!used(key.str())) unused.emplace_back(key.str());
+    for (const std::string& key : unused) {
+      // Unknown to every process: left for the reader's "unknown key" with its suggestion.
+      if (!listed(kTurningCutting, key) && !listed(kMillingCutting, key) &&
+          !listed(kTurningSimulate, key) && !listed(kMillingSimulate, key))
+        continue;
+      problems.at(std::string(table) + "." + key_text(key), *t->get(key),
+                  "not used in a " + std::string(name) + " case (" + std::string(name) + " takes " +
+                      takes + ")");
+      t->erase(key);
+    }
+  };
+  if (milling) {
+    drop_keys(
+        "cutting", [](std::string_view k) { return listed(kMillingCutting, k); },
+        list_text(kMillingCutting));
+    drop_keys(
+        "simulate", [](std::string_view k) { return listed(kMillingSimulate, k); },
+        list_text(kMillingSimulate) + "; --duration-s on the command line sets revolutions");
+  } else {
+    drop_keys(
+        "cutting", [](std::string_view k) { return listed(kTurningCutting, k); },
+        list_text(kTurningCutting));
+    drop_keys(
+        "simulate", [](std::string_view k) { return listed(kTurningSimulate, k); },
+        list_text(kTurningSimulate));
+  }
+  // Keys that only one model of the process reads.
+  toml::table* cutting = root["cutting"].as_table();
+  if (cutting == nullptr) return;
+  const auto drop_key = [&](std::string_view key, std::string_view why) {
+    if (const toml::node* node = cutting->get(key)) {
+      problems.at("cutting." + std::string(key), *node, why);
+      cutting->erase(key);
+    }
+  };
+  if (!milling && !root.contains("material")) {
+    for (std::string_view key : {"rake_deg", "workpiece_temperature_c"})
+      drop_key(key,
+               "used only with a [material] (Oxley's theory predicts the force coefficients "
+               "from it)");
+  }
+  if (milling && root.contains("force_law")) {
+    for (std::string_view key : {"kte_n_per_mm", "kre_n_per_mm"})
+      drop_key(key,
+               "not used with [force_law] (the simulation then takes the S1 law of "
+               "[force_law]; the stability lobes take no edge forces)");
+  }
 }
 
 Case parse_case(std::string_view toml_text, std::string_view source) {
@@ -1024,6 +1143,7 @@ Case parse_case(std::string_view toml_text, std::string_view source) {
   if (auto v = top.choice("process", {"turning", "milling"}, Need::kRequired)) {
     process = *v == "turning" ? Process::kTurning : Process::kMilling;
     c.process = *process;
+    remove_unused(root, *process, problems);
   }
   read_modes(top, process, c);
   read_drives(top, c);
@@ -1350,8 +1470,13 @@ nlohmann::json to_json(const Case& c) {
                 {"steps_per_period", l.steps_per_period}};
 
   const SimulateSection& s = c.simulate;
-  json sim = {{"duration_s", tidy(s.duration_s)},
-              {"initial_displacement_um", tidy(m_to_um(s.initial_displacement_m))}};
+  // The keys of the case's process only (a milling case takes no duration_s, a turning case
+  // no revolutions), so that the echo reads back.
+  json sim = json::object();
+  if (c.process != Process::kMilling) {
+    sim["duration_s"] = tidy(s.duration_s);
+    sim["initial_displacement_um"] = tidy(m_to_um(s.initial_displacement_m));
+  }
   if (s.rpm) sim["rpm"] = tidy(*s.rpm);
   if (s.depth_m) sim["depth_mm"] = tidy(m_to_mm(*s.depth_m));
   if (c.process == Process::kMilling) {

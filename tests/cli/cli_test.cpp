@@ -283,8 +283,11 @@ TEST_F(Cli, RejectsDampingOfOneOrMore) {
 }
 
 TEST_F(Cli, RejectsZeroImmersion) {
-  const auto file = variant("[lobes]", "[operation]\nradial_immersion = 0\n\n[lobes]");
-  expect_rejected({"lobes", file, "--out", path("o.csv")}, "operation.radial_immersion = 0");
+  // [operation] is a milling table (a turning case refuses it: docs/case-files.md).
+  std::string text(*io::example_text("milling-insperger"));
+  text.replace(text.find("radial_immersion = 1.0"), 22, "radial_immersion = 0");
+  expect_rejected({"lobes", write("case.toml", text), "--out", path("o.csv")},
+                  "operation.radial_immersion = 0");
 }
 
 TEST_F(Cli, RejectsRpmMinNotBelowRpmMax) {
@@ -334,8 +337,11 @@ TEST_F(Cli, RejectsMissingFeedForSimulation) {
 }
 
 TEST_F(Cli, RejectsMillingCaseWithoutTool) {
-  const auto file = variant("process = \"turning\"", "process = \"milling\"");
-  expect_rejected({"lobes", file, "--out", path("o.csv")}, "tool: missing");
+  // A milling case (the turning example's [vibration] and turning keys would be refused).
+  std::string text(*io::example_text("milling-insperger"));
+  const auto at = text.find("[tool]");
+  text.erase(at, text.find("[operation]") - at);
+  expect_rejected({"lobes", write("case.toml", text), "--out", path("o.csv")}, "tool: missing");
 }
 
 TEST_F(Cli, RealProcessExitCodesAndStreams) {
@@ -737,6 +743,64 @@ TEST_F(Cli, TargetDepthListsTheStableSpeedRanges) {
   EXPECT_EQ(doc["recommended_rpm"].get<double>(), deepest_rpm);
   expect_rejected({"lobes", file, "--target-depth-mm", "0", "--out", path("x.csv")},
                   "--target-depth-mm = 0");
+}
+
+// ---- No silent wrong answers: keys a process does not use; the bore planner's accuracy ----
+
+// kc_n_per_mm2 in a milling case ran with Kr = 0: now exit 2 naming the file, key, value and
+// the keys milling takes, and no output file.
+TEST_F(Cli, KeyTheProcessDoesNotUseIsRejected) {
+  std::string text(*io::example_text("milling-insperger"));
+  text.replace(text.find("kr_n_per_mm2 = 200"), 18, "kc_n_per_mm2 = 200");
+  const std::string file = write("kc.toml", text);
+  for (const char* command : {"lobes", "simulate"}) {
+    SCOPED_TRACE(command);
+    expect_rejected({command, file, "--out", path("x.csv")},
+                    "cutdyn: error: " + file +
+                        ": cutting.kc_n_per_mm2 = 200: not used in a milling case (milling takes "
+                        "kt_n_per_mm2, kr_n_per_mm2, kte_n_per_mm, kre_n_per_mm)");
+  }
+}
+
+// `cutdyn plan --axial-feed-mm` beyond the accuracy: computed (exit 0), with a warning in the
+// text, on stderr and in the JSON naming Δ1, k·t and the largest feed that keeps Δ1 <= k·t; k
+// outside 0.005 … 0.1 is refused.
+TEST_F(Cli, PlanWarnsWhenTheFeedBreaksTheAccuracy) {
+  std::string plain(*io::example_text("bore-plan"));
+  plain.erase(plain.find("[limits]"));
+  const std::string file = write("plain.toml", plain);
+  const BoreMillingCase b = *io::parse_case(plain, "plain").bore;
+  const double s_max_mm = 1e3 * max_axial_feed(b);
+  const int s0_mm = static_cast<int>(1.2 * s_max_mm + 0.5);  // above the largest, below q
+  const Result r =
+      cutdyn({"plan", file, "--axial-feed-mm", std::to_string(s0_mm), "--json", path("w.json")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  char s_max_text[32];
+  std::snprintf(s_max_text, sizeof s_max_text, "%.4g", s_max_mm);
+  const std::string largest =
+      std::string("the largest axial feed with Δ1 <= k·t is ") + s_max_text + " mm";
+  EXPECT_NE(r.out.find("  warning: the straightness error Δ1 = "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(largest), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("cutdyn: warning: command line: "), std::string::npos) << r.err;
+  const auto doc = nlohmann::json::parse(std::ifstream(path("w.json")));
+  EXPECT_FALSE(doc["accuracy_met"].get<bool>());
+  ASSERT_EQ(doc["warnings"].size(), 1u);
+  EXPECT_NE(doc["warnings"][0].get<std::string>().find("k·t = 0.25 mm"), std::string::npos);
+  EXPECT_GT(doc["straightness_error_mm"].get<double>(), 0.25);
+  // At the largest feed: no warning.
+  const Result ok = cutdyn({"plan", file, "--json", path("ok.json")});
+  ASSERT_EQ(ok.code, 0) << ok.err;
+  EXPECT_EQ(ok.out.find("warning"), std::string::npos) << ok.out;
+  EXPECT_TRUE(nlohmann::json::parse(std::ifstream(path("ok.json")))["accuracy_met"].get<bool>());
+  // k outside the source's range.
+  std::string k = plain;
+  k.replace(k.find("accuracy_coefficient = 0.05"), 27, "accuracy_coefficient = 0.3");
+  expect_rejected({"plan", write("k.toml", k), "--json", path("k.json")},
+                  "process.accuracy_coefficient = 0.3: must be from 0.005 (finishing) to 0.1 "
+                  "(roughing)");
+  // An error prints millimetres (4 significant digits), not metres.
+  expect_rejected({"plan", file, "--axial-feed-mm", "250", "--json", path("x.json")},
+                  "axial feed S0 = 250 mm: must be less than q = 199.7 mm");
 }
 
 }  // namespace

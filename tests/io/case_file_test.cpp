@@ -44,6 +44,13 @@ std::vector<std::string> problems_of(const std::string& text) {
 // kMinimal plus `extra` appended.
 std::string with(const std::string& extra) { return std::string(kMinimal) + extra; }
 
+// The same structure as a milling case, plus `extra`.
+std::string milling_with(const std::string& extra) {
+  std::string text = with(extra);
+  text.replace(text.find("turning"), 7, "milling");
+  return text;
+}
+
 void expect_table2_mode(const Case& c) {
   ASSERT_EQ(c.modal.modes.size(), 1u);
   const Mode& m = c.modal.modes[0];
@@ -183,10 +190,8 @@ stiffness_n_per_m = 1.2e7
 [cutting]
 kt_n_per_mm2 = 600
 kr_n_per_mm2 = 0
-kc_n_per_mm2 = 1500.5
-speed_m_per_min = 120
-uncut_chip_thickness_mm = 0.1
-width_mm = 2
+kte_n_per_mm = 12.5
+kre_n_per_mm = 0
 [tool]
 teeth = 2
 diameter_mm = 20
@@ -194,9 +199,6 @@ helix_deg = 30
 [operation]
 radial_immersion = 0.5
 direction = "up"
-[vibration]
-frequency_hz = 20_000
-amplitude_um = 10
 [lobes]
 rpm_min = 5000
 rpm_max = 25000
@@ -208,8 +210,8 @@ steps_per_period = 100000
 [simulate]
 rpm = 12000
 depth_mm = 1.5
-duration_s = 1000
-initial_displacement_um = 0
+revolutions = 1e6
+summary_revolutions = 0.5
 )",
                             "m.toml");
   EXPECT_EQ(c.source, "m.toml");
@@ -224,10 +226,8 @@ initial_displacement_um = 0
   EXPECT_DOUBLE_EQ(c.modal.modes[1].stiffness_n_per_m, 1.2e7);
   EXPECT_DOUBLE_EQ(*c.cutting.kt_pa, 600e6);
   EXPECT_DOUBLE_EQ(*c.cutting.kr_pa, 0.0);
-  EXPECT_DOUBLE_EQ(*c.cutting.kc_pa, 1500.5e6);
-  EXPECT_DOUBLE_EQ(*c.cutting.speed_m_per_s, 2.0);
-  EXPECT_DOUBLE_EQ(*c.cutting.uncut_chip_thickness_m, 1e-4);
-  EXPECT_DOUBLE_EQ(*c.cutting.width_m, 2e-3);
+  EXPECT_DOUBLE_EQ(*c.cutting.kte_n_per_m, 12.5e3);
+  EXPECT_DOUBLE_EQ(*c.cutting.kre_n_per_m, 0.0);
   ASSERT_TRUE(c.tool);
   EXPECT_EQ(c.tool->teeth, 2);
   EXPECT_DOUBLE_EQ(c.tool->diameter_m, 0.02);
@@ -235,9 +235,6 @@ initial_displacement_um = 0
   ASSERT_TRUE(c.operation);
   EXPECT_DOUBLE_EQ(c.operation->radial_immersion, 0.5);
   EXPECT_FALSE(c.operation->down_milling);
-  ASSERT_TRUE(c.vibration);
-  EXPECT_DOUBLE_EQ(c.vibration->frequency_hz, 20000.0);
-  EXPECT_DOUBLE_EQ(*c.vibration->amplitude_m, 1e-5);
   EXPECT_DOUBLE_EQ(c.lobes.rpm_min, 5000.0);
   EXPECT_DOUBLE_EQ(c.lobes.rpm_max, 25000.0);
   EXPECT_EQ(c.lobes.rpm_steps, 2);
@@ -247,12 +244,12 @@ initial_displacement_um = 0
   EXPECT_EQ(c.lobes.steps_per_period, 100000);
   EXPECT_DOUBLE_EQ(*c.simulate.rpm, 12000.0);
   EXPECT_DOUBLE_EQ(*c.simulate.depth_m, 1.5e-3);
-  EXPECT_DOUBLE_EQ(c.simulate.duration_s, 1000.0);
-  EXPECT_DOUBLE_EQ(c.simulate.initial_displacement_m, 0.0);
+  EXPECT_DOUBLE_EQ(c.simulate.revolutions, 1e6);
+  EXPECT_DOUBLE_EQ(c.simulate.summary_revolutions, 0.5);
 }
 
 TEST(CaseFileParse, OptionalTablesGetTheirDefaults) {
-  const Case c = parse_case(with(R"(
+  const Case c = parse_case(milling_with(R"(
 [tool]
 teeth = 4
 diameter_mm = 12
@@ -307,7 +304,7 @@ TEST(CaseFileErrors, MissingRequiredKeys) {
               ElementsAre("modes[1].stiffness_n_per_m: missing (required unless mass_kg is "
                           "given)"));
   EXPECT_THAT(
-      problems_of(with("[tool]\nhelix_deg = 30\n")),
+      problems_of(milling_with("[tool]\nhelix_deg = 30\n")),
       ElementsAre("tool.teeth: missing (required)", "tool.diameter_mm: missing (required)"));
   EXPECT_THAT(problems_of(with("[vibration]\nfrequency_hz = 20000\n")),
               ElementsAre("vibration.amplitude_um: missing (required unless duty_cycle is "
@@ -326,7 +323,7 @@ TEST(CaseFileErrors, WrongTypes) {
               ElementsAre("simulate.rpm = true: wrong type: expected a number, got a boolean"));
   EXPECT_THAT(problems_of(with("[lobes]\nrpm_steps = 2.5\n")),
               ElementsAre("lobes.rpm_steps = 2.5: wrong type: expected an integer, got a float"));
-  EXPECT_THAT(problems_of(with("[tool]\nteeth = 2.0\ndiameter_mm = 20\n")),
+  EXPECT_THAT(problems_of(milling_with("[tool]\nteeth = 2.0\ndiameter_mm = 20\n")),
               ElementsAre("tool.teeth = 2.0: wrong type: expected an integer, got a float"));
   EXPECT_THAT(problems_of(with("[lobes]\nmethod = 3\n")),
               ElementsAre("lobes.method = 3: wrong type: expected a string, got an integer"));
@@ -348,11 +345,12 @@ TEST(CaseFileErrors, ValuesOutOfRange) {
               ElementsAre("modes[0].natural_hz = 0: must be positive",
                           "modes[0].damping_ratio = 1.0: must be at least 0 and less than 1",
                           "modes[0].mass_kg = -2.5: must be positive"));
-  EXPECT_THAT(problems_of(with("[operation]\nradial_immersion = 0\n")),
+  EXPECT_THAT(problems_of(milling_with("[operation]\nradial_immersion = 0\n")),
               ElementsAre("operation.radial_immersion = 0: must be greater than 0 and at most 1"));
-  EXPECT_THAT(problems_of(with("[operation]\nradial_immersion = 1.01\ndirection = \"climb\"\n")),
-              ElementsAre("operation.radial_immersion = 1.01: must be greater than 0 and at most 1",
-                          "operation.direction = \"climb\": must be one of \"down\", \"up\""));
+  EXPECT_THAT(
+      problems_of(milling_with("[operation]\nradial_immersion = 1.01\ndirection = \"climb\"\n")),
+      ElementsAre("operation.radial_immersion = 1.01: must be greater than 0 and at most 1",
+                  "operation.direction = \"climb\": must be one of \"down\", \"up\""));
   EXPECT_THAT(problems_of(with("[lobes]\nrpm_steps = 100001\n")),
               ElementsAre("lobes.rpm_steps = 100001: must be an integer from 2 to 100000"));
   EXPECT_THAT(problems_of(with("[lobes]\nrpm_steps = 1\nharmonics = 51\nsteps_per_period = -1\n"
@@ -363,15 +361,16 @@ TEST(CaseFileErrors, ValuesOutOfRange) {
                           "\"multi-frequency\", \"full-discretization\"",
                           "lobes.harmonics = 51: must be an integer from 0 to 50",
                           "lobes.steps_per_period = -1: must be an integer from 0 to 100000"));
-  EXPECT_THAT(problems_of(with("[tool]\nteeth = 0\ndiameter_mm = 20\nhelix_deg = 90\n")),
+  EXPECT_THAT(problems_of(milling_with("[tool]\nteeth = 0\ndiameter_mm = 20\nhelix_deg = 90\n")),
               ElementsAre("tool.teeth = 0: must be an integer from 1 to 200",
                           "tool.helix_deg = 90: must be at least 0 and less than 90"));
   EXPECT_THAT(problems_of(with("[simulate]\nduration_s = 1000.5\ninitial_displacement_um = -1\n")),
               ElementsAre("simulate.duration_s = 1000.5: must be greater than 0 and at most 1000",
                           "simulate.initial_displacement_um = -1: must be at least 0"));
-  EXPECT_THAT(problems_of(with("[cutting]\nkr_n_per_mm2 = -0.5\nkc_n_per_mm2 = 0\n")),
-              ElementsAre("cutting.kc_n_per_mm2 = 0: must be positive",
-                          "cutting.kr_n_per_mm2 = -0.5: must be at least 0"));
+  EXPECT_THAT(problems_of(with("[cutting]\nkc_n_per_mm2 = 0\n")),
+              ElementsAre("cutting.kc_n_per_mm2 = 0: must be positive"));
+  EXPECT_THAT(problems_of(milling_with("[cutting]\nkr_n_per_mm2 = -0.5\n")),
+              ElementsAre("cutting.kr_n_per_mm2 = -0.5: must be at least 0"));
   EXPECT_THAT(problems_of("process = \"drilling\"\n[[modes]]\ndirection = \"z\"\n"
                           "natural_hz = 1\ndamping_ratio = 0\nstiffness_n_per_m = 1\n"),
               ElementsAre("process = \"drilling\": must be one of \"turning\", \"milling\"",
@@ -491,7 +490,7 @@ TEST(CaseFileErrors, ValuesAreQuotedAsWritten) {
                           "10000",
                           "lobes.method = 'Auto': must be one of \"auto\", \"closed-form\", "
                           "\"multi-frequency\", \"full-discretization\""));
-  EXPECT_THAT(problems_of(with("[operation]\ndirection = \"é-down\"\n")),
+  EXPECT_THAT(problems_of(milling_with("[operation]\ndirection = \"é-down\"\n")),
               ElementsAre("operation.direction = \"é-down\": must be one of \"down\", \"up\""));
 }
 
@@ -664,11 +663,107 @@ TEST(CaseFileMaterial, ProblemsAreNamed) {
   EXPECT_THAT(problems_of(with("[material]\nname = \"AISI1045\"\n[cutting]\nkt_n_per_mm2 = 900\n")),
               ElementsAre("cutting.kt_n_per_mm2 and [material]: give the force coefficients or "
                           "the material to predict them from, not both"));
-  EXPECT_THAT(problems_of(with("[cutting]\nrake_deg = 50\n")),
+  EXPECT_THAT(problems_of(with("[material]\nname = \"AISI1045\"\n[cutting]\nrake_deg = 50\n")),
               ElementsAre("cutting.rake_deg = 50: must be greater than -45 and less than 45"));
-  EXPECT_THAT(problems_of(with("[oxley]\nc0_min = 5\nc0_max = 4\n")),
-              ElementsAre("oxley.c0_min = 5 and oxley.c0_max = 4: c0_min must be less than "
-                          "c0_max"));
+  EXPECT_THAT(
+      problems_of(with("[material]\nname = \"AISI1045\"\n[oxley]\nc0_min = 5\nc0_max = 4\n")),
+      ElementsAre("oxley.c0_min = 5 and oxley.c0_max = 4: c0_min must be less than "
+                  "c0_max"));
+}
+
+// ---- which process takes which key (docs/case-files.md) ---------------------------------
+
+// A key the case's process does not use would be ignored without a word (kc_n_per_mm2 in a
+// milling case ran with Kr = 0): it is an error naming the key, the value as written and the
+// keys the process takes, and it is the key's only problem (its range is not checked too).
+TEST(CaseFileProcessKeys, KeysTheProcessDoesNotUseAreErrors) {
+  EXPECT_THAT(problems_of(milling_with("[cutting]\nkt_n_per_mm2 = 600\nkc_n_per_mm2 = 1500\n")),
+              ElementsAre("cutting.kc_n_per_mm2 = 1500: not used in a milling case (milling takes "
+                          "kt_n_per_mm2, kr_n_per_mm2, kte_n_per_mm, kre_n_per_mm)"));
+  EXPECT_THAT(problems_of(milling_with("[cutting]\nkt_n_per_mm2 = 600\nspeed_m_per_min = -1\n"
+                                       "width_mm = 2\n")),
+              ElementsAre(HasSubstr("cutting.speed_m_per_min = -1: not used in a milling case"),
+                          HasSubstr("cutting.width_mm = 2: not used in a milling case")));
+  EXPECT_THAT(problems_of(with("[cutting]\nkt_n_per_mm2 = 850\nkr_n_per_mm2 = 200\n")),
+              ElementsAre("cutting.kr_n_per_mm2 = 200: not used in a turning case (turning takes "
+                          "kt_n_per_mm2, kc_n_per_mm2, speed_m_per_min, uncut_chip_thickness_mm, "
+                          "width_mm, rake_deg, workpiece_temperature_c)"));
+  EXPECT_THAT(problems_of(with("[cutting]\nkte_n_per_mm = 5\n")),
+              ElementsAre(HasSubstr("cutting.kte_n_per_mm = 5: not used in a turning case")));
+  // Tables of the other process.
+  EXPECT_THAT(problems_of(milling_with("[vibration]\nfrequency_hz = 20000\nduty_cycle = 0.6\n")),
+              ElementsAre("vibration: not used in a milling case (vibration-assisted cutting is "
+                          "modelled for turning)"));
+  EXPECT_THAT(
+      problems_of(with("[tool]\nteeth = 2\ndiameter_mm = 20\n[operation]\n"
+                       "[force_law]\nc_n_per_mm = 25\n")),
+      ElementsAre("tool: not used in a turning case (tool is a milling table: tool, operation, "
+                  "force_law)",
+                  "operation: not used in a turning case (operation is a milling table: tool, "
+                  "operation, force_law)",
+                  "force_law: not used in a turning case (force_law is a milling table: tool, "
+                  "operation, force_law)"));
+  EXPECT_THAT(problems_of(with("[[drives]]\naxis = \"x\"\ntransmission = \"lever\"\n")),
+              ElementsAre(HasSubstr("drives: not used in a turning case")));
+  // [simulate]: a milling run is set by revolutions, a turning run by its duration.
+  EXPECT_THAT(problems_of(milling_with("[simulate]\nduration_s = 2\n")),
+              ElementsAre("simulate.duration_s = 2: not used in a milling case (milling takes "
+                          "rpm, depth_mm, revolutions, summary_revolutions, regenerative, "
+                          "steps_per_tooth, slices, closed_form_helix; --duration-s on the "
+                          "command line sets revolutions)"));
+  EXPECT_THAT(problems_of(with("[simulate]\nrevolutions = 10\nregenerative = false\n")),
+              ElementsAre(HasSubstr("simulate.regenerative = false: not used in a turning case"),
+                          HasSubstr("simulate.revolutions = 10: not used in a turning case")));
+  // Keys that one model of the process reads only.
+  EXPECT_THAT(problems_of(with("[cutting]\nkt_n_per_mm2 = 850\nrake_deg = -5\n")),
+              ElementsAre("cutting.rake_deg = -5: used only with a [material] (Oxley's theory "
+                          "predicts the force coefficients from it)"));
+  EXPECT_THAT(problems_of(with("[oxley]\neta = 0.8\n")),
+              ElementsAre("oxley: used only with a [material] (the settings of Oxley's theory)"));
+  EXPECT_THAT(problems_of(milling_with("[force_law]\nc_n_per_mm = 25\n[cutting]\n"
+                                       "kt_n_per_mm2 = 600\nkre_n_per_mm = 3\n")),
+              ElementsAre(HasSubstr("cutting.kre_n_per_mm = 3: not used with [force_law]")));
+  // Unknown to every process: still "unknown key" with its suggestion.
+  EXPECT_THAT(problems_of(milling_with("[cutting]\nkc_n_per_mm = 1\n")),
+              ElementsAre("cutting.kc_n_per_mm: unknown key (did you mean kc_n_per_mm2?)"));
+  // What each process does take loads (the values reach the case).
+  const Case m = parse_case(milling_with("[cutting]\nkt_n_per_mm2 = 600\nkr_n_per_mm2 = 200\n"
+                                         "kte_n_per_mm = 5\nkre_n_per_mm = 3\n"),
+                            "m.toml");
+  EXPECT_DOUBLE_EQ(*m.cutting.kr_pa, 200e6);
+  EXPECT_DOUBLE_EQ(*m.cutting.kre_n_per_m, 3e3);
+  const Case t = parse_case(with("[cutting]\nkt_n_per_mm2 = 850\nkc_n_per_mm2 = 2100\n"), "t");
+  EXPECT_DOUBLE_EQ(*t.cutting.kc_pa, 2100e6);
+}
+
+// with_value (the sweeps) reads the case again with the same rule.
+TEST(CaseFileProcessKeys, SweepOfAKeyTheProcessDoesNotUseIsAnError) {
+  const Case c = load_example("milling-insperger");
+  try {
+    with_value(c, "cutting.kc_n_per_mm2", 1500.0);
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_THAT(e.problems(), ElementsAre(HasSubstr("cutting.kc_n_per_mm2 = 1500: not used in a "
+                                                    "milling case")));
+  }
+}
+
+// The accuracy coefficient k of a plan case: the source's range 0.005 (finishing) … 0.1
+// (roughing).
+TEST(CaseFilePlan, AccuracyCoefficientInTheSourcesRange) {
+  std::string text(*example_text("bore-plan"));
+  const auto with_k = [&](const std::string& k) {
+    std::string t = text;
+    t.replace(t.find("accuracy_coefficient = 0.05"), 27, "accuracy_coefficient = " + k);
+    return t;
+  };
+  for (const char* k : {"0.5", "0.004", "0.1001"})
+    EXPECT_THAT(problems_of(with_k(k)),
+                ElementsAre("process.accuracy_coefficient = " + std::string(k) +
+                            ": must be from 0.005 (finishing) to 0.1 (roughing), the source's "
+                            "range of k"));
+  EXPECT_DOUBLE_EQ(parse_case(with_k("0.005"), "p").bore->accuracy_coefficient, 0.005);
+  EXPECT_DOUBLE_EQ(parse_case(with_k("0.1"), "p").bore->accuracy_coefficient, 0.1);
 }
 
 TEST(CaseFileJson, RoundTripsThroughToml) {
@@ -682,7 +777,7 @@ mass_kg = 0.03993
 [cutting]
 kt_n_per_mm2 = 644.5
 kr_n_per_mm2 = 236.3
-speed_m_per_min = 183.7
+kte_n_per_mm = 18.7
 [tool]
 teeth = 2
 diameter_mm = 19.05
@@ -690,9 +785,6 @@ helix_deg = 12.5
 [operation]
 radial_immersion = 0.05
 direction = "up"
-[vibration]
-frequency_hz = 40000
-duty_cycle = 0.35
 [lobes]
 rpm_min = 5000.5
 rpm_max = 25000
@@ -703,15 +795,19 @@ harmonics = 7
 steps_per_period = 40
 [simulate]
 depth_mm = 0.33
-duration_s = 0.25
-initial_displacement_um = 0.7
+revolutions = 12.5
+regenerative = false
 )";
   const Case first = parse_case(text, "a.toml");
   const nlohmann::json j = to_json(first);
   EXPECT_EQ(j["tool"], (nlohmann::json{{"teeth", 2}, {"diameter_mm", 19.05}, {"helix_deg", 12.5}}));
   EXPECT_EQ(j["operation"], (nlohmann::json{{"radial_immersion", 0.05}, {"direction", "up"}}));
-  EXPECT_EQ(j["vibration"], (nlohmann::json{{"frequency_hz", 40000}, {"duty_cycle", 0.35}}));
-  EXPECT_EQ(j["cutting"]["speed_m_per_min"].get<double>(), 183.7);
+  EXPECT_FALSE(j.contains("vibration"));
+  EXPECT_EQ(j["cutting"]["kte_n_per_mm"].get<double>(), 18.7);
+  // A milling case echoes the milling keys of [simulate] only (they read back).
+  EXPECT_FALSE(j["simulate"].contains("duration_s"));
+  EXPECT_FALSE(j["simulate"].contains("initial_displacement_um"));
+  EXPECT_EQ(j["simulate"]["revolutions"].get<double>(), 12.5);
   EXPECT_EQ(j["lobes"]["rpm_min"].get<double>(), 5000.5);
   EXPECT_EQ(j["lobes"]["method"], "multi-frequency");
   EXPECT_EQ(j["simulate"]["depth_mm"].get<double>(), 0.33);
@@ -727,7 +823,7 @@ initial_displacement_um = 0.7
     again += "[[modes]]\n";
     for (const auto& [key, value] : mode.items()) again += key + " = " + value.dump() + "\n";
   }
-  for (const char* table : {"cutting", "tool", "operation", "vibration", "lobes", "simulate"}) {
+  for (const char* table : {"cutting", "tool", "operation", "lobes", "simulate"}) {
     again += std::string("[") + table + "]\n";
     for (const auto& [key, value] : j[table].items()) again += key + " = " + value.dump() + "\n";
   }
@@ -736,7 +832,7 @@ initial_displacement_um = 0.7
   EXPECT_NEAR(second.modal.modes[0].stiffness_n_per_m, first.modal.modes[0].stiffness_n_per_m,
               1e-12 * first.modal.modes[0].stiffness_n_per_m);
   EXPECT_DOUBLE_EQ(second.tool->helix_rad, first.tool->helix_rad);
-  EXPECT_DOUBLE_EQ(*second.cutting.speed_m_per_s, *first.cutting.speed_m_per_s);
+  EXPECT_DOUBLE_EQ(*second.cutting.kte_n_per_m, *first.cutting.kte_n_per_m);
   EXPECT_DOUBLE_EQ(second.lobes.depth_max_m, first.lobes.depth_max_m);
   EXPECT_DOUBLE_EQ(second.simulate.initial_displacement_m, first.simulate.initial_displacement_m);
 }
