@@ -186,7 +186,7 @@ std::map<std::string, AxisCalibration> read_calibration(const std::string& path)
     reject_unknown(a,
                    {"measure", "inertia_kg_m2", "torque_constant_nm_per_a", "viscous_nm_s_per_rad",
                     "friction_nm", "force_gain_m", "sigma", "current_noise_a", "speed_noise_rad_s",
-                    "idle_fit", "load_fit"},
+                    "uncertainty_known", "idle_fit", "load_fit"},
                    path, at);
     AxisCalibration c;
     const std::string measure = a.value("measure", "");
@@ -201,6 +201,12 @@ std::map<std::string, AxisCalibration> read_calibration(const std::string& path)
     c.model.force_gain_m = number_at(a, "force_gain_m", path, at, true);
     c.current_noise_a = number_at(a, "current_noise_a", path, at, false);
     c.speed_noise_rad_s = number_at(a, "speed_noise_rad_s", path, at, false);
+    if (const auto k = a.find("uncertainty_known"); k != a.end()) {
+      if (!k->is_boolean())
+        throw InvalidInput({at + "uncertainty_known = " + k->dump() + ": must be true or false"},
+                           path);
+      c.uncertainty_known = k->get<bool>();
+    }
     if (a.contains("sigma")) {
       const json& s = a["sigma"];
       const std::string sat = at + "sigma.";
@@ -252,7 +258,8 @@ json axis_json(const AxisCalibration& c) {
             {"friction_viscous_covariance", s.friction_viscous_covariance},
             {"force_gain_m", s.force_gain_m}}},
           {"current_noise_a", c.current_noise_a},
-          {"speed_noise_rad_s", c.speed_noise_rad_s}};
+          {"speed_noise_rad_s", c.speed_noise_rad_s},
+          {"uncertainty_known", c.uncertainty_known}};
 }
 
 // "[AXIS=]VALUE" → (axis or "", value).
@@ -404,6 +411,13 @@ int run_monitor_calibrate(const MonitorCalibrateArgs& args, std::ostream& out, s
     } else if (!base.count(axis)) {
       v.add("axis " + axis + ": no loaded log and no --base: KBlf is unknown");
     }
+    // Tnzm, X and KBlf fitted here carry their uncertainties; one kept from a base whose
+    // uncertainty is unknown (the literature coefficients) keeps it unknown.
+    if (idle.count(axis) && loaded.count(axis)) c.uncertainty_known = true;
+    if (!c.uncertainty_known)
+      out << "    uncertainty unknown: Tnzm, X or KBlf are the base's, which has no known "
+             "uncertainty; force_sigma_n will be left empty (calibrate with --idle and "
+             "--loaded)\n";
     if (v.ok())
       rethrow_as("calibration", "axis " + axis, [&] {
         if (const auto p = c.validate(); !p.empty()) throw InvalidInput(p);
@@ -484,7 +498,18 @@ std::size_t estimate_stream(const std::string& input, Estimators& estimators, bo
         bad.take(errors);
         continue;
       }
-      each(r, name, e->update(r.time_s, r.iu_a, r.iv_a, r.iw_a, r.speed_rad_s));
+      ForceEstimate estimate;
+      try {
+        estimate = e->update(r.time_s, r.iu_a, r.iv_a, r.iw_a, r.speed_rad_s);
+      } catch (const InvalidInput& x) {
+        // The bandwidth against the log's sampling (the only check of update): the flag.
+        std::vector<std::string> problems;
+        for (const std::string& p : x.problems())
+          problems.push_back("--bandwidth-hz: " + p + ", axis " + name + " at line " +
+                             std::to_string(r.line));
+        throw InvalidInput(problems, in.name());
+      }
+      each(r, name, estimate);
       ++good;
     }
     rows.clear();
@@ -573,8 +598,15 @@ int run_monitor_estimate(const MonitorEstimateArgs& args, std::ostream& out, std
   buffer += '\n';
   std::vector<std::pair<std::string, AlarmEvent>> events;
   std::map<std::string, std::size_t> seen_events;
-  std::set<std::string> unbanded;
+  std::set<std::string> unbanded, unknown_sigma;
   const auto each = [&](const CurrentRow& r, const std::string& axis, const ForceEstimate& e) {
+    // The calibration's uncertainty is unknown (the literature coefficients, §4.3 of
+    // docs/models/monitor.md): said once per axis, at its first estimate.
+    if (!e.sigma_known && unknown_sigma.insert(axis).second)
+      err << "cutdyn: warning: " << args.estimator.calib
+          << ": uncertainty unknown for the literature coefficients (axis " << axis
+          << "): force_sigma_n is left empty; calibrate the machine (cutdyn monitor calibrate "
+             "--idle ... --loaded ...) for an uncertainty\n";
     append_estimate_row(buffer, r.time_s, axis, e);
     if (with_band) {
       const auto it = monitors.find(axis);

@@ -29,6 +29,7 @@ std::vector<std::string> AxisCalibration::validate() const {
 AxisCalibration zheng2012_calibration(char axis) {
   AxisCalibration c;
   c.model = zheng2012_axis(axis);
+  c.uncertainty_known = false;
   return c;
 }
 
@@ -73,9 +74,39 @@ struct Window {
   bool steady = false;
 };
 
+// Robust standard deviation of the white noise on the measured speed of one run, from the
+// second differences of the samples (zero for any straight piece of the speed, so ramps,
+// holds and slow transients do not inflate it): each difference, normalised to unit variance
+// for white noise, and σ = 1.4826·median|d| (the median absolute deviation; a corner or a
+// spike moves it little).
+double speed_noise_of(const AxisRun& run) {
+  std::vector<double> d;
+  d.reserve(run.size());
+  for (std::size_t k = 1; k + 1 < run.size(); ++k) {
+    const double h0 = run[k].time_s - run[k - 1].time_s, h1 = run[k + 1].time_s - run[k].time_s;
+    const double norm = std::sqrt(h1 * h1 + (h0 + h1) * (h0 + h1) + h0 * h0);
+    if (!(norm > 0.0)) continue;
+    d.push_back(std::abs(h1 * run[k - 1].speed_rad_s - (h0 + h1) * run[k].speed_rad_s +
+                         h0 * run[k + 1].speed_rad_s) /
+                norm);
+  }
+  if (d.empty()) return 0.0;
+  const auto mid = d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2);
+  std::nth_element(d.begin(), mid, d.end());
+  return 1.4826 * *mid;
+}
+
+// Upper 99.9 % point of χ²(k)/k (Wilson–Hilferty; within 1 % for k >= 2).
+double chi2_999_over_k(double k) {
+  const double a = 2.0 / (9.0 * k);
+  const double c = 1.0 - a + 3.0902 * std::sqrt(a);
+  return c * c * c;
+}
+
 std::vector<Window> windows_of(const AxisModel& m, const AxisRun& run,
                                const CalibrationOptions& o) {
   std::vector<Window> out;
+  const double noise = speed_noise_of(run);
   std::size_t i = 0;
   while (i < run.size()) {
     std::size_t j = i;
@@ -120,12 +151,25 @@ std::vector<Window> windows_of(const AxisModel& m, const AxisRun& run,
         const double r = run[k].speed_rad_s - w.speed - w.accel * (run[k].time_s - t_mean);
         w.speed_ss += r * r;
       }
-      w.accel_sigma = stt > 0.0 ? std::sqrt(w.speed_ss / (n - 2.0) / stt) : 0.0;
-      // Steady: the speed changes across the window by at most the tolerance, allowing for
-      // three standard errors of the slope.
+      // The standard error of the slope for the run's white speed noise (not this window's
+      // scatter, which a transient inflates).
+      w.accel_sigma = stt > 0.0 ? noise / std::sqrt(stt) : 0.0;
+      // Steady = acceleration and speed within limits over the whole window:
+      // (1) the speed line changes across the window by at most the tolerance of the mean
+      //     speed, allowing for three standard errors of its slope;
+      // (2) the speed stays on that line: the scatter about it is what the white noise
+      //     explains (below the 99.9 % point of χ²), plus a tenth of the tolerance. A window
+      //     in which the speed still overshoots, rings or settles after a speed change fails
+      //     (2) even where its line is flat, and J·(its slope) would not be its mean J·ε.
       const double change = std::abs(w.accel) * o.window_s;
-      w.steady = w.sign != 0.0 && change <= o.steady_tolerance * std::abs(w.speed) +
-                                                3.0 * w.accel_sigma * o.window_s;
+      const double allowed = 0.1 * o.steady_tolerance * std::abs(w.speed);
+      const double scatter_limit =
+          n > 2.0 ? (n - 2.0) * (noise * noise * chi2_999_over_k(n - 2.0) + allowed * allowed)
+                  : 0.0;
+      w.steady =
+          w.sign != 0.0 &&
+          change <= o.steady_tolerance * std::abs(w.speed) + 3.0 * w.accel_sigma * o.window_s &&
+          w.speed_ss <= scatter_limit;
       out.push_back(w);
     }
     i = j;

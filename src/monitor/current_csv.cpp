@@ -238,7 +238,7 @@ void append_estimate_row(std::string& out, double time_s, std::string_view axis,
   out += ',';
   append_number(out, e.force_n, 7);
   out += ',';
-  append_number(out, e.force_sigma_n, 7);
+  if (e.sigma_known) append_number(out, e.force_sigma_n, 7);  // else empty: unknown
   out += ',';
   append_number(out, e.speed_rad_s, 7);
   out += ',';

@@ -92,6 +92,7 @@ AxisForceEstimator::AxisForceEstimator(const AxisCalibration& c, const Estimator
 void AxisForceEstimator::reset() {
   observer_.reset();
   started_ = false;
+  step_checked_ = false;
   sign_ = 1.0;
   dt_ = -1.0;
   // Until the step is known: the speed noise enters through X·ω only.
@@ -114,6 +115,15 @@ ForceEstimate AxisForceEstimator::update(double t, double iu, double iv, double 
   const double id = equivalent_current(iu, iv, iw, cal_.model.measure);
   if (started_) {
     const double dt = t - last_time_;
+    if (!step_checked_) {
+      step_checked_ = true;
+      const double nyquist_hz = 0.5 / dt;
+      if (!(options_.bandwidth_hz < nyquist_hz))
+        throw InvalidInput({"bandwidth_hz = " + format_value(options_.bandwidth_hz) +
+                            " Hz: must be below the Nyquist frequency of the samples, " +
+                            format_value(nyquist_hz) + " Hz (half the rate of the first step, " +
+                            format_value(dt) + " s)"});
+    }
     if (!same_step(dt, dt_)) set_step(dt);
     observer_.update(w, dt);
   } else {
@@ -145,6 +155,7 @@ ForceEstimate AxisForceEstimator::update(double t, double iu, double iv, double 
   const double fk = e.force_n * u.force_gain_m;
   var += fk * fk;
   e.force_sigma_n = std::sqrt(std::max(0.0, var)) * inv_k_;
+  e.sigma_known = cal_.uncertainty_known;
   return e;
 }
 

@@ -106,8 +106,11 @@ TEST_F(MonitorCli, EstimateStreamsTheForce) {
 TEST_F(MonitorCli, MalformedInputStopsWithTheLine) {
   const std::string h = "time_s,axis,iu_a,iv_a,iw_a,speed_rad_s\n";
   const std::string ok = "0,x,10,-5,-5,50\n0.001,x,10,-5,-5,50\n";
+  // A fitted calibration: with the literature one (zheng2012) the lines before a bad line
+  // would also raise the warning that its uncertainty is unknown, before the error.
+  const std::string calib = calibrate();
   const auto args = [&](const std::string& file) {
-    return std::vector<std::string>{"monitor",  "estimate", "--calib",      "zheng2012",
+    return std::vector<std::string>{"monitor",  "estimate", "--calib",      calib,
                                     path(file), "--out",    path("est.csv")};
   };
   write("missing.csv", "time_s,axis,iu_a,iv_a,iw_a\n0,x,1,1,1\n");
@@ -175,6 +178,68 @@ TEST_F(MonitorCli, TeachThenEstimateFlagsOverload) {
             "lower_n,alarm");
   EXPECT_EQ(est.back().substr(est.back().rfind(',') + 1).rfind("overload", 0), 0u) << est.back();
   EXPECT_EQ(est[100].substr(est[100].rfind(',') + 1), "");
+}
+
+// The literature coefficients (--calib zheng2012) have no known uncertainty for any machine:
+// force_sigma_n is left empty (not 0, not NaN) and a warning says why; a calibration fitted
+// from idle and loaded logs gives a number; one that keeps the base's KBlf stays unknown.
+TEST_F(MonitorCli, LiteratureCoefficientsHaveNoClaimedUncertainty) {
+  const AxisModel x = zheng2012_axis('x');
+  write("cut.csv",
+        testing::to_csv(synthetic_run(x, {{60.0, 0.1, 2500.0}}, 1e-3, {}, 1, true), "x"));
+  const Result lit = cutdyn({"monitor", "estimate", "--calib", "zheng2012", path("cut.csv")});
+  ASSERT_EQ(lit.code, 0) << lit.err;
+  EXPECT_NE(lit.err.find("uncertainty unknown for the literature coefficients"), std::string::npos)
+      << lit.err;
+  const auto rows = lines_of(lit.out);
+  ASSERT_EQ(rows.size(), 101u);
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    // time,axis,force,<empty σ>,speed,accel; the force itself is still exact (2500 N).
+    EXPECT_NE(rows[i].find(",x,2500,,"), std::string::npos) << rows[i];
+    EXPECT_EQ(rows[i].find("nan"), std::string::npos) << rows[i];
+  }
+  // Fitted from logs: σ is a number (noise-free logs: the small fit uncertainties only).
+  const Result fitted = cutdyn({"monitor", "estimate", "--calib", calibrate(), path("cut.csv")});
+  ASSERT_EQ(fitted.code, 0) << fitted.err;
+  EXPECT_EQ(fitted.err.find("uncertainty unknown"), std::string::npos) << fitted.err;
+  const auto f = lines_of(fitted.out);
+  const std::string sigma = f[50].substr(f[50].find(",x,") + 3);
+  EXPECT_GE(std::stod(sigma.substr(sigma.find(',') + 1)), 0.0) << f[50];
+  EXPECT_EQ(f[50].find(",,"), std::string::npos) << f[50];
+  // Only the idle step on top of the base: KBlf is the paper's, the uncertainty unknown.
+  const Result idle_only = cutdyn({"monitor", "calibrate", "--idle", path("idle.csv"), "--base",
+                                   "zheng2012", "--out", path("idle_only.json")});
+  ASSERT_EQ(idle_only.code, 0) << idle_only.err;
+  const auto doc = nlohmann::json::parse(std::ifstream(path("idle_only.json")));
+  EXPECT_FALSE(doc["axes"]["x"]["uncertainty_known"].get<bool>());
+  const Result est =
+      cutdyn({"monitor", "estimate", "--calib", path("idle_only.json"), path("cut.csv")});
+  ASSERT_EQ(est.code, 0) << est.err;
+  EXPECT_NE(lines_of(est.out)[50].find(",x,2500,,"), std::string::npos) << est.out;
+}
+
+// --bandwidth-hz must be positive and below the Nyquist frequency of the log (1 kHz samples:
+// 500 Hz); otherwise exit 2 naming the value and the limit, and no output file.
+TEST_F(MonitorCli, BandwidthAboveNyquistIsRejected) {
+  const AxisModel x = zheng2012_axis('x');
+  write("cut.csv",
+        testing::to_csv(synthetic_run(x, {{60.0, 0.05, 2500.0}}, 1e-3, {}, 1, true), "x"));
+  const std::string calib = calibrate();
+  const auto args = [&](const std::string& bw) {
+    return std::vector<std::string>{"monitor", "estimate",      "--calib",
+                                    calib,     path("cut.csv"), "--bandwidth-hz",
+                                    bw,        "--out",         path("est.csv")};
+  };
+  expect_rejected(args("600"), "bandwidth_hz = 600 Hz: must be below the Nyquist frequency");
+  expect_rejected(args("500"), "of the samples, 500 Hz");
+  expect_rejected(args("0"), "bandwidth_hz");
+  expect_rejected(args("-5"), "bandwidth_hz");
+  const Result ok = cutdyn(args("499"));
+  EXPECT_EQ(ok.code, 0) << ok.err;
+  // teach reads its runs through the same estimator.
+  expect_rejected({"monitor", "teach", "--calib", calib, path("cut.csv"), "--bandwidth-hz", "1000",
+                   "--out", path("band.json")},
+                  "must be below the Nyquist frequency");
 }
 
 TEST_F(MonitorCli, StandardInputIsAnsweredLineByLine) {

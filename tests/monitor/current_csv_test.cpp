@@ -130,6 +130,11 @@ TEST(MonitorCsv, WritesEstimateRows) {
   std::string out;
   append_estimate_row(out, 0.001, "x", ForceEstimate{1234.56789012, 12.5, 80.0, -3.25, false});
   EXPECT_EQ(out, "0.001,x,1234.568,12.5,80,-3.25");
+  // An unknown uncertainty (the literature coefficients) leaves the field empty, never NaN
+  // or a made-up number.
+  out.clear();
+  append_estimate_row(out, 0.002, "y", ForceEstimate{-10.0, 0.0, -5.0, 0.0, false, false});
+  EXPECT_EQ(out, "0.002,y,-10,,-5,0");
 }
 
 }  // namespace

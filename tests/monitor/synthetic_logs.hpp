@@ -99,3 +99,72 @@ inline std::string to_csv(const AxisRun& run, const std::string& axis, bool with
 }
 
 }  // namespace cutdyn::testing
+
+namespace cutdyn::testing {
+
+/// A speed-controlled axis (a second-order speed loop of natural frequency `loop_hz` and
+/// damping `loop_damping`) following a reference that ramps at `accel_rad_s2` from one speed
+/// of `speeds_rad_s` to the next and holds each for `hold_s`. Unlike synthetic_run the speed
+/// lags the ramp, overshoots and rings before it settles, as a servo axis does; the currents
+/// are those of the torque balance (magnitude of J·ε + X·ω + Tnzm·sign ω, idle), with white
+/// noise as in synthetic_run.
+inline AxisRun servo_run(const AxisModel& m, const std::vector<double>& speeds_rad_s,
+                         double accel_rad_s2, double hold_s, double loop_hz, double loop_damping,
+                         double dt = 1e-3, LogNoise noise = {}, unsigned seed = 1) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  // The reference: ramps and holds.
+  std::vector<double> t_knot{0.0}, w_knot{0.0};
+  for (double s : speeds_rad_s) {
+    t_knot.push_back(t_knot.back() + std::abs(s - w_knot.back()) / accel_rad_s2);
+    w_knot.push_back(s);
+    t_knot.push_back(t_knot.back() + hold_s);
+    w_knot.push_back(s);
+  }
+  const auto reference = [&](double t) {
+    for (std::size_t i = 1; i < t_knot.size(); ++i)
+      if (t <= t_knot[i])
+        return t_knot[i] > t_knot[i - 1]
+                   ? w_knot[i - 1] + (w_knot[i] - w_knot[i - 1]) * (t - t_knot[i - 1]) /
+                                         (t_knot[i] - t_knot[i - 1])
+                   : w_knot[i];
+    return w_knot.back();
+  };
+  const double wn = units::kTwoPi * loop_hz;
+  // ω'' = ωn²(ω_ref − ω) − 2ζωn·ω', by RK4 with 20 sub-steps per sample.
+  const auto deriv = [&](double t, double w, double e, double& dw, double& de) {
+    dw = e;
+    de = wn * wn * (reference(t) - w) - 2.0 * loop_damping * wn * e;
+  };
+  AxisRun run;
+  double w = 0.0, e = 0.0, angle = 0.0;
+  const int sub = 20;
+  const double h = dt / sub;
+  const double pole_pairs = 4.0;
+  for (long long k = 0; static_cast<double>(k) * dt < t_knot.back(); ++k) {
+    const double t = static_cast<double>(k) * dt;
+    const double id = m.equivalent_current_a(0.0, w, e);
+    const double peak = m.measure == CurrentMeasure::kRms ? std::sqrt(2.0) * id : id;
+    AxisSample a;
+    a.time_s = t;
+    a.iu_a = peak * std::cos(angle) + noise.phase_current_a * gauss(rng);
+    a.iv_a = peak * std::cos(angle - units::kTwoPi / 3) + noise.phase_current_a * gauss(rng);
+    a.iw_a = peak * std::cos(angle + units::kTwoPi / 3) + noise.phase_current_a * gauss(rng);
+    a.speed_rad_s = w + noise.speed_rad_s * gauss(rng);
+    run.push_back(a);
+    for (int s = 0; s < sub; ++s) {
+      const double ts = t + s * h;
+      double k1w, k1e, k2w, k2e, k3w, k3e, k4w, k4e;
+      deriv(ts, w, e, k1w, k1e);
+      deriv(ts + h / 2, w + h / 2 * k1w, e + h / 2 * k1e, k2w, k2e);
+      deriv(ts + h / 2, w + h / 2 * k2w, e + h / 2 * k2e, k3w, k3e);
+      deriv(ts + h, w + h * k3w, e + h * k3e, k4w, k4e);
+      angle += pole_pairs * h * w;
+      w += h / 6 * (k1w + 2 * k2w + 2 * k3w + k4w);
+      e += h / 6 * (k1e + 2 * k2e + 2 * k3e + k4e);
+    }
+  }
+  return run;
+}
+
+}  // namespace cutdyn::testing

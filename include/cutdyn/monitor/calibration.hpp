@@ -48,11 +48,17 @@ struct AxisCalibration {
   AxisUncertainty sigma;
   double current_noise_a = 0.0;    // standard deviation of the equivalent current per sample
   double speed_noise_rad_s = 0.0;  // standard deviation of the measured speed per sample
+  /// False when a value comes from elsewhere with no known uncertainty (the literature
+  /// coefficients of zheng2012_calibration: another machine, units in doubt): `sigma` and the
+  /// noise are then not the whole uncertainty, and the estimates say so (ForceEstimate).
+  bool uncertainty_known = true;
 
   std::vector<std::string> validate() const;
 };
 
-/// `zheng2012_axis(axis)` with zero uncertainties and zero noise.
+/// `zheng2012_axis(axis)`: the source's coefficients, of the source's machine, with their
+/// units in doubt (models.md S3). Their uncertainty for any machine is unknown, so
+/// `uncertainty_known` is false (docs/models/monitor.md §4.3); sigma and noise are zero.
 AxisCalibration zheng2012_calibration(char axis);
 
 struct CalibrationOptions {

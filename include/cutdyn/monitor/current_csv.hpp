@@ -91,7 +91,8 @@ inline constexpr const char* kEstimateHeader =
     "time_s,axis,force_n,force_sigma_n,speed_rad_s,accel_rad_s2";
 
 /// Appends one estimate line without its line end: time as read (shortest round-trip), the
-/// rest to 7 significant digits.
+/// rest to 7 significant digits; force_sigma_n is left empty when the estimate's uncertainty
+/// is unknown (ForceEstimate::sigma_known false), never NaN.
 void append_estimate_row(std::string& out, double time_s, std::string_view axis,
                          const ForceEstimate& e);
 

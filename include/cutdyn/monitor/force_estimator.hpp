@@ -60,11 +60,14 @@ struct EstimatorOptions {
 };
 
 struct ForceEstimate {
-  double force_n = 0.0;        // Fc
-  double force_sigma_n = 0.0;  // its standard uncertainty
-  double speed_rad_s = 0.0;    // ω̂
-  double accel_rad_s2 = 0.0;   // ε̂
+  double force_n = 0.0;  // Fc
+  // Its standard uncertainty: the whole of it when `sigma_known`; otherwise only the part
+  // the calibration's noise and sigma give (0 for the literature coefficients), a lower bound.
+  double force_sigma_n = 0.0;
+  double speed_rad_s = 0.0;   // ω̂
+  double accel_rad_s2 = 0.0;  // ε̂
   bool standstill = false;
+  bool sigma_known = true;  // false: the calibration's uncertainty is unknown
 };
 
 /// The streaming estimator of one axis: no allocation per sample.
@@ -74,6 +77,9 @@ class AxisForceEstimator {
   AxisForceEstimator(const AxisCalibration& calibration, const EstimatorOptions& options = {});
 
   /// One sample; times must increase (a programming error otherwise: checked by the readers).
+  /// The first step of the axis (after construction or reset) sets the Nyquist frequency
+  /// 1/(2Δt): a bandwidth at or above it throws InvalidInput naming both (the observer cannot
+  /// follow anything faster than the samples show).
   ForceEstimate update(double time_s, double iu_a, double iv_a, double iw_a, double speed_rad_s);
   void reset();
 
@@ -87,6 +93,7 @@ class AxisForceEstimator {
   AccelerationObserver observer_;
   double last_time_ = 0.0;
   bool started_ = false;
+  bool step_checked_ = false;
   double sign_ = 1.0;
   // Per-step constants, recomputed when the step changes.
   double dt_ = -1.0;
