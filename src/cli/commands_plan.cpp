@@ -78,6 +78,14 @@ int run_plan(const PlanArgs& args, std::ostream& out, std::ostream& err) {
                      mm(r.straightness_error_m), human(units::m_to_mm(r.faceting_m), 3));
   out << fmt::format("  main time t0 {} min, removal rate {} cm³/min\n",
                      human(r.main_time_s / 60.0, 4), human(r.removal_rate_m3_per_s * 6e7, 4));
+  // [limits] with a fixed feed: the optimiser does not run (the plan is at the case's h and
+  // speeds); said, not left silent. --plot still draws the trade-off within the limits.
+  if (c.bore_limits && !plan)
+    r.warnings.push_back(
+        "[limits] not used to optimise: the axial feed is given (" +
+        std::string(args.axial_feed_mm ? "--axial-feed-mm" : "process.axial_feed_mm") +
+        "), so the plan is at the case's offset h and cutting speed; leave the feed out to "
+        "optimise");
   for (const std::string& w : r.warnings) {
     out << "  warning: " << w << "\n";
     err << "cutdyn: warning: " << where << ": " << w << "\n";

@@ -803,5 +803,19 @@ TEST_F(Cli, PlanWarnsWhenTheFeedBreaksTheAccuracy) {
                   "axial feed S0 = 250 mm: must be less than q = 199.7 mm");
 }
 
+// A fixed axial feed with [limits]: the optimiser does not run, and the plan says so.
+TEST_F(Cli, PlanSaysWhenItsLimitsAreNotUsed) {
+  const Result r = cutdyn({"plan", "--axial-feed-mm", "10", "--json", path("g.json")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("warning: [limits] not used to optimise: the axial feed is given "
+                       "(--axial-feed-mm)"),
+            std::string::npos)
+      << r.out;
+  const auto doc = nlohmann::json::parse(std::ifstream(path("g.json")));
+  EXPECT_FALSE(doc["optimised"].get<bool>());
+  EXPECT_TRUE(doc["accuracy_met"].get<bool>());  // 10 mm is below the largest feed
+  ASSERT_EQ(doc["warnings"].size(), 1u);
+}
+
 }  // namespace
 }  // namespace cutdyn::cli
