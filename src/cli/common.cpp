@@ -124,6 +124,8 @@ MillingModel milling_model(const io::Case& c, std::string_view command) {
   if (c.operation) {
     m.radial_immersion = c.operation->radial_immersion;
     m.down_milling = c.operation->down_milling;
+    m.window_entry_rad = c.operation->entry_rad;
+    m.window_exit_rad = c.operation->exit_rad;
   }
   if (const auto problems = m.validate(); !problems.empty()) throw InvalidInput(problems, c.source);
   return m;
@@ -353,7 +355,10 @@ void report_check(const io::Case& c, const CheckArgs& args, const CriticalDepth&
                   const CheckView& view, std::ostream& out) {
   const double depth = units::mm_to_m(args.depth_mm);
   const bool stable = !b.found || depth < b.depth_m;
-  const double margin = (b.depth_m - depth) / b.depth_m;
+  // Margin (critical − asked)/critical; a lower bound when no boundary lies below the search
+  // limit, undefined when the process is unstable without cutting (critical depth 0).
+  const std::optional<double> margin =
+      b.depth_m > 0.0 ? std::optional<double>((b.depth_m - depth) / b.depth_m) : std::nullopt;
   out << "cutdyn check: " << c.source << " at " << human(args.rpm) << " rpm, depth "
       << human(args.depth_mm) << " mm\n";
   out << "  " << view.description << "\n";
@@ -362,7 +367,14 @@ void report_check(const io::Case& c, const CheckArgs& args, const CriticalDepth&
   if (b.found)
     out << ", " << to_string(b.bifurcation) << " at " << human(b.chatter_hz, 5) << " Hz, lobe "
         << view.lobe;
-  out << "\n  depth margin " << human(100.0 * margin, 3) << " % of the critical depth\n";
+  if (!margin)
+    out << "\n  no depth margin: unstable at any depth\n";
+  else
+    out << "\n  depth margin " << (b.found ? "" : "more than ") << human(100.0 * *margin, 3)
+        << " % of the critical depth\n";
+  if (b.truncated)
+    out << "  warning: " << view.method
+        << " could not cover every mode at this speed; the critical depth may be wrong\n";
   for (const std::string& note : view.notes) out << "  " << note << "\n";
   if (args.json.empty()) return;
   io::OutputTransaction outputs;
@@ -370,9 +382,11 @@ void report_check(const io::Case& c, const CheckArgs& args, const CriticalDepth&
                      {"source", c.source},         {"method", view.method},
                      {"spindle_rpm", args.rpm},    {"depth_mm", args.depth_mm},
                      {"stable", stable},           {"critical_depth_mm", units::m_to_mm(b.depth_m)},
-                     {"beyond_limit", !b.found},   {"margin", margin},
+                     {"beyond_limit", !b.found},   {"margin", nullptr},
                      {"chatter_hz", b.chatter_hz}, {"bifurcation", to_string(b.bifurcation)},
                      {"lobe", view.lobe}};
+  if (margin) doc["margin"] = *margin;
+  if (b.truncated) doc["warning"] = "the method could not cover every mode at this speed";
   doc.update(view.extra);
   io::write_json(outputs.open(args.json), doc);
   outputs.commit();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "cutdyn/core/roots.hpp"
 
@@ -29,13 +30,14 @@ class Evaluator {
     return solver_.eigenvalues();
   }
 
-  // Eigenvalue nearest `target` and its eigenvector.
-  std::pair<cplx, Eigen::VectorXcd> nearest(double theta, cplx target) {
+  // Eigenvalue nearest `target` and, if asked, its eigenvector.
+  std::pair<cplx, Eigen::VectorXcd> nearest(double theta, cplx target, bool vector = true) {
     ++count_;
     f_(theta, k_);
-    solver_.compute(k_, true);
+    solver_.compute(k_, vector);
     Eigen::Index best = 0;
     solver_.eigenvalues().unaryExpr([&](cplx v) { return std::abs(v - target); }).minCoeff(&best);
+    if (!vector) return {solver_.eigenvalues()(best), {}};
     return {solver_.eigenvalues()(best), solver_.eigenvectors().col(best)};
   }
 
@@ -50,38 +52,23 @@ struct Candidate {
   double theta_a, theta_b;
   cplx lambda_a, lambda_b;
   double depth_estimate;
+  int level = 0;  // times the bracket has been scanned again (see scan_boundary)
 };
 
 }  // namespace
 
-BoundaryScanReport scan_boundary(const MatrixFunction& evaluate, const BoundaryScanOptions& o) {
-  BoundaryScanReport report;
-  Evaluator ev(evaluate, report.evaluations);
-  const double span = o.theta_max - o.theta_min;
-  const auto n = static_cast<long long>(std::max(1.0, std::ceil(span / o.theta_step)));
-  const double h = span / static_cast<double>(n);
-  // Eigenvalues that may matter at the next grid point: a margin below min_eigenvalue lets
-  // an eigenvalue that crosses the real axis just above it be followed from a sample where
-  // it was slightly smaller.
-  const double keep = 0.5 * o.min_eigenvalue;
+namespace {
 
-  std::vector<Candidate> candidates;
-  std::vector<BoundaryPoint> direct;  // real eigenvalues at the end points
-  Eigen::VectorXcd prev = ev.values(o.theta_min);
-  double prev_theta = o.theta_min;
-  auto take_real_at = [&](double theta, const Eigen::VectorXcd& values) {
-    for (Eigen::Index i = 0; i < values.size(); ++i) {
-      const cplx v = values(i);
-      if (v.real() >= o.min_eigenvalue && std::abs(v.imag()) <= 1e-9 * std::abs(v)) {
-        auto [lambda, vec] = ev.nearest(theta, v);
-        direct.push_back({theta, 1.0 / lambda.real(), lambda, vec});
-      }
-    }
-  };
-  if (o.real_at_ends) take_real_at(o.theta_min, prev);
-
+// Crossings of the positive real axis by eigenvalues followed from one sample of [θa, θb]
+// to the next (n equal steps; `first` holds the eigenvalues at θa).
+void find_candidates(Evaluator& ev, double theta_a, double theta_b, long long n,
+                     Eigen::VectorXcd first, double keep, int level,
+                     std::vector<Candidate>& candidates, Eigen::VectorXcd* last = nullptr) {
+  const double h = (theta_b - theta_a) / static_cast<double>(n);
+  Eigen::VectorXcd prev = std::move(first);
+  double prev_theta = theta_a;
   for (long long s = 1; s <= n; ++s) {
-    const double theta = s == n ? o.theta_max : o.theta_min + static_cast<double>(s) * h;
+    const double theta = s == n ? theta_b : theta_a + static_cast<double>(s) * h;
     Eigen::VectorXcd cur = ev.values(theta);
     if (prev.size() > 0 && cur.size() > 0) {
       std::vector<bool> used(static_cast<std::size_t>(cur.size()), false);
@@ -105,38 +92,92 @@ BoundaryScanReport scan_boundary(const MatrixFunction& evaluate, const BoundaryS
         const double frac = a.imag() / (a.imag() - b.imag());
         const double re = a.real() + frac * (b.real() - a.real());
         if (re < keep) continue;
-        candidates.push_back({prev_theta, theta, a, b, 1.0 / re});
+        candidates.push_back({prev_theta, theta, a, b, 1.0 / re, level});
       }
     }
     prev = std::move(cur);
     prev_theta = theta;
   }
-  if (o.real_at_ends) take_real_at(o.theta_max, prev);
+  if (last) *last = std::move(prev);
+}
+
+}  // namespace
+
+BoundaryScanReport scan_boundary(const MatrixFunction& evaluate, const BoundaryScanOptions& o) {
+  BoundaryScanReport report;
+  Evaluator ev(evaluate, report.evaluations);
+  const double span = o.theta_max - o.theta_min;
+  const auto n = static_cast<long long>(std::max(1.0, std::ceil(span / o.theta_step)));
+  // Eigenvalues that may matter at the next grid point: a margin below min_eigenvalue lets
+  // an eigenvalue that crosses the real axis just above it be followed from a sample where
+  // it was slightly smaller.
+  const double keep = 0.5 * o.min_eigenvalue;
+
+  std::vector<Candidate> candidates;
+  std::vector<BoundaryPoint> direct;  // real eigenvalues at the end points
+  auto take_real_at = [&](double theta, const Eigen::VectorXcd& values) {
+    for (Eigen::Index i = 0; i < values.size(); ++i) {
+      const cplx v = values(i);
+      if (v.real() >= o.min_eigenvalue && std::abs(v.imag()) <= 1e-9 * std::abs(v)) {
+        auto [lambda, vec] = ev.nearest(theta, v);
+        direct.push_back({theta, 1.0 / lambda.real(), lambda, vec});
+      }
+    }
+  };
+  Eigen::VectorXcd first = ev.values(o.theta_min), last;
+  if (o.real_at_ends) take_real_at(o.theta_min, first);
+  find_candidates(ev, o.theta_min, o.theta_max, n, std::move(first), keep, 0, candidates, &last);
+  if (o.real_at_ends) take_real_at(o.theta_max, last);
 
   // Refine in order of the interpolated depth; stop once an estimate exceeds the best
   // refined depth (or end-point depth) by more than refine_factor.
-  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+  const auto by_depth = [](const Candidate& a, const Candidate& b) {
     return a.depth_estimate < b.depth_estimate;
-  });
+  };
+  std::sort(candidates.begin(), candidates.end(), by_depth);
   double best = std::numeric_limits<double>::infinity();
   for (const BoundaryPoint& p : direct) best = std::min(best, p.depth);
-  for (const Candidate& c : candidates) {
+  // A crossing is real when the followed eigenvalue is real at the refined θ. Where two
+  // eigenvalues pass close to each other between samples, nearest-neighbour matching can
+  // swap them and show a sign change of the imaginary part that no eigenvalue makes; such a
+  // bracket is scanned again with kRescan finer steps (at most kLevels times), and what is
+  // still not a root is counted as unresolved.
+  constexpr long long kRescan = 16;
+  constexpr int kLevels = 3;
+  constexpr double kRealTolerance = 1e-6;
+  for (std::size_t next = 0; next < candidates.size(); ++next) {
+    const Candidate c = candidates[next];
     if (c.depth_estimate > o.refine_factor * best) break;
     // Follow the eigenvalue: at θ the one nearest the straight line from λa to λb.
     const auto follow = [&](double theta) {
       const double t = (theta - c.theta_a) / (c.theta_b - c.theta_a);
-      return ev.nearest(theta, c.lambda_a + t * (c.lambda_b - c.lambda_a)).first;
+      return ev.nearest(theta, c.lambda_a + t * (c.lambda_b - c.lambda_a), false).first;
     };
     const auto root = brent_root([&](double theta) { return follow(theta).imag(); }, c.theta_a,
                                  c.theta_b, o.theta_tol * (c.theta_b - c.theta_a), 100);
-    if (!root || !root->converged) {
-      ++report.unresolved;
+    std::optional<std::pair<cplx, Eigen::VectorXcd>> found;
+    if (root && root->converged) {
+      const double t = (root->x - c.theta_a) / (c.theta_b - c.theta_a);
+      found = ev.nearest(root->x, c.lambda_a + t * (c.lambda_b - c.lambda_a));
+      if (std::abs(found->first.imag()) > kRealTolerance * std::abs(found->first))
+        found.reset();  // a jump between two eigenvalues, not a root
+    }
+    if (!found) {
+      if (c.level >= kLevels) {
+        ++report.unresolved;
+        continue;
+      }
+      std::vector<Candidate> finer;
+      find_candidates(ev, c.theta_a, c.theta_b, kRescan, ev.values(c.theta_a), keep, c.level + 1,
+                      finer);
+      candidates.insert(candidates.end(), finer.begin(), finer.end());
+      std::sort(candidates.begin() + static_cast<std::ptrdiff_t>(next) + 1, candidates.end(),
+                by_depth);
       continue;
     }
-    const double t = (root->x - c.theta_a) / (c.theta_b - c.theta_a);
-    auto [lambda, vec] = ev.nearest(root->x, c.lambda_a + t * (c.lambda_b - c.lambda_a));
+    const cplx lambda = found->first;
     if (!(lambda.real() >= o.min_eigenvalue)) continue;
-    report.points.push_back({root->x, 1.0 / lambda.real(), lambda, vec});
+    report.points.push_back({root->x, 1.0 / lambda.real(), lambda, std::move(found->second)});
     best = std::min(best, 1.0 / lambda.real());
   }
   for (BoundaryPoint& p : direct) {

@@ -43,14 +43,15 @@ LobesReport trace_lobes(const std::function<LobePoint(double)>& at_speed, const 
         report.points[static_cast<std::size_t>(i)] = at_speed(speeds[static_cast<std::size_t>(i)]);
       },
       progress);
-  std::string unresolved;
-  int unresolved_count = 0;
+  std::string unresolved, truncated;
+  int unresolved_count = 0, truncated_count = 0;
+  const auto list = [](std::string& text, int& count, double rpm) {
+    if (++count <= 10) text += (text.empty() ? "" : ", ") + format_value(rpm);
+  };
   for (const LobePoint& p : report.points) {
     report.evaluations += p.boundary.evaluations;
-    if (p.boundary.unresolved > 0) {
-      if (++unresolved_count <= 10)
-        unresolved += (unresolved.empty() ? "" : ", ") + format_value(p.rpm);
-    }
+    if (p.boundary.unresolved > 0) list(unresolved, unresolved_count, p.rpm);
+    if (p.boundary.truncated) list(truncated, truncated_count, p.rpm);
   }
   if (unresolved_count > 0) {
     report.status = LobesStatus::kUnresolvedCrossings;
@@ -58,6 +59,13 @@ LobesReport trace_lobes(const std::function<LobePoint(double)>& at_speed, const 
                      " speed(s) with a boundary candidate that could not be resolved (the "
                      "critical depth there may be too large): " +
                      unresolved + (unresolved_count > 10 ? ", ..." : "") + " rpm";
+  }
+  if (truncated_count > 0) {
+    if (report.status == LobesStatus::kSuccess) report.status = LobesStatus::kTruncated;
+    report.message += (report.message.empty() ? "" : "; ") + std::to_string(truncated_count) +
+                      " speed(s) where the method could not cover every mode (the critical "
+                      "depth there may be wrong; use the full discretization): " +
+                      truncated + (truncated_count > 10 ? ", ..." : "") + " rpm";
   }
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;

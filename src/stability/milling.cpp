@@ -74,6 +74,14 @@ std::vector<std::string> MillingModel::validate() const {
   v.require(teeth >= 1 && teeth <= 200, "teeth", teeth, "", "must be 1 to 200");
   v.require(radial_immersion > 0.0 && radial_immersion <= 1.0, "radial_immersion", radial_immersion,
             "", "must be greater than 0 and at most 1");
+  if (window_entry_rad.has_value() != window_exit_rad.has_value()) {
+    v.add("window_entry_rad, window_exit_rad: give both or neither");
+  } else if (window_entry_rad) {
+    v.require(*window_entry_rad >= 0.0 && *window_entry_rad < kPi, "window_entry_rad",
+              *window_entry_rad, "rad", "must be at least 0 and less than π");
+    v.require(*window_exit_rad > *window_entry_rad && *window_exit_rad <= kPi, "window_exit_rad",
+              *window_exit_rad, "rad", "must be greater than window_entry_rad and at most π");
+  }
   v.require(helix_rad >= 0.0 && helix_rad < 0.5 * kPi, "helix_rad", helix_rad, "rad",
             "must be at least 0 and less than π/2");
   if (helix_rad > 0.0) v.require_positive("diameter_m", diameter_m, "m (needed with a helix)");
@@ -94,11 +102,17 @@ std::vector<std::string> MillingModel::validate() const {
 }
 
 double MillingModel::entry_angle() const {
+  if (window_entry_rad && window_exit_rad) return *window_entry_rad;
   return down_milling ? std::acos(2.0 * radial_immersion - 1.0) : 0.0;
 }
 
 double MillingModel::exit_angle() const {
+  if (window_entry_rad && window_exit_rad) return *window_exit_rad;
   return down_milling ? kPi : std::acos(1.0 - 2.0 * radial_immersion);
+}
+
+double MillingModel::engaged_immersion() const {
+  return 0.5 * (std::cos(entry_angle()) - std::cos(exit_angle()));
 }
 
 namespace {
@@ -224,12 +238,26 @@ DelayedSystem milling_system(const MillingModel& model, double rpm, double depth
 std::vector<std::string> MillingStabilityOptions::validate() const {
   Validator v;
   v.require_positive("depth_max_m", depth_max_m, "m");
-  v.require(harmonics >= 0 && harmonics <= 50, "harmonics", harmonics, "", "must be 0 to 50");
+  v.require(harmonics >= 0 && harmonics <= 100, "harmonics", harmonics, "", "must be 0 to 100");
   v.require(rel_tol >= 1e-12 && rel_tol <= 0.1, "rel_tol", rel_tol, "", "must be 1e-12 to 0.1");
   v.require(coarse_steps >= 1 && coarse_steps <= 10000, "coarse_steps", coarse_steps, "",
             "must be 1 to 10000");
   v.merge(fd.validate());
   return v.problems();
+}
+
+MillingStabilityOptions extend_search(const MillingStabilityOptions& o, double depth_m) {
+  if (!(depth_m > o.depth_max_m)) return o;
+  Validator v;
+  v.require(depth_m <= kMaxSearchExtension * o.depth_max_m, "depth", depth_m, "m",
+            "must be at most " + format_value(kMaxSearchExtension) + " times the search limit " +
+                format_value(o.depth_max_m) + " m (raise the depth limit)");
+  v.throw_if_any("stability search");
+  MillingStabilityOptions out = o;
+  const double step = o.depth_max_m / o.coarse_steps;
+  out.coarse_steps = static_cast<int>(std::ceil(depth_m / step - 1e-9));
+  out.depth_max_m = out.coarse_steps * step;
+  return out;
 }
 
 MillingBoundary milling_critical_depth(const MillingModel& model, double rpm,
@@ -247,9 +275,13 @@ MillingBoundary milling_critical_depth(const MillingModel& model, double rpm,
     case MillingMethod::kMultiFrequency: {
       MultiFrequencyOptions mf;
       mf.harmonics = o.method == MillingMethod::kZeroOrder ? 0 : o.harmonics;
+      mf.exact_harmonics = o.exact_harmonics;
       // Uneven pitch: H has the period of a revolution, so the same resolution in frequency
       // needs z harmonics of the spindle frequency per harmonic of the tooth frequency.
-      if (!model.even_pitch()) mf.harmonics = std::min(50, mf.harmonics * model.teeth);
+      if (!model.even_pitch()) {
+        mf.harmonics *= model.teeth;
+        mf.max_harmonics = std::max(mf.max_harmonics, mf.harmonics);
+      }
       mf.depth_max_m = o.depth_max_m;
       if (!helical || mf.harmonics == 0) {
         out.boundary = multi_frequency_critical_depth(system_at(0.0), mf);
@@ -266,6 +298,7 @@ MillingBoundary milling_critical_depth(const MillingModel& model, double rpm,
             multi_frequency_critical_depth(system_at(out.boundary.depth_m), mf);
         out.boundary.chatter_hz = at.chatter_hz;
         out.boundary.bifurcation = at.bifurcation;
+        out.boundary.truncated = at.truncated;
       }
       break;
     }

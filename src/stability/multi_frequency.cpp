@@ -37,9 +37,69 @@ double response_limit_rad_s(const DelayedSystem& system, double coefficient_norm
   return w;
 }
 
+double response_band_rad_s(const DelayedSystem& system) {
+  // A mode's response |1/(1 − ρ² + 2iζρ)| (ρ = ω/ωn) falls to kFraction of its resonance
+  // peak 1/(2ζ) at ρ² ≈ 1 + 2ζ/kFraction; a window that reaches there for every mode
+  // truncates the response by at most that fraction (the critical depth by about 0.1 %:
+  // docs/models/milling-stability.md).
+  constexpr double kFraction = 0.05;
+  const Eigen::VectorXcd poles = system.A0.eigenvalues();
+  double band = 0.0;
+  for (Eigen::Index i = 0; i < poles.size(); ++i) {
+    const double wn = std::abs(poles(i));
+    const double zeta = wn > 0.0 ? -poles(i).real() / wn : 1.0;
+    band = std::max(band, wn * std::sqrt(1.0 + 2.0 * zeta / kFraction));
+  }
+  return band;
+}
+
+namespace {
+
+// The shortest stretch of the period between two jumps of any term's coefficient, as a
+// fraction of the period (t = 0 counted as a jump: conservative); 1 when nothing jumps.
+double shortest_segment_fraction(const DelayedSystem& system) {
+  const double T = system.H.period_s;
+  std::vector<double> b;
+  for (const DelayTerm& term : system.delay_terms())
+    b.insert(b.end(), term.H.breakpoints_s.begin(), term.H.breakpoints_s.end());
+  if (b.empty()) return 1.0;
+  b.push_back(0.0);
+  b.push_back(T);
+  std::sort(b.begin(), b.end());
+  double shortest = 1.0;
+  for (std::size_t i = 0; i + 1 < b.size(); ++i) {
+    const double length = (b[i + 1] - b[i]) / T;
+    if (length > 1e-9) shortest = std::min(shortest, length);  // coinciding jumps: one
+  }
+  return shortest;
+}
+
+}  // namespace
+
+int multi_frequency_harmonics(const DelayedSystem& system, const MultiFrequencyOptions& o,
+                              bool* truncated) {
+  if (truncated) *truncated = false;
+  if (system.H.constant || o.harmonics == 0) return 0;
+  if (o.exact_harmonics) return o.harmonics;
+  const double Omega = kTwoPi / system.H.period_s;
+  // Reach the response band, and resolve the shortest contact pulse or gap of H(t) (a narrow
+  // pulse at low radial immersion has slowly decaying Fourier coefficients): 1.5 harmonics
+  // per pulse length keep the depth within about 0.2 % (docs/models/milling-stability.md).
+  constexpr double kHarmonicsPerPulse = 1.5;
+  const double needed = std::max(std::ceil(response_band_rad_s(system) / Omega),
+                                 std::ceil(kHarmonicsPerPulse / shortest_segment_fraction(system)));
+  if (needed > o.max_harmonics) {
+    if (truncated) *truncated = true;
+    return std::max(o.harmonics, o.max_harmonics);
+  }
+  return std::max(o.harmonics, static_cast<int>(needed));
+}
+
 std::vector<std::string> MultiFrequencyOptions::validate() const {
   Validator v;
-  v.require(harmonics >= 0 && harmonics <= 50, "harmonics", harmonics, "", "must be 0 to 50");
+  v.require(harmonics >= 0 && harmonics <= 500, "harmonics", harmonics, "", "must be 0 to 500");
+  v.require(max_harmonics >= 1 && max_harmonics <= 500, "max_harmonics", max_harmonics, "",
+            "must be 1 to 500");
   v.require_positive("depth_max_m", depth_max_m, "m");
   v.require(samples_per_turn >= 4.0 && samples_per_turn <= 1000.0, "samples_per_turn",
             samples_per_turn, "", "must be 4 to 1000");
@@ -53,81 +113,150 @@ void require_valid(const DelayedSystem& system, const std::vector<std::string>& 
   v.throw_if_any("stability analysis");
 }
 
+namespace {
+
+// K(ω) over the harmonic window p = lo..hi (see the header), built in place.
+class HillMatrix {
+ public:
+  HillMatrix(const DelayedSystem& system, int max_index, bool periodic)
+      : system_(system),
+        terms_(system.delay_terms()),
+        omega_(periodic ? kTwoPi / system.H.period_s : 0.0),
+        r_(system.outputs()),
+        max_index_(max_index) {
+    // Fourier coefficients H_k(m), m = −max_index..max_index, of every term.
+    for (const DelayTerm& t : terms_) {
+      std::vector<Eigen::MatrixXcd> hk;
+      for (int m = -max_index; m <= max_index; ++m) {
+        hk.push_back(t.H.fourier(m));
+        if (periodic || m == 0) norm_ += hk.back().norm();
+      }
+      h_.push_back(std::move(hk));
+    }
+  }
+
+  double coefficient_norm() const { return norm_; }
+
+  void build(double w, int lo, int hi, Eigen::MatrixXcd& K) {
+    const int n = hi - lo + 1;
+    G_.resize(static_cast<std::size_t>(n));
+    regen_.assign(terms_.size(), std::vector<cplx>(static_cast<std::size_t>(n)));
+    for (int p = lo; p <= hi; ++p) {
+      const double wp = w + p * omega_;
+      const auto i = static_cast<std::size_t>(p - lo);
+      G_[i] = system_.frequency_response(wp);
+      for (std::size_t k = 0; k < terms_.size(); ++k)
+        regen_[k][i] = std::exp(cplx(0.0, -wp * terms_[k].delay_s)) - 1.0;
+    }
+    K.resize(r_ * n, r_ * n);
+    Eigen::MatrixXcd sum(r_, r_);
+    for (int p = lo; p <= hi; ++p) {
+      for (int q = lo; q <= hi; ++q) {
+        sum.setZero();
+        for (std::size_t k = 0; k < terms_.size(); ++k)
+          sum += h_[k][static_cast<std::size_t>(p - q + max_index_)] *
+                 regen_[k][static_cast<std::size_t>(q - lo)];
+        K.block((p - lo) * r_, (q - lo) * r_, r_, r_) = G_[static_cast<std::size_t>(p - lo)] * sum;
+      }
+    }
+  }
+
+ private:
+  const DelayedSystem& system_;
+  std::vector<DelayTerm> terms_;
+  double omega_;
+  int r_;
+  int max_index_;
+  double norm_ = 0.0;
+  std::vector<std::vector<Eigen::MatrixXcd>> h_;
+  std::vector<Eigen::MatrixXcd> G_;
+  std::vector<std::vector<cplx>> regen_;
+};
+
+// Real eigenvalues λ >= min_eigenvalue of K: boundary points at the scan's ends, where K is
+// similar to its complex conjugate (real eigenvalues are real up to rounding).
+void real_boundary_points(const Eigen::MatrixXcd& K, double theta, double min_eigenvalue,
+                          std::vector<BoundaryPoint>& points, long long& evaluations) {
+  ++evaluations;
+  Eigen::ComplexEigenSolver<Eigen::MatrixXcd> solver(K, true);
+  const Eigen::VectorXcd& values = solver.eigenvalues();
+  for (Eigen::Index i = 0; i < values.size(); ++i) {
+    const cplx v = values(i);
+    if (v.real() >= min_eigenvalue && std::abs(v.imag()) <= 1e-7 * std::abs(v))
+      points.push_back({theta, 1.0 / v.real(), v, solver.eigenvectors().col(i)});
+  }
+}
+
+}  // namespace
+
 CriticalDepth multi_frequency_critical_depth(const DelayedSystem& system,
                                              const MultiFrequencyOptions& o) {
   require_valid(system, o.validate());
   const int r = system.outputs();
-  const bool periodic = !system.H.constant && o.harmonics > 0;
-  const int P = periodic ? o.harmonics : 0;
-  const int size = r * (2 * P + 1);
+  bool truncated = false;
+  const int P = multi_frequency_harmonics(system, o, &truncated);
+  const bool periodic = P > 0;
   const double Omega = periodic ? kTwoPi / system.H.period_s : 0.0;
-  // One or more regenerative terms Σk Hk(t)·(x(t − τk) − x(t)).
-  const std::vector<DelayTerm> terms = system.delay_terms();
-  const auto n_terms = terms.size();
   double tau = 0.0;  // the longest delay sets the sampling
-  for (const DelayTerm& t : terms) tau = std::max(tau, t.delay_s);
+  for (const DelayTerm& t : system.delay_terms()) tau = std::max(tau, t.delay_s);
 
-  // Fourier coefficients Hk(m), m = −2P..2P, of every term.
-  std::vector<std::vector<Eigen::MatrixXcd>> Hk(n_terms);
-  double h_norm = 0.0;
-  for (std::size_t k = 0; k < n_terms; ++k) {
-    for (int m = -2 * P; m <= 2 * P; ++m) {
-      Hk[k].push_back(terms[k].H.fourier(m));
-      if (periodic) h_norm += Hk[k].back().norm();
-    }
-    if (!periodic) h_norm += Hk[k][0].norm();
-  }
-
-  const double w_limit = response_limit_rad_s(system, h_norm, o.depth_max_m);
+  // The scan's window is p = −P−1..P (symmetric about zero frequency at ω = Ω/2); the end
+  // point ω = 0 is symmetric with p = −P..P.
+  const int lo = periodic ? -P - 1 : 0, hi = P;
+  HillMatrix hill(system, periodic ? 2 * P + 1 : 0, periodic);
+  const double w_limit = response_limit_rad_s(system, hill.coefficient_norm(), o.depth_max_m);
+  // Beyond w_limit every harmonic ω + pΩ of a base ω in [w_limit, Ω/2] is too, so no
+  // eigenvalue can reach the depth limit there.
   const double w_max = periodic ? std::min(0.5 * Omega, w_limit) : w_limit;
   const double step =
       std::min(kTwoPi / (o.samples_per_turn * tau), 0.25 * sharpest_half_bandwidth(system));
 
-  std::vector<Eigen::MatrixXcd> G(static_cast<std::size_t>(2 * P + 1));
-  std::vector<std::vector<cplx>> regen(n_terms, std::vector<cplx>(2 * P + 1));
-  Eigen::MatrixXcd sum(r, r);
   const double min_eigenvalue = 1.0 / o.depth_max_m;
   const MatrixFunction evaluate = [&](double w, Eigen::MatrixXcd& K) {
-    for (int p = -P; p <= P; ++p) {
-      const double wp = w + p * Omega;
-      G[static_cast<std::size_t>(p + P)] = system.frequency_response(wp);
-      for (std::size_t k = 0; k < n_terms; ++k)
-        regen[k][static_cast<std::size_t>(p + P)] =
-            std::exp(cplx(0.0, -wp * terms[k].delay_s)) - 1.0;
-    }
-    K.resize(size, size);
-    for (int p = -P; p <= P; ++p) {
-      for (int q = -P; q <= P; ++q) {
-        sum.setZero();
-        for (std::size_t k = 0; k < n_terms; ++k)
-          sum += Hk[k][static_cast<std::size_t>(p - q + 2 * P)] *
-                 regen[k][static_cast<std::size_t>(q + P)];
-        K.block((p + P) * r, (q + P) * r, r, r) = G[static_cast<std::size_t>(p + P)] * sum;
-      }
-    }
+    hill.build(w, lo, hi, K);
     return K.norm() >= 0.5 * min_eigenvalue;  // as the scan's own margin
   };
-
   BoundaryScanOptions scan;
   scan.theta_min = 0.0;
   scan.theta_max = w_max;
   scan.theta_step = step;
   scan.min_eigenvalue = min_eigenvalue;
-  const BoundaryScanReport report = scan_boundary(evaluate, scan);
-  CriticalDepth result = critical_depth_from_scan(report, o.depth_max_m);
-  if (!result.found) return result;
-  result.bifurcation = Bifurcation::kHopf;
-  const BoundaryPoint& best = report.points.front();
-  // The chatter frequency is the harmonic that carries most of the vibration.
-  // The eigenvector holds the displacement harmonics Yp: take the largest.
-  Eigen::Index dominant = P;
-  if (P > 0) {
-    Eigen::VectorXd weight(2 * P + 1);
-    for (int p = 0; p < 2 * P + 1; ++p) weight(p) = best.eigenvector.segment(p * r, r).norm();
-    weight.maxCoeff(&dominant);
+  BoundaryScanReport report = scan_boundary(evaluate, scan);
+  if (periodic) {
+    // Flip (ω = Ω/2) and fold (ω = 0) boundaries: real eigenvalues at the ends.
+    Eigen::MatrixXcd K;
+    if (0.5 * Omega <= w_limit) {
+      hill.build(0.5 * Omega, lo, hi, K);
+      real_boundary_points(K, 0.5 * Omega, min_eigenvalue, report.points, report.evaluations);
+    }
+    hill.build(0.0, -P, P, K);
+    if (K.norm() >= min_eigenvalue)
+      real_boundary_points(K, 0.0, min_eigenvalue, report.points, report.evaluations);
+    std::sort(report.points.begin(), report.points.end(),
+              [](const BoundaryPoint& a, const BoundaryPoint& b) { return a.depth < b.depth; });
   }
-  result.chatter_hz =
-      std::abs(units::rad_per_s_to_hz(best.theta + static_cast<double>(dominant - P) * Omega));
+  CriticalDepth result = critical_depth_from_scan(report, o.depth_max_m);
+  result.truncated = truncated;
+  if (!result.found) return result;
+  const BoundaryPoint& best = report.points.front();
+  result.bifurcation =
+      periodic ? classify_multiplier(best.theta * system.H.period_s) : Bifurcation::kHopf;
+  // The chatter frequency is the harmonic that carries most of the vibration: the
+  // eigenvector holds the displacement harmonics Yp.
+  int dominant = 0;
+  if (periodic) {
+    const int first = best.theta == 0.0 ? -P : lo;
+    const auto count = best.eigenvector.size() / r;
+    double largest = -1.0;
+    for (Eigen::Index i = 0; i < count; ++i) {
+      const double weight = best.eigenvector.segment(i * r, r).norm();
+      if (weight > largest) {
+        largest = weight;
+        dominant = first + static_cast<int>(i);
+      }
+    }
+  }
+  result.chatter_hz = std::abs(units::rad_per_s_to_hz(best.theta + dominant * Omega));
   return result;
 }
 

@@ -85,7 +85,7 @@ const char* to_string(TurningMethod method) {
 std::vector<std::string> TurningStabilityOptions::validate() const {
   Validator v;
   v.require_positive("depth_max_m", depth_max_m, "m");
-  v.require(harmonics >= 0 && harmonics <= 50, "harmonics", harmonics, "", "must be 0 to 50");
+  v.require(harmonics >= 0 && harmonics <= 100, "harmonics", harmonics, "", "must be 0 to 100");
   for (const std::string& p : fd.validate()) v.add("fd." + p);
   return v.problems();
 }

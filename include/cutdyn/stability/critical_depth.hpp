@@ -27,6 +27,10 @@ struct CriticalDepth {
   /// Boundary candidates the method could not resolve (see BoundaryScanReport); when
   /// non-zero the depth may be too large. Reported by the lobe tracer as a warning.
   int unresolved = 0;
+  /// The method's approximation could not be made to cover this case (e.g. the
+  /// multi-frequency window could not reach every mode's frequency): the depth may be wrong.
+  /// Reported by the lobe tracer as a warning.
+  bool truncated = false;
 };
 
 }  // namespace cutdyn

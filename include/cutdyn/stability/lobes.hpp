@@ -32,6 +32,9 @@ enum class LobesStatus {
   /// At some speeds a boundary candidate could not be resolved (CriticalDepth::unresolved);
   /// those depths may be too large. `message` lists the speeds.
   kUnresolvedCrossings,
+  /// At some speeds the method's approximation could not cover the case
+  /// (CriticalDepth::truncated); `message` lists the speeds (and any unresolved ones).
+  kTruncated,
 };
 
 struct LobesReport {

@@ -9,6 +9,7 @@
 // neutral description has H(t) = −(Kt/2)·A(t), period and delay τ = 60/(n·z).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,10 @@ struct MillingModel {
   int teeth = 2;                  // z
   double radial_immersion = 1.0;  // a_e / D, 0 < . <= 1
   bool down_milling = true;
+  /// The engagement window given directly (rad, 0 <= entry < exit <= π): when both are set
+  /// they replace radial_immersion and down_milling, which then play no part.
+  std::optional<double> window_entry_rad;
+  std::optional<double> window_exit_rad;
   double diameter_m = 0.0;  // D, needed with a helix
   double helix_rad = 0.0;   // β, 0 <= β < π/2
   /// Uneven pitch: z angles, pitch_rad[j] the angle by which tooth j trails tooth j − 1 (tooth
@@ -39,10 +44,12 @@ struct MillingModel {
   double lag_angle(double depth_m) const;
   /// Axial slices at depth a: lag of at most 0.5° each (1 for straight teeth).
   int slices(double depth_m) const;
-  /// Entry and exit angles (rad) of a tooth: down-milling [acos(2a_e/D − 1), π],
-  /// up-milling [0, acos(1 − 2a_e/D)].
+  /// Entry and exit angles (rad) of a tooth: the given window, else down-milling
+  /// [acos(2a_e/D − 1), π], up-milling [0, acos(1 − 2a_e/D)].
   double entry_angle() const;
   double exit_angle() const;
+  /// The radial width of the window as a fraction of D, (cos φst − cos φex)/2: a_e/D.
+  double engaged_immersion() const;
 };
 
 /// The neutral description at spindle speed `rpm` and depth `depth_m`: x = the modal states of
@@ -64,8 +71,12 @@ enum class MillingMethod {
 struct MillingStabilityOptions {
   MillingMethod method = MillingMethod::kFullDiscretization;
   double depth_max_m = 1e-3;
-  int harmonics = 5;  // of the tooth-passing frequency (uneven pitch: z× as many of the spindle's)
-  FdOptions fd;       // depth_max_m is taken from above
+  /// Multi-frequency: at least this many harmonics of the tooth-passing frequency (uneven
+  /// pitch: z× as many of the spindle's), raised until the window covers every mode
+  /// (multi_frequency_harmonics) unless `exact_harmonics`.
+  int harmonics = 5;
+  bool exact_harmonics = false;
+  FdOptions fd;           // depth_max_m is taken from above
   double rel_tol = 1e-3;  // critical depth, full discretization and helix iterations
   int coarse_steps = 16;  // depth scan before Brent's method (unstable islands)
 
@@ -83,6 +94,14 @@ struct MillingBoundary {
 /// method through the margin a − w_crit(H(a)) (coarse scan, then Brent).
 MillingBoundary milling_critical_depth(const MillingModel& model, double rpm,
                                        const MillingStabilityOptions& options);
+
+/// The same search carried on to at least `depth_m`, with the same coarse depth step
+/// (depth_max_m / coarse_steps): the first unstable depth is found on the same grid points, so
+/// the critical depth at a speed does not depend on how far the search goes (`cutdyn check`
+/// at any depth agrees with the lobes). Throws cutdyn::InvalidInput (where = "stability
+/// search") when that would take more than kMaxSearchExtension × depth_max_m.
+inline constexpr double kMaxSearchExtension = 64.0;
+MillingStabilityOptions extend_search(const MillingStabilityOptions& options, double depth_m);
 
 /// Altintas' directional matrix per tooth in cut, per unit Kt·a/2, at angle φ (Kr = kr/kt).
 Eigen::Matrix2d milling_directional_matrix(double phi, double kr_ratio);
