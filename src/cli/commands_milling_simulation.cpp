@@ -150,6 +150,12 @@ namespace {
 
 std::string um(double m) { return human(m_to_um(m), 4); }
 
+// "chatter…" → "CHATTER…": the verdict stands out in the text report.
+std::string shout(std::string verdict) {
+  if (verdict.rfind("chatter", 0) == 0) verdict.replace(0, 7, "CHATTER");
+  return verdict;
+}
+
 // ---- sweeps ------------------------------------------------------------------------------
 
 const std::vector<std::string>& metric_names() {
@@ -208,7 +214,9 @@ int run_sweep(const SimulateArgs& args, const io::Case& c, std::ostream& out, st
     out << fmt::format("  {:>14}  {:>16}  {:>12}  {:>10}  {}\n", human(sweep.values[i]),
                        std::isnan(m[column]) ? "–" : human(m[column], 4),
                        human(results[i].mean_force_n, 4), human(results[i].mean_teeth_in_cut, 4),
-                       results[i].chatter ? "yes" : "no");
+                       results[i].status == SimulationStatus::kRunaway
+                           ? "yes (runaway)"
+                           : (results[i].chatter ? "yes" : "no"));
   }
 
   io::OutputTransaction outputs;
@@ -232,7 +240,9 @@ int run_sweep(const SimulateArgs& args, const io::Case& c, std::ostream& out, st
   if (!args.outputs.json.empty()) {
     json points = json::array();
     for (std::size_t i = 0; i < results.size(); ++i) {
-      json p{{"value", sweep.values[i]}, {"chatter", results[i].chatter}};
+      json p{{"value", sweep.values[i]},
+             {"chatter", results[i].chatter},
+             {"status", to_string(results[i].status)}};
       const auto m = metrics(results[i]);
       for (std::size_t k = 0; k < names.size(); ++k)
         p[names[k]] = std::isnan(m[k]) ? json() : json(m[k]);
@@ -277,9 +287,15 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
   if (!s1 && s.cut.regenerative && !s.cut.modal.modes.empty() && !c.operation->entry_rad) {
     MillingModel m = milling_model(c, "simulate");
     MillingStabilityOptions so;
-    so.depth_max_m = std::max(c.lobes.depth_max_m, 4.0 * s.cut.width_m);
+    so.depth_max_m = c.lobes.depth_max_m;
     so.rel_tol = 1e-3;
     predicted = milling_critical_depth(m, s.rpm, so);
+    // Beyond the case's limit, search up to 4× the depth (not from the start: the coarse scan
+    // over a wide range can step over a low boundary).
+    if (!predicted->boundary.found && 4.0 * s.cut.width_m > so.depth_max_m) {
+      so.depth_max_m = 4.0 * s.cut.width_m;
+      predicted = milling_critical_depth(m, s.rpm, so);
+    }
   }
 
   out << "cutdyn simulate: " << c.source << " at " << human(s.rpm) << " rpm, depth "
@@ -295,7 +311,12 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
                         s.options.closed_form_helix ? "" : std::to_string(r.slices))
           : "",
       s.cut.regenerative ? "regenerative chip" : "chip from the feed alone");
-  out << fmt::format("  over the last {} revolutions:\n", human(s.options.summary_revolutions));
+  if (r.status == SimulationStatus::kRunaway)
+    out << fmt::format(
+        "  runaway growth: stopped at t = {} s (of {} s); over the revolutions before:\n",
+        human(r.stop_time_s, 4), human(s.options.revolutions * 60.0 / s.rpm, 4));
+  else
+    out << fmt::format("  over the last {} revolutions:\n", human(s.options.summary_revolutions));
   out << fmt::format("    force pulsation ΔP      {} %\n", human(100.0 * r.force_pulsation, 3));
   out << fmt::format("    force |F|               mean {} N, min {} N, peak {} N\n",
                      human(r.mean_force_n), human(r.min_force_n), human(r.peak_force_n));
@@ -307,9 +328,9 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
                      um(r.vibration_pp_y_m));
   if (r.surface_location_error_m)
     out << fmt::format("    surface location error  {} µm\n", um(*r.surface_location_error_m));
-  out << fmt::format("    chatter indicator       {} (growth {:+.3g} per period) → {}\n",
-                     human(r.chatter_indicator, 3), r.growth_per_period,
-                     r.chatter ? "CHATTER" : "stable");
+  out << fmt::format("    chatter indicator       {}\n", human(r.chatter_indicator, 3));
+  out << fmt::format("    perturbation growth     {:+.3g} per period ({:+.3g} 1/s) → {}\n",
+                     r.growth_per_period, r.growth_rate_per_s, shout(r.verdict()));
   if (predicted) {
     out << "    predicted critical depth " << depth_text(predicted->boundary) << " → depth is "
         << human(100.0 * s.cut.width_m / predicted->boundary.depth_m, 3) << " % of it\n";
@@ -335,6 +356,10 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
                  {"vibration_pp_y_um", m_to_um(r.vibration_pp_y_m)},
                  {"chatter_indicator", r.chatter_indicator},
                  {"growth_per_period", r.growth_per_period},
+                 {"growth_rate_per_s", r.growth_rate_per_s},
+                 {"status", to_string(r.status)},
+                 {"stop_time_s", r.stop_time_s},
+                 {"verdict", r.verdict()},
                  {"contact_loss", r.contact_loss},
                  {"chatter", r.chatter},
                  {"surface_location_error_um",

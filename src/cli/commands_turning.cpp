@@ -255,6 +255,8 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
         s.revolution_amplitude_m.size(),
         s.lost_contact ? fmt::format("; tool left the cut at {:.3f} s", s.contact_loss_time_s)
                        : "");
+    if (s.status == SimulationStatus::kRunaway)
+      out << "  " << std::string(20, ' ') << "CHATTER" << s.verdict().substr(7) << "\n";
     out << "  " << std::string(20, ' ') << "predicted critical depth "
         << depth_text(r.predicted.boundary) << " → depth is "
         << human(100.0 * o.depth_m / r.predicted.boundary.depth_m, 3) << " % of it\n";
@@ -273,6 +275,10 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
     json results = json::array();
     for (const Run& r : runs) {
       const auto& s = r.result;
+      // (none when a runaway stopped the run within its first revolution)
+      const auto& a = s.revolution_amplitude_m;
+      const json first = a.empty() ? json() : json(units::m_to_um(a.front()));
+      const json last = a.empty() ? json() : json(units::m_to_um(a.back()));
       results.push_back(
           {{"process", r.name},
            {"chatter", s.chatter},
@@ -281,8 +287,11 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
            {"contact_loss_time_s", s.contact_loss_time_s},
            {"duty_cycle", s.duty_cycle},
            {"static_deflection_um", units::m_to_um(s.static_deflection_m)},
-           {"first_revolution_amplitude_um", units::m_to_um(s.revolution_amplitude_m.front())},
-           {"last_revolution_amplitude_um", units::m_to_um(s.revolution_amplitude_m.back())},
+           {"verdict", s.verdict()},
+           {"status", to_string(s.status)},
+           {"stop_time_s", s.stop_time_s},
+           {"first_revolution_amplitude_um", first},
+           {"last_revolution_amplitude_um", last},
            {"predicted_critical_depth_mm", m_to_mm(r.predicted.boundary.depth_m)},
            {"step_s", s.step_s},
            {"steps", s.steps}});

@@ -125,6 +125,8 @@ std::vector<std::string> MillingSimulationOptions::validate() const {
   v.require(slices >= 0 && slices <= 10000, "slices", slices, "", "must be 0 (automatic) to 10000");
   v.require(max_recorded_samples >= 2, "max_recorded_samples", max_recorded_samples, "",
             "must be at least 2");
+  v.require(perturbation >= 0.0 && perturbation <= 1.0, "perturbation", perturbation,
+            "(of the feed per tooth)", "must be 0 to 1");
   return v.problems();
 }
 
@@ -196,34 +198,53 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
 
   // sin θ, cos θ and the window of every slice at every bin of its tooth's tip (θ ≡ bin·Δθ −
   // lag_j): tabulated once, bin-major (the slices of one bin together), so that a slice
-  // evaluation needs no trigonometry.
+  // evaluation needs no trigonometry. The force is linear between nodes (first-order hold);
+  // a node's force counts, for the step it ends and the step it starts, with the fraction of
+  // that step inside the window (the window's exact mean over the step, as in the full
+  // discretization [Ding2010]). `in` (strictly inside at the node) gives the reported force.
   struct Angle {
     double s, c;
-    bool in;
+    double g_end, g_start;
+    bool in, active;
+  };
+  const auto window_fraction = [&](double from) {  // of [from, from + Δθ]
+    const double a = wrap(from);
+    const auto overlap = [&](double lo, double hi) {
+      return std::max(0.0, std::min(a + dtheta, hi) - std::max(a, lo));
+    };
+    const double g = (overlap(cut.entry_rad, cut.exit_rad) +
+                      overlap(cut.entry_rad + kTwoPi, cut.exit_rad + kTwoPi)) /
+                     dtheta;
+    return g > 1.0 - 1e-9 ? 1.0 : (g < 1e-9 ? 0.0 : g);
   };
   std::vector<Angle> angles(static_cast<std::size_t>(n_slices * bins));
   for (int j = 0; j < n_slices; ++j) {
     for (long long b = 0; b < bins; ++b) {
       const double theta = static_cast<double>(b) * dtheta - slice_lag[static_cast<std::size_t>(j)];
+      const double g_end = window_fraction(theta - dtheta), g_start = window_fraction(theta);
       angles[static_cast<std::size_t>(b * n_slices + j)] = {
-          std::sin(theta), std::cos(theta), in_window(theta, cut.entry_rad, cut.exit_rad)};
+          std::sin(theta),
+          std::cos(theta),
+          g_end,
+          g_start,
+          in_window(theta, cut.entry_rad, cut.exit_rad),
+          g_end > 0.0 || g_start > 0.0};
     }
   }
 
   // Structure.
   const bool rigid = cut.modal.modes.empty();
   std::optional<ModalStepper> stepper;
-  Eigen::VectorXd state, force_vector = Eigen::VectorXd::Zero(2);
+  Eigen::MatrixXd c_gamma_end;  // C·Γ1
   if (!rigid) {
     stepper.emplace(cut.modal, std::vector<Direction>{Direction::kX, Direction::kY}, dt);
-    state = Eigen::VectorXd::Zero(stepper->states());
+    c_gamma_end = stepper->output_matrix() * stepper->gamma_end();
   }
 
   // Surfaces, per slice and bin: the feed position plus displacement along the bin's normal
-  // when a tooth last cut there. Before t = 0 the cut is steady and rigid: tooth passes of one
-  // revolution back fill them.
-  // A slice's surface is indexed by the step of its tooth's tip (its own lag is the same for
-  // every tooth), so consecutive teeth meet exactly the same bins.
+  // when a tooth last cut there, kept at every node next to the window. A slice's surface is
+  // indexed by the step of its tooth's tip (its own lag is the same for every tooth), so
+  // consecutive teeth meet exactly the same bins.
   const auto bin_of = [&](long long tip_step) {
     long long b = tip_step % bins;
     if (b < 0) b += bins;
@@ -231,20 +252,140 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
   };
   std::vector<double> surface(static_cast<std::size_t>(n_slices * bins),
                               std::numeric_limits<double>::quiet_NaN());
-  for (long long n = -bins; n < 0; ++n) {
-    const double t = static_cast<double>(n) * dt;
-    for (int k = 0; k < z; ++k) {
-      const std::size_t first =
-          bin_of(n - behind_bins[static_cast<std::size_t>(k)]) * static_cast<std::size_t>(n_slices);
-      for (std::size_t at = first; at < first + static_cast<std::size_t>(n_slices); ++at)
-        if (angles[at].in) surface[at] = feed_speed * t * angles[at].s;
-    }
-  }
+  // Steps by which tooth k trails the tooth ahead of it (the rigid chip is the feed over them).
+  std::vector<long long> gap_bins(static_cast<std::size_t>(z));
+  for (int k = 0; k < z; ++k)
+    gap_bins[static_cast<std::size_t>(k)] =
+        k == 0 ? bins - behind_bins[static_cast<std::size_t>(z - 1)]
+               : behind_bins[static_cast<std::size_t>(k)] -
+                     behind_bins[static_cast<std::size_t>(k - 1)];
 
   const auto* mech = std::get_if<MechanisticForceLaw>(&cut.law);
   const auto* erm = std::get_if<ErmolaevForceLaw>(&cut.law);
   std::vector<double> lagged(static_cast<std::size_t>(z * n_slices), 0.0);  // U, S1 law
   const double relax = erm && erm->t2_s > 0.0 ? std::exp(-dt / erm->t2_s) : 0.0;
+
+  // Per slice: its width (the whole flute in the closed form) and force directions.
+  const double spread = o.closed_form_helix ? lag : 0.0;
+  const double width = o.closed_form_helix ? cut.width_m : slice_width;
+  const double share = o.closed_form_helix ? 1.0 : 1.0 / n_slices;
+  const Direction2 tangential(0.0, spread), radial(0.5 * kPi, spread);
+  const Direction2 cutting(erm ? erm->phi_rez_rad : 0.0, spread);
+  const Direction2 flank(erm ? erm->phi_skv_rad : 0.0, spread);
+  // Loss of contact inside the window, away from its zero-chip edges (|sin θ| < kEdge).
+  constexpr double kEdge = 0.05;
+
+  // The forces of every slice at node n: `end` and `start` weighted for the steps that end
+  // and start there, `now` the force at the instant. The chip is the stored surface's (r the
+  // cutter's displacement) or, with `rigid_chip`, the feed since the tooth ahead (the steady
+  // cut); a cutting slice stores its surface with r.
+  struct NodeForces {
+    Eigen::Vector2d end = Eigen::Vector2d::Zero(), start = Eigen::Vector2d::Zero(),
+                    now = Eigen::Vector2d::Zero();
+    double engaged = 0.0;
+    long long window = 0, lost = 0;
+  };
+  const auto evaluate = [&](long long n, const Eigen::Vector2d& r, bool rigid_chip) {
+    NodeForces nf;
+    const double feed = feed_speed * static_cast<double>(n) * dt;  // feed motion along +x
+    for (int k = 0; k < z; ++k) {
+      const std::size_t bin = bin_of(n - behind_bins[static_cast<std::size_t>(k)]);
+      const double rigid_feed =
+          feed_speed * static_cast<double>(gap_bins[static_cast<std::size_t>(k)]) * dt;
+      for (int j = 0; j < n_slices; ++j) {
+        const std::size_t at =
+            bin * static_cast<std::size_t>(n_slices) + static_cast<std::size_t>(j);
+        const Angle& a = angles[at];
+        double& u = lagged[static_cast<std::size_t>(k * n_slices + j)];
+        double chip = 0.0;
+        if (a.active) {
+          double& stored = surface[at];
+          const double here = cut.regenerative ? (feed + r.x()) * a.s + r.y() * a.c : feed * a.s;
+          if (rigid_chip)
+            chip = rigid_feed * a.s;
+          else
+            chip = std::isnan(stored) ? 0.0 : here - stored;
+          if (chip > 0.0 || std::isnan(stored)) stored = here;  // else the older surface stays
+        }
+        if (a.in && std::abs(a.s) >= kEdge) {
+          ++nf.window;
+          if (chip <= 0.0) ++nf.lost;
+        }
+        const double x_in = chip > 0.0 ? chip : 0.0;
+        if (erm) u = x_in + (u - x_in) * relax;  // exact for X held over the step
+        if (chip <= 0.0) continue;
+        Eigen::Vector2d f;
+        if (mech) {
+          const double ft = mech->kt_pa * width * chip + mech->kte_n_per_m * width;
+          const double fr = mech->kr_pa * width * chip + mech->kre_n_per_m * width;
+          f = ft * tangential.at(a.s, a.c) + fr * radial.at(a.s, a.c);
+        } else {
+          const double p = erm->c_n_per_m * (erm->t2_s > 0.0 ? u : chip);
+          const double contact = erm->p0_n * std::exp(-chip / erm->t1_m);
+          f = share * (p * cutting.at(a.s, a.c) + contact * flank.at(a.s, a.c));
+        }
+        nf.end += a.g_end * f;
+        nf.start += a.g_start * f;
+        if (a.in) {
+          nf.now += f;
+          nf.engaged += 1.0 / n_slices;
+        }
+      }
+    }
+    return nf;
+  };
+
+  // Once-per-period samples (tooth period; a revolution with uneven pitch).
+  const long long period_steps = cut.pitch_rad.empty() ? spt : bins;
+  Eigen::VectorXd x;                                      // modal state at the last node
+  Eigen::Vector2d start_force = Eigen::Vector2d::Zero();  // of the step from the last node
+  std::vector<Eigen::VectorXd> ring;                      // the states of the last period
+  double orbit_peak = 0.0;                                // largest |r| of the forced vibration
+  // Before t = 0 the cut is steady: the cutter on its periodic forced vibration, whose chip is
+  // the feed since the tooth ahead (the regeneration of a periodic motion is zero). That
+  // vibration is found by one revolution from rest under the steady forces, x_T, and the
+  // periodic start x0 = (I − Φ_T)⁻¹·x_T [Floquet]; a second revolution from x0 follows it and
+  // leaves its surfaces. (With the S1 law's lag U, U is carried through both revolutions.)
+  if (!rigid) {
+    x = Eigen::VectorXd::Zero(stepper->states());
+    start_force = evaluate(-bins, Eigen::Vector2d::Zero(), true).start;
+    for (long long n = -bins + 1; n <= 0; ++n) {
+      const NodeForces nf = evaluate(n, Eigen::Vector2d::Zero(), true);
+      stepper->step_linear(x, start_force, nf.end);
+      start_force = nf.start;
+    }
+    Eigen::MatrixXd phi_rev = Eigen::MatrixXd::Identity(x.size(), x.size()), power = stepper->phi();
+    for (long long e = bins; e > 0; e >>= 1) {
+      if (e & 1) phi_rev = phi_rev * power;
+      power = power * power;
+    }
+    x = (Eigen::MatrixXd::Identity(x.size(), x.size()) - phi_rev).partialPivLu().solve(x);
+  }
+  ring.assign(static_cast<std::size_t>(period_steps), rigid ? Eigen::VectorXd() : x);
+  for (long long n = -bins; n < 0; ++n) {
+    Eigen::Vector2d r = Eigen::Vector2d::Zero();
+    Eigen::VectorXd base;
+    if (!rigid && n > -bins) {
+      base = stepper->phi() * x + stepper->gamma_start() * start_force;
+      r = stepper->output_matrix() * base + c_gamma_end * start_force;
+    } else if (!rigid) {
+      r = stepper->output_matrix() * x;
+    }
+    const NodeForces nf = evaluate(n, r, true);
+    if (!rigid) {
+      if (n > -bins) x = base + stepper->gamma_end() * nf.end;
+      start_force = nf.start;
+      orbit_peak = std::max(orbit_peak, (stepper->output_matrix() * x).cwiseAbs().maxCoeff());
+      if (n >= -period_steps) ring[static_cast<std::size_t>((n + bins) % period_steps)] = x;
+    }
+  }
+  // Runaway: far beyond any cut (the linear force law long invalid) and before overflow.
+  const double runaway_bound = 1e3 * (cut.feed_per_tooth_m + orbit_peak);
+  Eigen::VectorXd kick;
+  if (!rigid) {
+    kick = Eigen::VectorXd::Zero(x.size());
+    for (Eigen::Index i = 0; i < x.size(); i += 2) kick(i) = o.perturbation * cut.feed_per_tooth_m;
+  }
 
   MillingSimulationResult out;
   out.step_s = dt;
@@ -253,14 +394,6 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
   out.steps_per_revolution = static_cast<int>(bins);
   const long long stride = std::max<long long>(1, steps / o.max_recorded_samples + 1);
   const auto summary_from = steps - std::llround(o.summary_revolutions * static_cast<double>(bins));
-  // Once-per-period samples (tooth period; a revolution with uneven pitch).
-  const long long period_steps = cut.pitch_rad.empty() ? spt : bins;
-  std::vector<Eigen::Vector2d> sync;
-  double f_sum = 0, fx_sum = 0, fy_sum = 0, teeth_sum = 0, f_max = 0;
-  double f_min = std::numeric_limits<double>::infinity();
-  double x_min = 1e300, x_max = -1e300, y_min = 1e300, y_max = -1e300;
-  double sle_sum = 0.0;
-  long long sle_count = 0, summary_count = 0;
   // The wall is finished where the chip thickness s_z·sin θ vanishes: θ = π (down) or 0 (up).
   std::optional<double> finishing;
   if (cut.exit_rad >= kPi - 1e-9)
@@ -272,60 +405,54 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
   const double normal_x = finishing ? std::sin(*finishing) : 0.0;
   const double normal_y = finishing ? std::cos(*finishing) : 0.0;
 
-  // Per slice: its width (the whole flute in the closed form) and force directions.
-  const double spread = o.closed_form_helix ? lag : 0.0;
-  const double width = o.closed_form_helix ? cut.width_m : slice_width;
-  const double share = o.closed_form_helix ? 1.0 : 1.0 / n_slices;
-  const Direction2 tangential(0.0, spread), radial(0.5 * kPi, spread);
-  const Direction2 cutting(erm ? erm->phi_rez_rad : 0.0, spread);
-  const Direction2 flank(erm ? erm->phi_skv_rad : 0.0, spread);
-
-  // Loss of contact inside the window, away from its zero-chip edges (|sin θ| < kEdge), over
-  // the summary revolutions.
-  constexpr double kEdge = 0.05;
-  long long window_count = 0, lost_count = 0;
-
-  for (long long n = 0; n < steps; ++n) {
-    const double t = static_cast<double>(n) * dt;
-    const double feed = feed_speed * t;  // feed motion along +x
-    const bool counting = n >= summary_from;
-    const Eigen::Vector2d r =
-        rigid ? Eigen::Vector2d::Zero() : Eigen::Vector2d(stepper->output(state));
-    Eigen::Vector2d f = Eigen::Vector2d::Zero();
-    double engaged = 0.0;
-    for (int k = 0; k < z; ++k) {
-      const std::size_t bin = bin_of(n - behind_bins[static_cast<std::size_t>(k)]);
-      for (int j = 0; j < n_slices; ++j) {
-        const std::size_t at =
-            bin * static_cast<std::size_t>(n_slices) + static_cast<std::size_t>(j);
-        const Angle& a = angles[at];
-        double& u = lagged[static_cast<std::size_t>(k * n_slices + j)];
-        double chip = 0.0;
-        if (a.in) {
-          double& stored = surface[at];
-          const double here = cut.regenerative ? (feed + r.x()) * a.s + r.y() * a.c : feed * a.s;
-          chip = std::isnan(stored) ? 0.0 : here - stored;
-          if (chip > 0.0 || std::isnan(stored)) stored = here;  // else the older surface stays
-        }
-        if (a.in && counting && std::abs(a.s) >= kEdge) {
-          ++window_count;
-          if (chip <= 0.0) ++lost_count;
-        }
-        const double x_in = chip > 0.0 ? chip : 0.0;
-        if (erm) u = x_in + (u - x_in) * relax;  // exact for X held over the step
-        if (chip <= 0.0) continue;
-        engaged += 1.0 / n_slices;
-        if (mech) {
-          const double ft = mech->kt_pa * width * chip + mech->kte_n_per_m * width;
-          const double fr = mech->kr_pa * width * chip + mech->kre_n_per_m * width;
-          f += ft * tangential.at(a.s, a.c) + fr * radial.at(a.s, a.c);
-        } else {
-          const double p = erm->c_n_per_m * (erm->t2_s > 0.0 ? u : chip);
-          const double contact = erm->p0_n * std::exp(-chip / erm->t1_m);
-          f += share * (p * cutting.at(a.s, a.c) + contact * flank.at(a.s, a.c));
-        }
-      }
+  // Summary tallies: over the summary revolutions, and per revolution (for a run stopped early).
+  struct Tally {
+    long long count = 0, sle_count = 0, window = 0, lost = 0;
+    double f_sum = 0, fx_sum = 0, fy_sum = 0, teeth_sum = 0, f_max = 0, sle_sum = 0;
+    double f_min = std::numeric_limits<double>::infinity();
+    double x_min = 1e300, x_max = -1e300, y_min = 1e300, y_max = -1e300;
+    void merge(const Tally& t) {
+      count += t.count;
+      sle_count += t.sle_count;
+      window += t.window;
+      lost += t.lost;
+      f_sum += t.f_sum;
+      fx_sum += t.fx_sum;
+      fy_sum += t.fy_sum;
+      teeth_sum += t.teeth_sum;
+      sle_sum += t.sle_sum;
+      f_max = std::max(f_max, t.f_max);
+      f_min = std::min(f_min, t.f_min);
+      x_min = std::min(x_min, t.x_min);
+      x_max = std::max(x_max, t.x_max);
+      y_min = std::min(y_min, t.y_min);
+      y_max = std::max(y_max, t.y_max);
     }
+  };
+  Tally summary, this_rev, last_rev;
+  std::vector<Eigen::Vector2d> sync;
+  std::vector<double> period_amplitude;  // of x(t) − x(t − period), per period
+  double amplitude_sum = 0.0;
+
+  long long n = 0;
+  for (; n < steps; ++n) {
+    const double t = static_cast<double>(n) * dt;
+    // Predictor: the displacement with the force held from the last node (error O(h³)).
+    Eigen::Vector2d r = Eigen::Vector2d::Zero();
+    Eigen::VectorXd base;
+    if (!rigid) {
+      base = stepper->phi() * x + stepper->gamma_start() * start_force;
+      r = stepper->output_matrix() * base + c_gamma_end * start_force;
+    }
+    const NodeForces nf = evaluate(n, r, false);
+    if (!rigid) {
+      // First-order hold: x(n) = Φ·x(n−1) + Γ0·F(n−1) + Γ1·F(n) [Ding2010, eq. 12's W0, W1].
+      x = base + stepper->gamma_end() * nf.end;
+      if (n == 0) x += kick;
+      start_force = nf.start;
+      r = stepper->output_matrix() * x;
+    }
+    const Eigen::Vector2d& f = nf.now;
     const double magnitude = f.norm();
     if (n % stride == 0) {
       out.time_s.push_back(t);
@@ -334,71 +461,110 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
       out.force_n.push_back(magnitude);
       out.x_m.push_back(r.x());
       out.y_m.push_back(r.y());
-      out.teeth_in_cut.push_back(engaged);
+      out.teeth_in_cut.push_back(nf.engaged);
     }
-    if (n >= summary_from) {
-      ++summary_count;
-      f_sum += magnitude;
-      fx_sum += f.x();
-      fy_sum += f.y();
-      teeth_sum += engaged;
-      f_max = std::max(f_max, magnitude);
-      f_min = std::min(f_min, magnitude);
-      x_min = std::min(x_min, r.x());
-      x_max = std::max(x_max, r.x());
-      y_min = std::min(y_min, r.y());
-      y_max = std::max(y_max, r.y());
-      if (finishing) {
-        for (int k = 0; k < z; ++k) {
-          const long long at = n - behind_bins[static_cast<std::size_t>(k)];
-          if (bin_of(at) == finishing_bin) {
-            sle_sum += r.x() * normal_x + r.y() * normal_y;
-            ++sle_count;
-          }
+    Tally step;
+    step.count = 1;
+    step.window = nf.window;
+    step.lost = nf.lost;
+    step.f_sum = step.f_max = step.f_min = magnitude;
+    step.fx_sum = f.x();
+    step.fy_sum = f.y();
+    step.teeth_sum = nf.engaged;
+    step.x_min = step.x_max = r.x();
+    step.y_min = step.y_max = r.y();
+    if (finishing) {
+      for (int k = 0; k < z; ++k) {
+        if (bin_of(n - behind_bins[static_cast<std::size_t>(k)]) == finishing_bin) {
+          step.sle_sum += r.x() * normal_x + r.y() * normal_y;
+          ++step.sle_count;
         }
       }
     }
+    if (n >= summary_from) summary.merge(step);
+    this_rev.merge(step);
+    if ((n + 1) % bins == 0) {
+      last_rev = this_rev;
+      this_rev = Tally{};
+    }
     if (n % period_steps == 0) sync.push_back(r);
     if (!rigid) {
-      force_vector = f;
-      stepper->step(state, force_vector);
+      Eigen::VectorXd& then = ring[static_cast<std::size_t>(n % period_steps)];
+      amplitude_sum += std::sqrt(stepper->squared_amplitude(x - then));
+      then = x;
+      if ((n + 1) % period_steps == 0) {
+        period_amplitude.push_back(amplitude_sum / static_cast<double>(period_steps));
+        amplitude_sum = 0.0;
+      }
+      if (!(r.cwiseAbs().maxCoeff() <= runaway_bound)) {  // also catches NaN
+        out.status = SimulationStatus::kRunaway;
+        out.stop_time_s = t;
+        ++n;
+        break;
+      }
     }
   }
-
-  const auto count = static_cast<double>(summary_count);
-  out.mean_force_n = f_sum / count;
-  out.mean_fx_n = fx_sum / count;
-  out.mean_fy_n = fy_sum / count;
-  out.mean_teeth_in_cut = teeth_sum / count;
-  out.peak_force_n = f_max;
-  out.min_force_n = f_min;
-  out.force_pulsation = f_max + f_min > 0.0 ? (f_max - f_min) / (f_max + f_min) : 0.0;
-  out.vibration_pp_x_m = x_max - x_min;
-  out.vibration_pp_y_m = y_max - y_min;
-  if (sle_count > 0) out.surface_location_error_m = sle_sum / static_cast<double>(sle_count);
-
-  // Chatter: the once-per-period samples of a forced (stable) vibration repeat; chatter makes
-  // them wander. Over the second half of the run.
-  std::vector<double> change, log_change;
-  for (std::size_t i = sync.size() / 2 + 1; i < sync.size(); ++i) {
-    const double d = (sync[i] - sync[i - 1]).norm();
-    change.push_back(d);
-    log_change.push_back(std::log(std::max(d, 1e-300)));
+  if (out.status == SimulationStatus::kCompleted) out.stop_time_s = static_cast<double>(steps) * dt;
+  out.steps = n;
+  if (summary.count == 0) {  // stopped before the summary revolutions: the last one or two
+    summary = last_rev;
+    summary.merge(this_rev);
   }
+
+  const auto count = static_cast<double>(summary.count);
+  out.mean_force_n = summary.f_sum / count;
+  out.mean_fx_n = summary.fx_sum / count;
+  out.mean_fy_n = summary.fy_sum / count;
+  out.mean_teeth_in_cut = summary.teeth_sum / count;
+  out.peak_force_n = summary.f_max;
+  out.min_force_n = summary.f_min;
+  const double f_max = summary.f_max, f_min = summary.f_min;
+  out.force_pulsation = f_max + f_min > 0.0 ? (f_max - f_min) / (f_max + f_min) : 0.0;
+  out.vibration_pp_x_m = summary.x_max - summary.x_min;
+  out.vibration_pp_y_m = summary.y_max - summary.y_min;
+  if (summary.sle_count > 0)
+    out.surface_location_error_m = summary.sle_sum / static_cast<double>(summary.sle_count);
+  out.contact_loss = summary.window > 0
+                         ? static_cast<double>(summary.lost) / static_cast<double>(summary.window)
+                         : 0.0;
+
+  // Chatter indicator: the once-per-period samples of a forced (stable) vibration repeat;
+  // chatter makes them wander. Over the second half of the run.
+  std::vector<double> change;
+  for (std::size_t i = sync.size() / 2 + 1; i < sync.size(); ++i)
+    change.push_back((sync[i] - sync[i - 1]).norm());
   const double pp = std::max(out.vibration_pp_x_m, out.vibration_pp_y_m);
   if (!change.empty() && pp > 0.0) {
     double mean = 0.0;
     for (double d : change) mean += d;
-    mean /= static_cast<double>(change.size());
-    out.chatter_indicator = mean / pp;
-    out.growth_per_period = slope(log_change);
+    out.chatter_indicator = mean / static_cast<double>(change.size()) / pp;
   }
-  out.contact_loss =
-      window_count > 0 ? static_cast<double>(lost_count) / static_cast<double>(window_count) : 0.0;
-  // Without regeneration the vibration is forced by construction: no chatter, whatever a slow
-  // transient does to the indicator. (Loss of contact is reported but not used: with uneven
-  // pitch a stable forced vibration can throw the teeth out of the cut too.)
-  out.chatter = cut.regenerative && out.chatter_indicator > 0.05 && out.growth_per_period > -0.01;
+
+  // Growth of the perturbation: the forced vibration repeats every period, so x(t) − x(t −
+  // period) is the free (regenerative) response to the disturbance at t = 0 alone. Fitted over
+  // the second half of the periods before it fell 1e9-fold (rounding) or reached 10 % of the
+  // feed per tooth (teeth leaving the cut: no longer linear).
+  if (!rigid && cut.regenerative && period_amplitude.size() >= 2) {
+    std::size_t end = period_amplitude.size();
+    double largest = 0.0;
+    for (std::size_t i = 0; i < period_amplitude.size(); ++i) {
+      const double a = period_amplitude[i];
+      largest = std::max(largest, a);
+      if (!(a > 1e-9 * largest) || a > 0.1 * cut.feed_per_tooth_m) {
+        end = std::max<std::size_t>(i + (a > 0.1 * cut.feed_per_tooth_m ? 1 : 0), 2);
+        break;
+      }
+    }
+    const std::size_t begin = std::min(end / 2, end - 2);
+    std::vector<double> log_amplitude;
+    for (std::size_t i = begin; i < end; ++i)
+      log_amplitude.push_back(std::log(std::max(period_amplitude[i], 1e-300)));
+    out.growth_per_period = slope(log_amplitude);
+    out.growth_rate_per_s = out.growth_per_period / (static_cast<double>(period_steps) * dt);
+  }
+  // Without regeneration the vibration is forced by construction: no chatter.
+  out.chatter = cut.regenerative && !rigid &&
+                (out.status == SimulationStatus::kRunaway || out.growth_per_period > 0.0);
   return out;
 }
 

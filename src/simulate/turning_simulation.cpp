@@ -1,6 +1,7 @@
 #include "cutdyn/simulate/turning_simulation.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "cutdyn/core/error.hpp"
@@ -16,8 +17,9 @@ std::vector<std::string> TurningSimulationOptions::validate() const {
   v.require_positive("feed_m", feed_m, "m");
   v.require(duration_s > 0.0 && duration_s <= 1000.0, "duration_s", duration_s, "s",
             "must be greater than 0 and at most 1000");
-  v.require(initial_displacement_m >= 0.0, "initial_displacement_m", initial_displacement_m, "m",
-            "must not be negative");
+  v.require(initial_displacement_m > 0.0 && initial_displacement_m < 1.0, "initial_displacement_m",
+            initial_displacement_m, "m",
+            "must be positive (the disturbance whose growth decides chatter) and below 1 m");
   v.require(max_step_fraction > 0.0 && max_step_fraction <= 0.1, "max_step_fraction",
             max_step_fraction, "", "must be greater than 0 and at most 0.1");
   v.require(max_recorded_samples >= 2, "max_recorded_samples", max_recorded_samples, "",
@@ -63,7 +65,7 @@ TurningSimulationResult simulate_turning(const TurningModel& model,
 
   const ModalStepper stepper(model.modal, {Direction::kX}, h);
   const Eigen::RowVectorXd c = ss.C.row(0);
-  Eigen::VectorXd force_vector(1);
+  const double c_gamma_end = (c * stepper.gamma_end())(0, 0);  // C·Γ1
 
   TurningSimulationResult out;
   out.duty_cycle = duty;
@@ -72,60 +74,108 @@ TurningSimulationResult simulate_turning(const TurningModel& model,
   const double kw = model.kt_pa * o.depth_m;
   // Static deflection under the mean force r·Kt·w·h0: each mode deflects by F/k.
   const double f_mean = duty * kw * o.feed_m;
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(d);
+  Eigen::VectorXd x0 = Eigen::VectorXd::Zero(d);
   for (Eigen::Index i = 0; i < d / 2; ++i)
-    x(2 * i) = f_mean / model.modal.modes[static_cast<std::size_t>(i)].stiffness_n_per_m;
-  out.static_deflection_m = c * x;
-  x(0) += o.initial_displacement_m;
+    x0(2 * i) = f_mean / model.modal.modes[static_cast<std::size_t>(i)].stiffness_n_per_m;
+  out.static_deflection_m = c * x0;
+  // Runaway: a vibration of a thousand feeds is far beyond any cut (and before overflow).
+  const double runaway_bound = 1e3 * (o.feed_m + o.initial_displacement_m);
 
-  // Surface ring buffer: S at the last per_rev steps (the previous revolution).
-  std::vector<double> surface(static_cast<std::size_t>(per_rev), out.static_deflection_m);
+  // Two runs in step: [0] with the initial displacement (the one reported), [1] without. The
+  // forced response is common to both; their difference is the free regenerative response.
+  struct Run {
+    Eigen::VectorXd x;
+    std::vector<double> surface;  // S over the last revolution, ring buffer
+    Eigen::VectorXd start_force = Eigen::VectorXd::Zero(1), end_force = Eigen::VectorXd::Zero(1);
+    double y = 0.0, force = 0.0, chip = 0.0;
+  };
+  std::array<Run, 2> runs;
+  for (Run& r : runs) {
+    r.x = x0;
+    r.surface.assign(static_cast<std::size_t>(per_rev), out.static_deflection_m);
+  }
+  runs[0].x(0) += o.initial_displacement_m;
+  for (Run& r : runs) r.y = c * r.x;
+
   const long long stride = std::max<long long>(1, steps / o.max_recorded_samples + 1);
-  double rev_min = 1e300, rev_max = -1e300;
-  for (long long k = 0; k < steps; ++k) {
+  double rev_min = 1e300, rev_max = -1e300, diff_min = 1e300, diff_max = -1e300;
+  double g_before = window.mean(-h, 0.0);  // window mean over the step ending at the node
+  long long k = 0;
+  for (; k < steps; ++k) {
     const double t = static_cast<double>(k) * h;
-    const double y = c * x;
-    double& s_slot = surface[static_cast<std::size_t>(k % per_rev)];  // holds S(t − τ)
-    const double chip = o.feed_m + s_slot - y;
     const double g = window.mean(t, t + h);
-    double force = 0.0;
-    if (chip > 0.0) {
-      force = g * kw * chip;  // [Chikishev2018, eq. 8]
-      s_slot = y;
-    } else {
-      s_slot += o.feed_m;
-      if (!out.lost_contact) {
-        out.lost_contact = true;
-        out.contact_loss_time_s = t;
+    for (Run& r : runs) {
+      // Node k: y from the predictor (force held from the last node; error O(h³)) when k > 0.
+      Eigen::VectorXd base;
+      if (k > 0) {
+        base = stepper.phi() * r.x + stepper.gamma_start() * r.start_force;
+        r.y = (c * base)(0) + c_gamma_end * r.start_force(0);
       }
+      double& s_slot = r.surface[static_cast<std::size_t>(k % per_rev)];  // holds S(t − τ)
+      r.chip = o.feed_m + s_slot - r.y;
+      double cutting = 0.0;
+      if (r.chip > 0.0) {
+        cutting = kw * r.chip;  // [Chikishev2018, eq. 8] without the window
+        s_slot = r.y;
+      } else {
+        s_slot += o.feed_m;
+        if (!out.lost_contact) {
+          out.lost_contact = true;
+          out.contact_loss_time_s = t;
+        }
+      }
+      r.force = g * cutting;
+      // First-order hold over the step ending here (window mean of that step) [Ding2010].
+      if (k > 0) {
+        r.end_force(0) = g_before * cutting;
+        r.x = base + stepper.gamma_end() * r.end_force;
+        r.y = c * r.x;
+      }
+      r.start_force(0) = g * cutting;
     }
+    g_before = g;
+    const double y = runs[0].y, diff = runs[0].y - runs[1].y;
     if (k % stride == 0) {
       out.time_s.push_back(t);
       out.displacement_m.push_back(y);
-      out.force_n.push_back(force);
-      out.chip_thickness_m.push_back(chip);
+      out.force_n.push_back(runs[0].force);
+      out.chip_thickness_m.push_back(runs[0].chip);
     }
     rev_min = std::min(rev_min, y);
     rev_max = std::max(rev_max, y);
+    diff_min = std::min(diff_min, diff);
+    diff_max = std::max(diff_max, diff);
     if ((k + 1) % per_rev == 0) {
       out.revolution_time_s.push_back(t + h);
       out.revolution_amplitude_m.push_back(0.5 * (rev_max - rev_min));
-      rev_min = 1e300;
-      rev_max = -1e300;
+      out.perturbation_amplitude_m.push_back(0.5 * (diff_max - diff_min));
+      rev_min = diff_min = 1e300;
+      rev_max = diff_max = -1e300;
     }
-    force_vector(0) = force;
-    stepper.step(x, force_vector);
+    bool runaway = false;
+    for (const Run& r : runs)
+      runaway = runaway || !(std::abs(r.y - out.static_deflection_m) <= runaway_bound);
+    if (runaway) {  // also catches NaN
+      out.status = SimulationStatus::kRunaway;
+      out.stop_time_s = t;
+      ++k;
+      break;
+    }
   }
+  out.steps = k;
+  if (out.status == SimulationStatus::kCompleted) out.stop_time_s = static_cast<double>(k) * h;
 
-  // Growth rate: least squares on ln(amplitude) from the second revolution on, up to the
-  // first loss of contact (after it the amplitude saturates).
+  // Growth rate: least squares on ln(amplitude of the difference) per revolution, from the
+  // third revolution (the first two carry the start of the regeneration), up to the first
+  // loss of contact (after it the runs are no longer linear) or a 1e9-fold decay (rounding).
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
   int count = 0;
-  for (std::size_t j = 1; j < out.revolution_amplitude_m.size(); ++j) {
+  const std::size_t first = out.perturbation_amplitude_m.size() >= 6 ? 2 : 0;
+  for (std::size_t j = first; j < out.perturbation_amplitude_m.size(); ++j) {
     const double tj = out.revolution_time_s[j];
     if (out.lost_contact && tj - tau > out.contact_loss_time_s) break;
-    const double a = out.revolution_amplitude_m[j];
-    if (!(a > 0.0)) continue;
+    const double a = out.perturbation_amplitude_m[j];
+    if (!(a > 1e-9 * o.initial_displacement_m)) break;
     const double ly = std::log(a);
     sx += tj;
     sy += ly;
@@ -137,7 +187,8 @@ TurningSimulationResult simulate_turning(const TurningModel& model,
     const double den = count * sxx - sx * sx;
     if (den > 0.0) out.growth_rate_per_s = (count * sxy - sx * sy) / den;
   }
-  out.chatter = out.lost_contact || out.growth_rate_per_s > 0.0;
+  out.chatter = out.status == SimulationStatus::kRunaway || out.growth_rate_per_s > 0.0 ||
+                (count < 2 && out.lost_contact);
   return out;
 }
 

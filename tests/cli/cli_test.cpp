@@ -817,5 +817,52 @@ TEST_F(Cli, PlanSaysWhenItsLimitsAreNotUsed) {
   ASSERT_EQ(doc["warnings"].size(), 1u);
 }
 
+// Runaway growth is chatter, said so, with only finite numbers written: milling-insperger at
+// 1 mm (4.9e47 µm and "stable" before) and 1000 mm (exit 1, "CsvWriter: … non-finite"
+// before), turning at 1e6 mm (−1e306 µm before). Exit 0 each time.
+TEST_F(Cli, SimulateStopsARunawayAndSaysChatter) {
+  const auto finite_numbers = [](const std::string& file) {
+    std::ifstream in(file);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::string lower = text;
+    for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    return !text.empty() && lower.find("nan") == std::string::npos &&
+           lower.find("inf") == std::string::npos;
+  };
+  for (const char* depth : {"1", "1000"}) {
+    const Result r = cutdyn({"simulate", "milling-insperger", "--depth-mm", depth, "--out",
+                             path("r.csv"), "--json", path("r.json")});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("→ CHATTER (runaway growth, stopped at t = "), std::string::npos)
+        << r.out;
+    EXPECT_EQ(r.out.find("stable"), std::string::npos) << r.out;
+    EXPECT_TRUE(finite_numbers(path("r.csv"))) << depth;
+    EXPECT_TRUE(finite_numbers(path("r.json"))) << depth;
+    const auto summary = nlohmann::json::parse(std::ifstream(path("r.json")))["summary"];
+    EXPECT_EQ(summary["status"], "runaway");
+    EXPECT_TRUE(summary["chatter"].get<bool>());
+    EXPECT_LT(summary["stop_time_s"].get<double>(), 100 * 60.0 / 10000.0);  // of 100 revs
+    // The prediction stays the lobes' 0.0715 mm whatever the simulated depth.
+    EXPECT_NEAR(summary["predicted_critical_depth_mm"].get<double>(), 0.0715, 0.001) << depth;
+  }
+  const Result t = cutdyn({"simulate", "--depth-mm", "1e6", "--duration-s", "1", "--out",
+                           path("t.csv"), "--json", path("t.json")});
+  ASSERT_EQ(t.code, 0) << t.err;
+  EXPECT_NE(t.out.find("CHATTER (runaway growth, stopped at t = "), std::string::npos) << t.out;
+  EXPECT_TRUE(finite_numbers(path("t.csv")));
+  EXPECT_TRUE(finite_numbers(path("t.json")));
+  for (const auto& run : nlohmann::json::parse(std::ifstream(path("t.json")))["results"]) {
+    EXPECT_EQ(run["status"], "runaway");
+    EXPECT_TRUE(run["chatter"].get<bool>());
+  }
+  // The initial displacement is the disturbance whose growth decides: zero is refused.
+  std::string text(*io::example_text("turning-ultrasonic"));
+  ASSERT_NE(text.find("[simulate]"), std::string::npos);
+  text.replace(text.find("[simulate]"), 10, "[simulate]\ninitial_displacement_um = 0");
+  const Result zero = cutdyn({"simulate", write("z.toml", text)});
+  EXPECT_EQ(zero.code, 2) << zero.out;
+  EXPECT_NE(zero.err.find("initial_displacement_m"), std::string::npos) << zero.err;
+}
+
 }  // namespace
 }  // namespace cutdyn::cli

@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "cutdyn/core/error.hpp"
 #include "support/reference_cases.hpp"
@@ -86,6 +88,76 @@ TEST(TurningSimulation, SaturatesWhenTheToolLeavesTheCut) {
       EXPECT_EQ(r.force_n[i], 0.0);
     }
     EXPECT_TRUE(std::isfinite(r.displacement_m[i]));
+  }
+}
+
+TEST(TurningSimulation, GrowthRateIsAPropertyOfTheCutNotOfTheRunLength) {
+  // The turning-ultrasonic example at 1400 rpm (feed 0.05 mm): the rate fitted on the raw
+  // per-revolution amplitude was −6.6 /s over 1 s, −3.0 over 3 s and −0.55 over 8 s at 4 mm
+  // (the forced response to the 20 kHz pulses set a floor). The rate of the free response
+  // (the difference of the runs with and without the initial displacement) agrees over 1, 3
+  // and 8 s within 0.02 /s (measured: 0.001 at 4 mm, 0.006 at the boundaries, where the
+  // slower-decaying neighbours of the critical root still weigh over 1 s), and its sign
+  // follows turning_critical_depth at 0.9× and 1.1× for both processes.
+  for (const TurningModel& m : {table2_conventional(), table2_vibration(20000.0)}) {
+    const double critical = turning_critical_depth(m, 1400.0, {}).boundary.depth_m;
+    for (double depth : {4e-3, 0.9 * critical, 1.1 * critical}) {
+      std::vector<double> rates;
+      for (double duration : {1.0, 3.0, 8.0}) {
+        TurningSimulationOptions o;
+        o.rpm = 1400.0;
+        o.depth_m = depth;
+        o.feed_m = 0.05e-3;
+        o.duration_s = duration;
+        const auto r = simulate_turning(m, o);
+        rates.push_back(r.growth_rate_per_s);
+        EXPECT_EQ(r.chatter, depth > critical) << depth << " m over " << duration << " s";
+        EXPECT_EQ(r.status, SimulationStatus::kCompleted);
+      }
+      const auto [lo, hi] = std::minmax_element(rates.begin(), rates.end());
+      EXPECT_LT(*hi - *lo, 0.02) << (m.vibration ? "assisted " : "conventional ") << depth;
+      if (depth > critical)
+        EXPECT_GT(*lo, 0.2);
+      else
+        EXPECT_LT(*hi, -0.2);
+    }
+  }
+  // The assisted cut is the more damped one at the same depth (4 mm): −6.66 /s against −3.57.
+  TurningSimulationOptions o;
+  o.rpm = 1400.0;
+  o.depth_m = 4e-3;
+  o.feed_m = 0.05e-3;
+  o.duration_s = 3.0;
+  EXPECT_LT(simulate_turning(table2_vibration(20000.0), o).growth_rate_per_s,
+            simulate_turning(table2_conventional(), o).growth_rate_per_s - 1.0);
+}
+
+TEST(TurningSimulation, RunawayGrowthStopsTheRunWithFiniteOutputs) {
+  // 1e6 mm of depth printed −1e306 µm: now the run stops as a runaway (chatter) and every
+  // value is finite and within twice the bound 1000 × (h0 + initial displacement) of the
+  // static deflection. (At 100 mm, 15× the boundary, the tool leaves the cut and the vibration
+  // saturates near 5 h0: no runaway.)
+  const TurningModel m = table2_conventional();
+  for (double depth : {1e3, 1e6}) {
+    TurningSimulationOptions o;
+    o.rpm = 1400.0;
+    o.depth_m = depth;
+    o.feed_m = 0.05e-3;
+    o.duration_s = 2.0;
+    const auto r = simulate_turning(m, o);
+    EXPECT_EQ(r.status, SimulationStatus::kRunaway) << depth;
+    EXPECT_TRUE(r.chatter);
+    EXPECT_LT(r.stop_time_s, 2.0);
+    EXPECT_NE(r.verdict().find("chatter (runaway growth, stopped at t = "), std::string::npos);
+    const double bound = 1e3 * (o.feed_m + 1e-6);
+    for (std::size_t i = 0; i < r.time_s.size(); ++i) {
+      ASSERT_TRUE(std::isfinite(r.displacement_m[i]) && std::isfinite(r.force_n[i]) &&
+                  std::isfinite(r.chip_thickness_m[i]));
+      // (the last step may overshoot the bound it crossed)
+      ASSERT_LE(std::abs(r.displacement_m[i] - r.static_deflection_m), 2.0 * bound);
+    }
+    for (double a : r.revolution_amplitude_m) ASSERT_TRUE(std::isfinite(a));
+    EXPECT_TRUE(std::isfinite(r.growth_rate_per_s));
   }
 }
 

@@ -8,7 +8,9 @@
 // that has left the cut leaves the older surface in place. Force laws: the S1 law (chip-
 // formation lag T2, flank contact P0·e^(−X/T1), angles φrez and φskv) or the linear
 // mechanistic law (Kt, Kr and edge coefficients). The cutter's modes in x (feed) and y are
-// advanced by an exact zero-order-hold step.
+// advanced exactly with the force linear between steps (first-order hold). The run starts on
+// the periodic forced vibration of the steady cut with a small displacement added; the growth
+// of that perturbation over the periods decides chatter, and a runaway growth stops the run.
 #pragma once
 
 #include <optional>
@@ -17,6 +19,7 @@
 #include <vector>
 
 #include "cutdyn/modal/modal_model.hpp"
+#include "cutdyn/simulate/simulation_status.hpp"
 
 namespace cutdyn {
 
@@ -62,13 +65,16 @@ struct MillingCut {
 };
 
 struct MillingSimulationOptions {
-  /// Raised, when the chip is regenerative, to put 64 steps in the shortest mode period.
+  /// Raised, when the cutter has modes, to put 64 steps in the shortest mode period.
   int steps_per_tooth = 256;
   double revolutions = 30.0;         // simulated
   double summary_revolutions = 2.0;  // the last ones, for the summary
   int slices = 0;  // 0: automatic — slice lag = one angle step (≤ 1000 slices, ≤ 8e6 slice-bins)
   bool closed_form_helix = false;    // S1 eqs. 8–9 instead of slices
   int max_recorded_samples = 20000;  // traces are thinned to at most this many samples
+  /// Displacement added in x and y at t = 0 to the periodic forced vibration, as a fraction of
+  /// the feed per tooth: the disturbance whose growth or decay decides chatter.
+  double perturbation = 1e-3;
 
   std::vector<std::string> validate() const;
 };
@@ -87,15 +93,22 @@ struct MillingSimulationResult {
   /// mean |change| between consecutive samples over the second half of the run, divided by
   /// the peak-to-peak vibration. Near 0 for a periodic (forced) vibration.
   double chatter_indicator = 0.0;
-  double growth_per_period = 0.0;  // fitted growth of that change, per period (ln units)
+  /// Growth of the perturbation per period (tooth period; revolution with uneven pitch), ln
+  /// units: the least-squares slope of ln(amplitude) of x(t) − x(t − period) (the modal state,
+  /// amplitude √Σ(q² + (q̇/ωn)²) averaged over each period), over the second half of the run
+  /// before it fell 1e9-fold or grew to 10 % of the feed per tooth. Zero without regeneration.
+  double growth_per_period = 0.0;
+  double growth_rate_per_s = 0.0;  // the same per second
   /// Fraction of the slice passes inside the window (away from its zero-chip edges,
   /// |sin θ| >= 0.05) in which the tooth was out of the cut (chip <= 0).
   double contact_loss = 0.0;
-  /// Regenerative chip, indicator > 0.05 and the change not decaying (growth > −0.01):
-  /// thresholds set on the lobes of the Insperger–Stépán benchmark (0.9× vs 1.1×). With uneven
-  /// pitch a chatter that has thrown the teeth out of the cut can lock to the revolution and
-  /// escape it: look at contact_loss and the vibration too.
+  /// Regenerative chip and a growing perturbation (growth_per_period > 0), or a runaway.
   bool chatter = false;
+  /// kRunaway: the displacement passed 1000 × (feed per tooth + peak forced vibration) and
+  /// the run stopped at stop_time_s; the traces end there and the summary covers the
+  /// summary revolutions before it (at least the last one or two).
+  SimulationStatus status = SimulationStatus::kCompleted;
+  double stop_time_s = 0.0;  // the time integrated up to
   /// Cutter displacement along the wall normal when a tooth passes the angle that finishes
   /// the wall (π in down-milling, 0 in up-milling), averaged; > 0 is an overcut.
   std::optional<double> surface_location_error_m;
@@ -104,6 +117,8 @@ struct MillingSimulationResult {
   long long steps = 0;
   int slices = 1;
   int steps_per_revolution = 0;
+
+  std::string verdict() const { return simulation_verdict(chatter, status, stop_time_s); }
 };
 
 /// Throws cutdyn::InvalidInput for an invalid cut or options, naming every problem.

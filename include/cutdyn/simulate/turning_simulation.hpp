@@ -6,14 +6,20 @@
 //
 // with S the surface the tool left one revolution earlier: S(t) = y(t) while the tool is in
 // the material (h > 0), and S(t) = S(t − τ) + h0 when it has jumped out (the older surface
-// stays). Each mode is advanced exactly over a step with the force held constant over it
-// (zero-order hold); the contact window enters through its exact mean over the step. The
+// stays). Each mode is advanced exactly over a step with the force linear between the steps
+// (first-order hold); the contact window enters through its exact mean over the step. The
 // step divides the revolution, so the delay needs no interpolation.
+//
+// The cut is run twice in step, with and without the initial displacement: the forced
+// response (to the vibration's pulses, the start) is the same in both, so their difference is
+// the free regenerative response to the displacement alone, and its growth rate — a property
+// of the cut, not of the run's length — decides chatter. A runaway growth stops the run.
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "cutdyn/simulate/simulation_status.hpp"
 #include "cutdyn/stability/turning.hpp"
 
 namespace cutdyn {
@@ -23,7 +29,8 @@ struct TurningSimulationOptions {
   double depth_m = 0.0;  // width of cut w
   double feed_m = 0.0;   // h0, uncut chip thickness per revolution
   double duration_s = 1.0;
-  double initial_displacement_m = 1e-6;  // added to the static deflection at t = 0
+  /// Added to the static deflection at t = 0 in the reported run (not in its twin); > 0.
+  double initial_displacement_m = 1e-6;
   /// Step as a fraction of the shortest structural period (and at most 1/16 of the
   /// vibration period).
   double max_step_fraction = 1.0 / 256.0;
@@ -41,16 +48,28 @@ struct TurningSimulationResult {
   // Per revolution: half the peak-to-peak of y.
   std::vector<double> revolution_time_s;
   std::vector<double> revolution_amplitude_m;
-  /// Exponential growth rate of the per-revolution amplitude (1/s), fitted by least squares
-  /// on its logarithm over the revolutions before the tool first leaves the cut.
+  /// Per revolution: half the peak-to-peak of the difference between the run with the initial
+  /// displacement and the run without (the free regenerative response).
+  std::vector<double> perturbation_amplitude_m;
+  /// Exponential growth rate of that difference (1/s): least squares on the logarithm of its
+  /// per-revolution amplitude, from the third revolution (the first in runs of under six)
+  /// until the tool first leaves the cut in either run or the difference has fallen 1e9-fold.
   double growth_rate_per_s = 0.0;
   bool lost_contact = false;         // h <= 0 happened (the tool jumped out of the cut)
   double contact_loss_time_s = 0.0;  // first time it did
-  bool chatter = false;              // growth_rate > 0 or lost contact
+  /// growth_rate_per_s > 0, or a runaway (or, when the tool left the cut before two
+  /// revolutions could be fitted, that loss of contact).
+  bool chatter = false;
+  /// kRunaway: |y − static deflection| passed 1000 × (h0 + initial displacement) in either
+  /// run; the run stopped at stop_time_s and the traces end there.
+  SimulationStatus status = SimulationStatus::kCompleted;
+  double stop_time_s = 0.0;
   double static_deflection_m = 0.0;
   double duty_cycle = 1.0;
   double step_s = 0.0;
   long long steps = 0;
+
+  std::string verdict() const { return simulation_verdict(chatter, status, stop_time_s); }
 };
 
 TurningSimulationResult simulate_turning(const TurningModel& model,
