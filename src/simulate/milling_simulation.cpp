@@ -311,7 +311,8 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
           ++nf.window;
           if (chip <= 0.0) ++nf.lost;
         }
-        const double x_in = chip > 0.0 ? chip : 0.0;
+        // U follows the chip inside the window only (a node next to it weighs its step's share).
+        const double x_in = chip > 0.0 && a.in ? chip : 0.0;
         if (erm) u = x_in + (u - x_in) * relax;  // exact for X held over the step
         if (chip <= 0.0) continue;
         Eigen::Vector2d f;
