@@ -110,23 +110,25 @@ int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
 
   rethrow_as(c.source, "lobes.rpm_min", [&] { check_speed_domain(model, grid.rpm_min); });
   const bool assisted = model.vibration.has_value();
-  const LobesReport report = trace_lobes(
-      [&](double rpm) {
-        const TurningBoundary b = turning_critical_depth(model, rpm, options);
-        return LobePoint{rpm, b.boundary, b.duty_cycle, b.lobe};
-      },
-      grid, progress_reporter(err, "lobes"));
-  // With vibration, the conventional lobes beside them (exact closed form, cheap).
+  const auto at_speed = [&](double rpm) {
+    const TurningBoundary b = turning_critical_depth(model, rpm, options);
+    return LobePoint{rpm, b.boundary, b.duty_cycle, b.lobe};
+  };
+  LobesReport report = trace_lobes(at_speed, grid, progress_reporter(err, "lobes"));
+  // With vibration, the conventional lobes beside them (exact closed form, cheap), traced
+  // with their own refinement; each curve is then completed at the other's speeds, so both
+  // hold their cusps and share one row per speed.
   std::vector<CriticalDepth> reference;
   if (assisted) {
     TurningStabilityOptions exact = options;
     exact.method = TurningMethod::kClosedForm;
     const TurningModel conventional = model.conventional();
-    const LobesReport conv = trace_lobes(
-        [&](double rpm) {
-          return LobePoint{rpm, turning_critical_depth(conventional, rpm, exact).boundary, 1.0, 0};
-        },
-        grid);
+    const auto conventional_at = [&](double rpm) {
+      return LobePoint{rpm, turning_critical_depth(conventional, rpm, exact).boundary, 1.0, 0};
+    };
+    LobesReport conv = trace_lobes(conventional_at, grid);
+    complete_lobes(at_speed, conv.points, report.points, grid.threads);
+    complete_lobes(conventional_at, report.points, conv.points, grid.threads);
     for (const LobePoint& p : conv.points) reference.push_back(p.boundary);
   }
 
@@ -279,22 +281,21 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
       const auto& a = s.revolution_amplitude_m;
       const json first = a.empty() ? json() : json(units::m_to_um(a.front()));
       const json last = a.empty() ? json() : json(units::m_to_um(a.back()));
-      results.push_back(
-          {{"process", r.name},
-           {"chatter", s.chatter},
-           {"growth_rate_per_s", s.growth_rate_per_s},
-           {"lost_contact", s.lost_contact},
-           {"contact_loss_time_s", s.contact_loss_time_s},
-           {"duty_cycle", s.duty_cycle},
-           {"static_deflection_um", units::m_to_um(s.static_deflection_m)},
-           {"verdict", s.verdict()},
-           {"status", to_string(s.status)},
-           {"stop_time_s", s.stop_time_s},
-           {"first_revolution_amplitude_um", first},
-           {"last_revolution_amplitude_um", last},
-           {"predicted_critical_depth_mm", m_to_mm(r.predicted.boundary.depth_m)},
-           {"step_s", s.step_s},
-           {"steps", s.steps}});
+      results.push_back({{"process", r.name},
+                         {"chatter", s.chatter},
+                         {"growth_rate_per_s", s.growth_rate_per_s},
+                         {"lost_contact", s.lost_contact},
+                         {"contact_loss_time_s", s.contact_loss_time_s},
+                         {"duty_cycle", s.duty_cycle},
+                         {"static_deflection_um", units::m_to_um(s.static_deflection_m)},
+                         {"verdict", s.verdict()},
+                         {"status", to_string(s.status)},
+                         {"stop_time_s", s.stop_time_s},
+                         {"first_revolution_amplitude_um", first},
+                         {"last_revolution_amplitude_um", last},
+                         {"predicted_critical_depth_mm", m_to_mm(r.predicted.boundary.depth_m)},
+                         {"step_s", s.step_s},
+                         {"steps", s.steps}});
     }
     json doc{{"command", "simulate"},
              {"case", io::to_json(c)},

@@ -14,6 +14,7 @@
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/io/output.hpp"
 #include "cutdyn/io/plot.hpp"
+#include "cutdyn/stability/advice.hpp"
 
 namespace cutdyn::cli {
 
@@ -137,6 +138,7 @@ LobesOptions lobes_grid(const io::Case& c, int threads) {
   grid.rpm_max = c.lobes.rpm_max;
   grid.rpm_steps = c.lobes.rpm_steps;
   grid.threads = threads;
+  grid.refine = c.lobes.refine;
   if (const auto problems = grid.validate(); !problems.empty())
     throw InvalidInput(problems, c.source);
   return grid;
@@ -168,24 +170,6 @@ std::string depth_text(const CriticalDepth& b) {
   const std::string mm = human(units::m_to_mm(b.depth_m)) + " mm";
   return b.found ? mm : "> " + mm;
 }
-
-namespace {
-
-// Speeds of the stable pockets: local maxima of the critical depth, deepest first.
-std::vector<std::size_t> stable_pockets(const std::vector<LobePoint>& p, std::size_t count) {
-  std::vector<std::size_t> peaks;
-  for (std::size_t i = 1; i + 1 < p.size(); ++i) {
-    const double d = p[i].boundary.depth_m;
-    if (d >= p[i - 1].boundary.depth_m && d > p[i + 1].boundary.depth_m) peaks.push_back(i);
-  }
-  std::sort(peaks.begin(), peaks.end(), [&](std::size_t a, std::size_t b) {
-    return p[a].boundary.depth_m > p[b].boundary.depth_m;
-  });
-  if (peaks.size() > count) peaks.resize(count);
-  return peaks;
-}
-
-}  // namespace
 
 void report_lobes(const io::Case& c, const LobesReport& report, const LobesView& view,
                   const Outputs& outputs_args, std::ostream& out, std::ostream& err) {
@@ -235,38 +219,29 @@ void report_lobes(const io::Case& c, const LobesReport& report, const LobesView&
     out << "\n";
   }
 
-  // Speed ranges stable at the target depth: runs of grid speeds whose critical depth exceeds
-  // it (ends are grid speeds, so a range is known to within one grid step).
+  // Speed ranges stable at the target depth, and the speed with the widest margin in speed
+  // and depth (stability/advice).
   json ranges = json::array();
-  std::optional<std::size_t> recommended;
+  SpeedAdvice advice;
   if (view.target_depth_m) {
     const double target = *view.target_depth_m;
     out << "\n  stable at " << human(m_to_mm(target)) << " mm:";
-    std::size_t deepest = pts.size();
-    for (std::size_t i = 0; i < pts.size();) {
-      if (pts[i].boundary.depth_m <= target) {
-        ++i;
-        continue;
-      }
-      std::size_t j = i;
-      while (j + 1 < pts.size() && pts[j + 1].boundary.depth_m > target) ++j;
-      out << (ranges.empty() ? " " : "; ") << human(pts[i].rpm) << "–" << human(pts[j].rpm)
-          << " rpm";
-      ranges.push_back({{"rpm_from", pts[i].rpm}, {"rpm_to", pts[j].rpm}});
-      for (std::size_t k = i; k <= j; ++k)
-        if (deepest == pts.size() || pts[k].boundary.depth_m > pts[deepest].boundary.depth_m)
-          deepest = k;
-      i = j + 1;
+    for (const SpeedRange& r : stable_ranges(pts, target)) {
+      out << (ranges.empty() ? " " : "; ") << human(r.rpm_from) << "–" << human(r.rpm_to) << " rpm";
+      ranges.push_back({{"rpm_from", r.rpm_from}, {"rpm_to", r.rpm_to}});
     }
+    advice = recommend_speed(pts, target);
     if (ranges.empty()) {
-      out << " no speed of the grid\n";
-    } else {
-      recommended = deepest;
-      out << "\n  recommended: " << human(pts[deepest].rpm) << " rpm (largest margin: critical "
-          << "depth " << depth_text(pts[deepest].boundary) << ")\n";
+      out << " no speed of the lobes\n";
+    } else if (advice.found) {
+      const LobePoint& p = pts[advice.index];
+      out << "\n  recommended: " << human(advice.rpm) << " rpm (in " << human(advice.range.rpm_from)
+          << "–" << human(advice.range.rpm_to) << " rpm, critical depth " << depth_text(p.boundary)
+          << "): stable with the speed " << human(100.0 * advice.margin, 2) << " % (±"
+          << human(advice.margin * advice.rpm, 3) << " rpm) off and the depth "
+          << human(100.0 * advice.margin, 2) << " % larger\n";
     }
   }
-
   // One row of named values per speed, shared by the CSV and the JSON.
   std::vector<std::string> columns{"spindle_rpm", "critical_depth_mm", "chatter_hz",
                                    "lobe",        "bifurcation",       "beyond_limit"};
@@ -317,7 +292,12 @@ void report_lobes(const io::Case& c, const LobesReport& report, const LobesView&
     if (view.target_depth_m) {
       doc["target_depth_mm"] = m_to_mm(*view.target_depth_m);
       doc["stable_ranges"] = ranges;
-      if (recommended) doc["recommended_rpm"] = pts[*recommended].rpm;
+      if (advice.found) {
+        doc["recommended_rpm"] = advice.rpm;
+        doc["recommended_margin"] = advice.margin;
+        doc["recommended_range"] = {{"rpm_from", advice.range.rpm_from},
+                                    {"rpm_to", advice.range.rpm_to}};
+      }
     }
     io::write_json(outputs.open(outputs_args.json), doc);
   }

@@ -732,6 +732,7 @@ void read_lobes(TableReader& t, Case& c) {
   }
   if (auto v = t.integer("harmonics", 0, 50, Need::kOptional)) s.harmonics = *v;
   if (auto v = t.integer("steps_per_period", 0, 100000, Need::kOptional)) s.steps_per_period = *v;
+  if (auto v = t.boolean("refine")) s.refine = *v;
   t.report_unknown();
 }
 
@@ -1171,7 +1172,7 @@ Case parse_case(std::string_view toml_text, std::string_view source) {
   if (const toml::table* t = top.section("lobes")) {
     TableReader r(problems, *t, "lobes",
                   {"rpm_min", "rpm_max", "rpm_steps", "depth_max_mm", "method", "harmonics",
-                   "steps_per_period"});
+                   "steps_per_period", "refine"});
     read_lobes(r, c);
   }
   if (const toml::table* t = top.section("simulate")) {
@@ -1467,7 +1468,8 @@ nlohmann::json to_json(const Case& c) {
                 {"depth_max_mm", tidy(m_to_mm(l.depth_max_m))},
                 {"method", to_string(l.method)},
                 {"harmonics", l.harmonics},
-                {"steps_per_period", l.steps_per_period}};
+                {"steps_per_period", l.steps_per_period},
+                {"refine", l.refine}};
 
   const SimulateSection& s = c.simulate;
   // The keys of the case's process only (a milling case takes no duration_s, a turning case

@@ -1,7 +1,9 @@
 #include "cutdyn/stability/lobes.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <limits>
 
 #include "cutdyn/core/error.hpp"
@@ -18,6 +20,12 @@ std::vector<std::string> LobesOptions::validate() const {
   v.require(rpm_steps >= 2 && rpm_steps <= 100000, "rpm_steps", rpm_steps, "",
             "must be 2 to 100000");
   v.require(threads >= 0, "threads", threads, "", "must not be negative");
+  v.require(refine_levels >= 0 && refine_levels <= 20, "refine_levels", refine_levels, "",
+            "must be 0 to 20");
+  v.require(refine_change > 0.0 && refine_change <= 10.0, "refine_change", refine_change, "",
+            "must be greater than 0 and at most 10");
+  v.require(refine_max_points >= rpm_steps, "refine_max_points", refine_max_points, "",
+            "must be at least rpm_steps");
   return v.problems();
 }
 
@@ -26,6 +34,69 @@ std::vector<double> LobesOptions::speeds_rpm() const {
   for (int i = 0; i < rpm_steps; ++i)
     s[static_cast<std::size_t>(i)] = rpm_min + (rpm_max - rpm_min) * i / (rpm_steps - 1);
   return s;
+}
+
+namespace {
+
+// Whether the boundary between two neighbouring speeds needs a speed in between: a change of
+// lobe or of bifurcation type (a cusp — the peak of a stable pocket — lies between them), or a
+// relative change of the critical depth larger than `change` (a lobe narrower than the step).
+bool needs_refinement(const LobePoint& a, const LobePoint& b, double change) {
+  if (a.boundary.found != b.boundary.found) return true;
+  if (!a.boundary.found) return false;  // stable to the limit on both sides
+  if (a.lobe != b.lobe || a.boundary.bifurcation != b.boundary.bifurcation) return true;
+  const double da = a.boundary.depth_m, db = b.boundary.depth_m;
+  return std::abs(da - db) > change * std::min(da, db);
+}
+
+}  // namespace
+
+namespace {
+
+void add_points(const std::function<LobePoint(double)>& at_speed, const std::vector<double>& rpm,
+                int threads, std::vector<LobePoint>& points) {
+  std::vector<LobePoint> fresh(rpm.size());
+  parallel_for(static_cast<int>(rpm.size()), threads, [&](int i) {
+    fresh[static_cast<std::size_t>(i)] = at_speed(rpm[static_cast<std::size_t>(i)]);
+  });
+  std::vector<LobePoint> merged;
+  merged.reserve(points.size() + fresh.size());
+  std::merge(points.begin(), points.end(), fresh.begin(), fresh.end(), std::back_inserter(merged),
+             [](const LobePoint& x, const LobePoint& y) { return x.rpm < y.rpm; });
+  points = std::move(merged);
+}
+
+}  // namespace
+
+void complete_lobes(const std::function<LobePoint(double)>& at_speed,
+                    const std::vector<LobePoint>& other, std::vector<LobePoint>& points,
+                    int threads) {
+  std::vector<double> missing;
+  std::size_t k = 0;
+  for (const LobePoint& q : other) {
+    while (k < points.size() && points[k].rpm < q.rpm) ++k;
+    if (k == points.size() || points[k].rpm != q.rpm) missing.push_back(q.rpm);
+  }
+  if (!missing.empty()) add_points(at_speed, missing, threads, points);
+}
+
+void refine_lobes(const std::function<LobePoint(double)>& at_speed, const LobesOptions& o,
+                  std::vector<LobePoint>& points) {
+  // Narrowest interval worth halving: 1e-5 of the speed (a cusp located to that).
+  constexpr double kNarrowest = 1e-5;
+  for (int level = 0; level < o.refine_levels; ++level) {
+    std::vector<double> added;
+    for (std::size_t i = 0; i + 1 < points.size(); ++i) {
+      const LobePoint& a = points[i];
+      const LobePoint& b = points[i + 1];
+      if (b.rpm - a.rpm > kNarrowest * b.rpm && needs_refinement(a, b, o.refine_change))
+        added.push_back(0.5 * (a.rpm + b.rpm));
+    }
+    const std::size_t room = static_cast<std::size_t>(o.refine_max_points) - points.size();
+    if (added.empty() || room == 0) return;
+    if (added.size() > room) added.resize(room);
+    add_points(at_speed, added, o.threads, points);
+  }
 }
 
 LobesReport trace_lobes(const std::function<LobePoint(double)>& at_speed, const LobesOptions& o,
@@ -43,6 +114,7 @@ LobesReport trace_lobes(const std::function<LobePoint(double)>& at_speed, const 
         report.points[static_cast<std::size_t>(i)] = at_speed(speeds[static_cast<std::size_t>(i)]);
       },
       progress);
+  if (o.refine) refine_lobes(at_speed, o, report.points);
   std::string unresolved, truncated;
   int unresolved_count = 0, truncated_count = 0;
   const auto list = [](std::string& text, int& count, double rpm) {

@@ -89,7 +89,7 @@ TEST_F(Cli, LobesWritesCsvJsonAndPlotForTheDefaultCase) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(files(), (std::vector<std::string>{"l.csv", "l.dat", "l.gp", "l.json", "l.svg"}));
   const auto lines = csv_lines(path("l.csv"));
-  ASSERT_EQ(lines.size(), 201u);  // header + 200 speeds
+  ASSERT_GT(lines.size(), 201u);  // header + 200 speeds + those the refinement adds
   EXPECT_EQ(lines[0].rfind("spindle_rpm,critical_depth_mm,chatter_hz,lobe", 0), 0u);
   double previous = 0.0;
   for (std::size_t i = 1; i < lines.size(); ++i) {
@@ -101,7 +101,7 @@ TEST_F(Cli, LobesWritesCsvJsonAndPlotForTheDefaultCase) {
   const auto doc = nlohmann::json::parse(std::ifstream(path("l.json")));
   EXPECT_EQ(doc["method"], "full-discretization");
   EXPECT_EQ(doc["case"]["vibration"]["duty_cycle"], 0.6);
-  ASSERT_EQ(doc["points"].size(), 200u);
+  ASSERT_EQ(doc["points"].size(), lines.size() - 1);
   // At 500 rpm against the library's closed forms, in mm and Hz: conventional = Tlusty
   // exactly, vibration-assisted = averaged theory (Kt → 0.6·Kt, exact for f ≫ fn) within 0.1 %.
   const TurningModel m = cutdyn::testing::table2_conventional();
@@ -363,7 +363,7 @@ TEST_F(Cli, RealProcessExitCodesAndStreams) {
 TEST_F(Cli, MillingLobesAndCheck) {
   // The Insperger–Stépán slotting benchmark through the command line, against the library.
   std::string text(*io::example_text("milling-insperger"));
-  text.replace(text.find("rpm_steps = 200"), 15, "rpm_steps = 21");
+  text.replace(text.find("rpm_steps = 200"), 15, "rpm_steps = 21\nrefine = false");
   const auto file = write("mill.toml", text);
   ASSERT_EQ(cutdyn({"lobes", file, "--out", path("m.csv")}).code, 0);
   const auto lines = csv_lines(path("m.csv"));
@@ -395,7 +395,7 @@ TEST_F(Cli, MillingVariablePitchHelicalExample) {
   // speed resolved, the first against the library with the model built by hand, and the pitch
   // echoed in the JSON.
   std::string text(*io::example_text("milling-variable-pitch"));
-  text.replace(text.find("rpm_steps = 200"), 15, "rpm_steps = 9");
+  text.replace(text.find("rpm_steps = 200"), 15, "rpm_steps = 9\nrefine = false");
   const auto file = write("vp.toml", text);
   const Result r = cutdyn({"lobes", file, "--out", path("vp.csv"), "--json", path("vp.json")});
   ASSERT_EQ(r.code, 0) << r.err;
@@ -725,8 +725,9 @@ TEST_F(Cli, TargetDepthListsTheStableSpeedRanges) {
   EXPECT_NE(r.out.find("recommended:"), std::string::npos);
   const auto doc = nlohmann::json::parse(std::ifstream(path("t.json")));
   ASSERT_FALSE(doc["stable_ranges"].empty());
-  // Every grid speed inside a range is stable at 0.2 mm, every one outside is not, and the
-  // recommended speed has the largest critical depth of all.
+  // Every speed inside a range is stable at 0.2 mm, every one outside is not, and the
+  // recommended speed keeps the margin it reports: every speed within ±ε of it is stable at
+  // 0.2·(1 + ε) mm; the deepest speed, which was recommended before, keeps less.
   double deepest = 0.0, deepest_rpm = 0.0;
   for (const auto& p : doc["points"]) {
     const double rpm = p["spindle_rpm"], depth = p["critical_depth_mm"];
@@ -740,7 +741,21 @@ TEST_F(Cli, TargetDepthListsTheStableSpeedRanges) {
       deepest_rpm = rpm;
     }
   }
-  EXPECT_EQ(doc["recommended_rpm"].get<double>(), deepest_rpm);
+  const double n = doc["recommended_rpm"], eps = doc["recommended_margin"];
+  EXPECT_GT(eps, 0.0);
+  const auto margin_at = [&](double at) {  // the definition, by brute force
+    double e = 1.0;
+    for (const auto& p : doc["points"]) {
+      const double delta = std::abs(p["spindle_rpm"].get<double>() - at) / at;
+      const double head = p["critical_depth_mm"].get<double>() / 0.2 - 1.0;
+      e = std::min(e, std::max(delta, head));
+    }
+    const auto& pts = doc["points"];
+    const double lo = pts.front()["spindle_rpm"], hi = pts.back()["spindle_rpm"];
+    return std::min({e, (at - lo) / at, (hi - at) / at});
+  };
+  EXPECT_NEAR(margin_at(n), eps, 1e-12);
+  EXPECT_LE(margin_at(deepest_rpm), eps);
   expect_rejected({"lobes", file, "--target-depth-mm", "0", "--out", path("x.csv")},
                   "--target-depth-mm = 0");
 }

@@ -558,7 +558,8 @@ TEST(CaseFileJson, EchoesTheFileInItsOwnKeysAndUnits) {
                                         {"depth_max_mm", 40},
                                         {"method", "auto"},
                                         {"harmonics", 5},
-                                        {"steps_per_period", 0}}));
+                                        {"steps_per_period", 0},
+                                        {"refine", true}}));
   EXPECT_EQ(
       j["simulate"],
       (nlohmann::json{

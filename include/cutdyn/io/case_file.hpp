@@ -97,6 +97,7 @@ struct LobesSection {
   StabilityMethod method = StabilityMethod::kAuto;
   int harmonics = 5;         // multi-frequency: harmonics kept each side, 0..50
   int steps_per_period = 0;  // full discretization: 0 = automatic, else 1..100000
+  bool refine = true;        // adaptive speeds where lobes meet or are narrower than the grid
 };
 
 /// [simulate]: one time-domain run (command-line flags override these).

@@ -14,6 +14,15 @@ struct LobesOptions {
   double rpm_max = 5000.0;
   int rpm_steps = 200;  // speeds on a uniform grid, both ends included
   int threads = 0;      // 0: all cores (OpenMP)
+  /// Adaptive refinement: speeds are added between two neighbours of the grid where the
+  /// boundary changes lobe or bifurcation type (a cusp, i.e. the peak of a stable pocket,
+  /// lies between them) or the critical depth changes by more than `refine_change` of the
+  /// smaller one (a lobe narrower than the grid), halving the interval up to
+  /// `refine_levels` times; at most `refine_max_points` speeds in all.
+  bool refine = true;
+  int refine_levels = 8;
+  double refine_change = 0.2;
+  int refine_max_points = 20000;
 
   std::vector<std::string> validate() const;
   std::vector<double> speeds_rpm() const;
@@ -46,12 +55,25 @@ struct LobesReport {
   LobesOptions options;  // as used
 };
 
-/// Calls `at_speed(rpm)` for every speed of the grid, spread over threads, and gathers the
-/// points in speed order. `progress(done, total)`, if set, is called from one thread at a
+/// Calls `at_speed(rpm)` for every speed of the grid, spread over threads, then for the
+/// speeds the adaptive refinement adds (LobesOptions::refine), and gathers the points in
+/// ascending speed order. `progress(done, total)`, if set, is called from one thread at a
 /// time as speeds complete. An exception thrown by `at_speed` is rethrown after the loop.
 LobesReport trace_lobes(const std::function<LobePoint(double rpm)>& at_speed,
                         const LobesOptions& options,
                         const std::function<void(int done, int total)>& progress = {});
+
+/// The adaptive refinement of trace_lobes on its own: adds speeds to `points` (ascending)
+/// as LobesOptions::refine describes.
+void refine_lobes(const std::function<LobePoint(double rpm)>& at_speed, const LobesOptions& options,
+                  std::vector<LobePoint>& points);
+
+/// Adds to `points` (ascending) the points at every speed of `other` that it lacks, computed
+/// by `at_speed` in parallel: two curves traced with their own refinement, made to share
+/// their speeds.
+void complete_lobes(const std::function<LobePoint(double rpm)>& at_speed,
+                    const std::vector<LobePoint>& other, std::vector<LobePoint>& points,
+                    int threads = 0);
 
 /// Critical depth at one speed from a stability margin g(w) (< 0 stable, >= 0 unstable, and
 /// continuous, e.g. spectral radius − 1): scans [0, depth_max] in `coarse_steps` equal steps

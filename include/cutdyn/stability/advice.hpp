@@ -1,0 +1,43 @@
+// What a process engineer reads off the lobes: the speed ranges stable at a target depth,
+// the stable pockets, and the speed to recommend. Rules live here, so every front end gives
+// the same advice; docs/models/milling-stability.md ("Advice").
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "cutdyn/stability/lobes.hpp"
+
+namespace cutdyn {
+
+struct SpeedRange {
+  double rpm_from = 0.0;
+  double rpm_to = 0.0;
+};
+
+/// Speed ranges where the critical depth exceeds `depth_m`, ascending. An end between two
+/// speeds of the lobes is placed where the depth, linear between them, equals `depth_m`; a
+/// range that runs to the first or last speed ends there.
+std::vector<SpeedRange> stable_ranges(const std::vector<LobePoint>& points, double depth_m);
+
+/// Indices of the stable pockets — local maxima of the critical depth, the peaks between two
+/// lobes — deepest first, at most `count`.
+std::vector<std::size_t> stable_pockets(const std::vector<LobePoint>& points, std::size_t count);
+
+/// The recommended speed for a target depth a and its margin ε: the largest ε such that
+/// every speed within n·(1 ± ε) has a critical depth of at least a·(1 + ε) — the cut stays
+/// stable with the speed (or the lobes, through the natural frequency) off by ε either way
+/// and the depth (or the cutting coefficient) ε larger. Speeds outside the lobes' range are
+/// unknown, so ε never reaches past it. The recommended speed maximises ε (ties: the deeper
+/// critical depth). A speed just inside a narrow band, or next to a cliff, has a small ε.
+struct SpeedAdvice {
+  bool found = false;     // false: no speed of the lobes is stable at the target depth
+  std::size_t index = 0;  // into the points
+  double rpm = 0.0;
+  double margin = 0.0;  // ε
+  SpeedRange range;     // the stable range that holds it
+};
+
+SpeedAdvice recommend_speed(const std::vector<LobePoint>& points, double depth_m);
+
+}  // namespace cutdyn

@@ -1,0 +1,145 @@
+// Adaptive lobe tracing and the advice read off the lobes (stable ranges, pockets, the
+// recommended speed), against a fine uniform grid and hand-built curves.
+#include "cutdyn/stability/advice.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "cutdyn/stability/turning.hpp"
+#include "support/reference_cases.hpp"
+
+namespace cutdyn {
+namespace {
+
+// Conventional turning, table 2 of the S4 source, by Tlusty's closed form.
+LobePoint table2_point(double rpm) {
+  TurningStabilityOptions o;
+  o.method = TurningMethod::kClosedForm;
+  const TurningBoundary b = turning_critical_depth(testing::table2_conventional(), rpm, o);
+  return LobePoint{rpm, b.boundary, b.duty_cycle, b.lobe};
+}
+
+LobesOptions grid(double from, double to, int steps, bool refine) {
+  LobesOptions o;
+  o.rpm_min = from;
+  o.rpm_max = to;
+  o.rpm_steps = steps;
+  o.refine = refine;
+  o.refine_max_points = std::max(o.refine_max_points, steps);
+  return o;
+}
+
+// The local maxima (stable-pocket peaks) of a traced curve inside [from, to].
+std::vector<double> pocket_peaks(const std::vector<LobePoint>& p, double from, double to) {
+  std::vector<double> peaks;
+  for (std::size_t i = 1; i + 1 < p.size(); ++i) {
+    if (p[i].rpm < from || p[i].rpm > to) continue;
+    const double d = p[i].boundary.depth_m;
+    if (d >= p[i - 1].boundary.depth_m && d > p[i + 1].boundary.depth_m) peaks.push_back(d);
+  }
+  return peaks;
+}
+
+TEST(LobeTracing, AdaptiveRefinementHoldsTheTruePocketPeaks) {
+  // Near 700 rpm the default 200-speed grid has 1.6 speeds per lobe: it shows 3 of the 5
+  // pockets between 620 and 780 rpm, one at 7.44 mm, where the true peaks (cusps) are
+  // 10.03–11.38 mm. Truth: a uniform grid 400 times finer.
+  const LobesReport fine = trace_lobes(table2_point, grid(600.0, 800.0, 80001, false));
+  const LobesReport plain = trace_lobes(table2_point, grid(500.0, 5000.0, 200, false));
+  const LobesReport traced = trace_lobes(table2_point, grid(500.0, 5000.0, 200, true));
+  const std::vector<double> truth = pocket_peaks(fine.points, 620.0, 780.0);
+  const std::vector<double> coarse = pocket_peaks(plain.points, 620.0, 780.0);
+  const std::vector<double> adaptive = pocket_peaks(traced.points, 620.0, 780.0);
+  ASSERT_GE(truth.size(), 5u);
+  ASSERT_EQ(adaptive.size(), truth.size());
+  for (std::size_t k = 0; k < truth.size(); ++k)
+    EXPECT_NEAR(adaptive[k], truth[k], 0.003 * truth[k]) << "pocket " << k;
+  // The plain grid misses pockets and shows others far too low.
+  EXPECT_LT(coarse.size(), truth.size());
+  ASSERT_FALSE(coarse.empty());
+  EXPECT_LT(*std::min_element(coarse.begin(), coarse.end()),
+            0.8 * *std::min_element(truth.begin(), truth.end()));
+  // Ascending, the grid kept, and far fewer speeds than a uniform grid of the same resolution.
+  for (std::size_t i = 1; i < traced.points.size(); ++i)
+    ASSERT_LT(traced.points[i - 1].rpm, traced.points[i].rpm);
+  EXPECT_LT(traced.points.size(), 1000u);
+  for (const LobePoint& p : plain.points)
+    EXPECT_TRUE(std::any_of(traced.points.begin(), traced.points.end(),
+                            [&](const LobePoint& q) { return q.rpm == p.rpm; }));
+}
+
+TEST(LobeTracing, RefinementStopsAtItsLimits) {
+  LobesOptions o = grid(500.0, 5000.0, 200, true);
+  o.refine_max_points = 250;
+  EXPECT_EQ(trace_lobes(table2_point, o).points.size(), 250u);
+  o.refine_max_points = 20000;
+  o.refine_levels = 0;
+  EXPECT_EQ(trace_lobes(table2_point, o).points.size(), 200u);
+}
+
+LobePoint point(double rpm, double depth, bool found = true) {
+  LobePoint p;
+  p.rpm = rpm;
+  p.boundary.depth_m = depth;
+  p.boundary.found = found;
+  return p;
+}
+
+TEST(Advice, StableRangeEndsAreInterpolated) {
+  // Depth 1 → 3 → 1 over 100…300 rpm in steps of 50: above 2 between 125 and 275 rpm.
+  const std::vector<LobePoint> p{point(100, 1), point(150, 3), point(200, 3), point(250, 3),
+                                 point(300, 1)};
+  const auto r = stable_ranges(p, 2.0);
+  ASSERT_EQ(r.size(), 1u);
+  EXPECT_DOUBLE_EQ(r[0].rpm_from, 125.0);
+  EXPECT_DOUBLE_EQ(r[0].rpm_to, 275.0);
+  // A range that runs to the end of the lobes stops there.
+  const auto all = stable_ranges(p, 0.5);
+  ASSERT_EQ(all.size(), 1u);
+  EXPECT_DOUBLE_EQ(all[0].rpm_from, 100.0);
+  EXPECT_DOUBLE_EQ(all[0].rpm_to, 300.0);
+  EXPECT_TRUE(stable_ranges(p, 5.0).empty());
+}
+
+TEST(Advice, RecommendedSpeedKeepsAwayFromCliffs) {
+  // A band whose best depth sits next to a cliff (910 rpm: 30 mm, 920 rpm: 5 mm) and a wide
+  // band at 12 mm: for a 10 mm target the narrow deep band leaves at most 3.5 % in speed, the
+  // wide one 20 % in depth and 14 % in speed (its centre is 210 rpm from 5 mm).
+  std::vector<LobePoint> p;
+  for (double n = 800; n <= 2000; n += 10) {
+    double d = 5e-3;
+    if (n >= 850 && n <= 910) d = 30e-3;
+    if (n >= 1300 && n <= 1700) d = 12e-3;
+    p.push_back(point(n, d));
+  }
+  const SpeedAdvice a = recommend_speed(p, 10e-3);
+  ASSERT_TRUE(a.found);
+  EXPECT_NEAR(a.rpm, 1500.0, 1e-9);
+  EXPECT_NEAR(a.margin, 210.0 / 1500.0, 1e-12);
+  EXPECT_NEAR(a.range.rpm_from, 1290.0 + 10.0 * 5.0 / 7.0, 1e-9);
+  // Its definition, checked directly: every speed within ±ε has a depth of at least a(1 + ε).
+  for (const LobePoint& q : p)
+    if (std::abs(q.rpm - a.rpm) < a.margin * a.rpm * (1.0 - 1e-12))
+      EXPECT_GE(q.boundary.depth_m, 10e-3 * (1.0 + a.margin) - 1e-15) << q.rpm;
+  EXPECT_FALSE(recommend_speed(p, 40e-3).found);
+}
+
+TEST(Advice, TurningRecommendationIsTheWideDeepBandNotTheCliffEdge) {
+  // turning-conventional at 10 mm recommended 2761 rpm, 23 rpm inside a band whose next
+  // speed is at 9.6 mm; 3951–4731 rpm is above the 30 mm limit.
+  LobesOptions o = grid(500.0, 5000.0, 200, true);
+  TurningStabilityOptions so;
+  so.method = TurningMethod::kClosedForm;
+  const LobesReport r = trace_lobes(table2_point, o);
+  const SpeedAdvice a = recommend_speed(r.points, 10e-3);
+  ASSERT_TRUE(a.found);
+  EXPECT_GT(a.rpm, 3951.0);
+  EXPECT_LT(a.rpm, 4731.0);
+  EXPECT_GT(a.margin, 0.05);
+  EXPECT_GT(a.range.rpm_from, 3900.0);
+}
+
+}  // namespace
+}  // namespace cutdyn
