@@ -202,9 +202,9 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
   // a node's force counts, for the step it ends and the step it starts, with the fraction of
   // that step inside the window (the window's exact mean over the step, as in the full
   // discretization [Ding2010]). `in` (strictly inside at the node) gives the reported force.
-  struct Angle {
+  struct Angle {  // 32 bytes: the table is read every step
     double s, c;
-    double g_end, g_start;
+    float g_end, g_start;
     bool in, active;
   };
   const auto window_fraction = [&](double from) {  // of [from, from + Δθ]
@@ -225,8 +225,8 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
       angles[static_cast<std::size_t>(b * n_slices + j)] = {
           std::sin(theta),
           std::cos(theta),
-          g_end,
-          g_start,
+          static_cast<float>(g_end),
+          static_cast<float>(g_start),
           in_window(theta, cut.entry_rad, cut.exit_rad),
           g_end > 0.0 || g_start > 0.0};
     }
@@ -286,6 +286,14 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
     long long window = 0, lost = 0;
   };
   const auto evaluate = [&](long long n, const Eigen::Vector2d& r, bool rigid_chip) {
+    // Local copies: the stores to the surfaces below cannot alias them, so they stay in
+    // registers (through the closure the compiler reloaded them for every slice).
+    const Direction2 t_dir = tangential, r_dir = radial, cut_dir = cutting, flank_dir = flank;
+    const MechanisticForceLaw m_law = mech ? *mech : MechanisticForceLaw{};
+    const double kt_b = m_law.kt_pa * width, kr_b = m_law.kr_pa * width;
+    const double kte_b = m_law.kte_n_per_m * width, kre_b = m_law.kre_n_per_m * width;
+    const bool regenerative = cut.regenerative;
+    const double r_x = r.x(), r_y = r.y();
     NodeForces nf;
     const double feed = feed_speed * static_cast<double>(n) * dt;  // feed motion along +x
     for (int k = 0; k < z; ++k) {
@@ -300,7 +308,7 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
         double chip = 0.0;
         if (a.active) {
           double& stored = surface[at];
-          const double here = cut.regenerative ? (feed + r.x()) * a.s + r.y() * a.c : feed * a.s;
+          const double here = regenerative ? (feed + r_x) * a.s + r_y * a.c : feed * a.s;
           if (rigid_chip)
             chip = rigid_feed * a.s;
           else
@@ -317,16 +325,16 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
         if (chip <= 0.0) continue;
         Eigen::Vector2d f;
         if (mech) {
-          const double ft = mech->kt_pa * width * chip + mech->kte_n_per_m * width;
-          const double fr = mech->kr_pa * width * chip + mech->kre_n_per_m * width;
-          f = ft * tangential.at(a.s, a.c) + fr * radial.at(a.s, a.c);
+          const double ft = kt_b * chip + kte_b;
+          const double fr = kr_b * chip + kre_b;
+          f = ft * t_dir.at(a.s, a.c) + fr * r_dir.at(a.s, a.c);
         } else {
           const double p = erm->c_n_per_m * (erm->t2_s > 0.0 ? u : chip);
           const double contact = erm->p0_n * std::exp(-chip / erm->t1_m);
-          f = share * (p * cutting.at(a.s, a.c) + contact * flank.at(a.s, a.c));
+          f = share * (p * cut_dir.at(a.s, a.c) + contact * flank_dir.at(a.s, a.c));
         }
-        nf.end += a.g_end * f;
-        nf.start += a.g_start * f;
+        nf.end += static_cast<double>(a.g_end) * f;
+        nf.start += static_cast<double>(a.g_start) * f;
         if (a.in) {
           nf.now += f;
           nf.engaged += 1.0 / n_slices;
@@ -363,19 +371,37 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
     x = (Eigen::MatrixXd::Identity(x.size(), x.size()) - phi_rev).partialPivLu().solve(x);
   }
   ring.assign(static_cast<std::size_t>(period_steps), rigid ? Eigen::VectorXd() : x);
+  // The step in two halves (no allocation): predict() puts Φ·x(n−1) + Γ0·F(n−1) in `base` and
+  // returns the displacement with the force held from n − 1 (error O(h³)); correct() adds
+  // Γ1·F(n), the first-order hold x(n) = Φ·x(n−1) + Γ0·F(n−1) + Γ1·F(n) [Ding2010, W0 and W1].
+  Eigen::VectorXd base, difference;
+  if (!rigid) {
+    base = x;
+    difference = x;
+  }
+  const auto predict = [&](Eigen::Vector2d& r) {
+    base.noalias() = stepper->phi() * x;
+    base.noalias() += stepper->gamma_start() * start_force;
+    r.noalias() = stepper->output_matrix() * base;
+    r.noalias() += c_gamma_end * start_force;
+  };
+  const auto correct = [&](const NodeForces& nf) {
+    x = base;
+    x.noalias() += stepper->gamma_end() * nf.end;
+    start_force = nf.start;
+  };
   for (long long n = -bins; n < 0; ++n) {
     Eigen::Vector2d r = Eigen::Vector2d::Zero();
-    Eigen::VectorXd base;
-    if (!rigid && n > -bins) {
-      base = stepper->phi() * x + stepper->gamma_start() * start_force;
-      r = stepper->output_matrix() * base + c_gamma_end * start_force;
-    } else if (!rigid) {
-      r = stepper->output_matrix() * x;
-    }
+    if (!rigid && n > -bins)
+      predict(r);
+    else if (!rigid)
+      r.noalias() = stepper->output_matrix() * x;
     const NodeForces nf = evaluate(n, r, true);
     if (!rigid) {
-      if (n > -bins) x = base + stepper->gamma_end() * nf.end;
-      start_force = nf.start;
+      if (n > -bins)
+        correct(nf);
+      else
+        start_force = nf.start;
       orbit_peak = std::max(orbit_peak, (stepper->output_matrix() * x).cwiseAbs().maxCoeff());
       if (n >= -period_steps) ring[static_cast<std::size_t>((n + bins) % period_steps)] = x;
     }
@@ -440,18 +466,12 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
     const double t = static_cast<double>(n) * dt;
     // Predictor: the displacement with the force held from the last node (error O(h³)).
     Eigen::Vector2d r = Eigen::Vector2d::Zero();
-    Eigen::VectorXd base;
-    if (!rigid) {
-      base = stepper->phi() * x + stepper->gamma_start() * start_force;
-      r = stepper->output_matrix() * base + c_gamma_end * start_force;
-    }
+    if (!rigid) predict(r);
     const NodeForces nf = evaluate(n, r, false);
     if (!rigid) {
-      // First-order hold: x(n) = Φ·x(n−1) + Γ0·F(n−1) + Γ1·F(n) [Ding2010, eq. 12's W0, W1].
-      x = base + stepper->gamma_end() * nf.end;
+      correct(nf);
       if (n == 0) x += kick;
-      start_force = nf.start;
-      r = stepper->output_matrix() * x;
+      r.noalias() = stepper->output_matrix() * x;
     }
     const Eigen::Vector2d& f = nf.now;
     const double magnitude = f.norm();
@@ -491,7 +511,8 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
     if (n % period_steps == 0) sync.push_back(r);
     if (!rigid) {
       Eigen::VectorXd& then = ring[static_cast<std::size_t>(n % period_steps)];
-      amplitude_sum += std::sqrt(stepper->squared_amplitude(x - then));
+      difference = x - then;
+      amplitude_sum += std::sqrt(stepper->squared_amplitude(difference));
       then = x;
       if ((n + 1) % period_steps == 0) {
         period_amplitude.push_back(amplitude_sum / static_cast<double>(period_steps));
