@@ -125,8 +125,9 @@ std::vector<std::string> MillingSimulationOptions::validate() const {
   v.require(slices >= 0 && slices <= 10000, "slices", slices, "", "must be 0 (automatic) to 10000");
   v.require(max_recorded_samples >= 2, "max_recorded_samples", max_recorded_samples, "",
             "must be at least 2");
-  v.require(perturbation >= 0.0 && perturbation <= 1.0, "perturbation", perturbation,
-            "(of the feed per tooth)", "must be 0 to 1");
+  v.require(perturbation > 0.0 && perturbation <= 1.0, "perturbation", perturbation,
+            "(of the feed per tooth)",
+            "must be greater than 0 (the disturbance whose growth decides chatter) and at most 1");
   return v.problems();
 }
 

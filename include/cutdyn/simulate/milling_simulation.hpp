@@ -65,7 +65,7 @@ struct MillingCut {
 };
 
 struct MillingSimulationOptions {
-  /// Raised, when the cutter has modes, to put 64 steps in the shortest mode period.
+  /// Raised, when the chip is regenerative, to put 64 steps in the shortest mode period.
   int steps_per_tooth = 256;
   double revolutions = 30.0;         // simulated
   double summary_revolutions = 2.0;  // the last ones, for the summary
@@ -73,7 +73,7 @@ struct MillingSimulationOptions {
   bool closed_form_helix = false;    // S1 eqs. 8–9 instead of slices
   int max_recorded_samples = 20000;  // traces are thinned to at most this many samples
   /// Displacement added in x and y at t = 0 to the periodic forced vibration, as a fraction of
-  /// the feed per tooth: the disturbance whose growth or decay decides chatter.
+  /// the feed per tooth (> 0): the disturbance whose growth or decay decides chatter.
   double perturbation = 1e-3;
 
   std::vector<std::string> validate() const;
@@ -105,8 +105,8 @@ struct MillingSimulationResult {
   /// Regenerative chip and a growing perturbation (growth_per_period > 0), or a runaway.
   bool chatter = false;
   /// kRunaway: the displacement passed 1000 × (feed per tooth + peak forced vibration) and
-  /// the run stopped at stop_time_s; the traces end there and the summary covers the
-  /// summary revolutions before it (at least the last one or two).
+  /// the run stopped at stop_time_s; the traces end there and the summary covers the part of
+  /// the summary revolutions reached, or else the last one to two revolutions before the stop.
   SimulationStatus status = SimulationStatus::kCompleted;
   double stop_time_s = 0.0;  // the time integrated up to
   /// Cutter displacement along the wall normal when a tooth passes the angle that finishes
@@ -114,7 +114,7 @@ struct MillingSimulationResult {
   std::optional<double> surface_location_error_m;
   // Discretization used.
   double step_s = 0.0;
-  long long steps = 0;
+  long long steps = 0;  // integrated (fewer than asked after a runaway)
   int slices = 1;
   int steps_per_revolution = 0;
 
