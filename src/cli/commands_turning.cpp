@@ -246,8 +246,11 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
   for (const Run& r : runs) {
     const auto& s = r.result;
     out << fmt::format(
-        "  {:<19} {:<9} growth rate {:+.3g} 1/s; amplitude {} → {} µm over {} revolutions{}\n",
-        r.name + ":", s.chatter ? "GROWS" : "decays", s.growth_rate_per_s,
+        "  {:<19} {:<9} growth rate {} 1/s; amplitude {} → {} µm over {} revolutions{}\n",
+        r.name + ":", s.chatter ? "GROWS" : "decays",
+        // (not fitted: fewer than two whole revolutions before a runaway or loss of contact)
+        s.revolution_amplitude_m.size() < 2 ? std::string("–")
+                                            : fmt::format("{:+.3g}", s.growth_rate_per_s),
         human(units::m_to_um(s.revolution_amplitude_m.empty() ? 0.0
                                                               : s.revolution_amplitude_m.front()),
               3),
