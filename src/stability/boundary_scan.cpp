@@ -60,10 +60,16 @@ struct Candidate {
 namespace {
 
 // Crossings of the positive real axis by eigenvalues followed from one sample of [θa, θb]
-// to the next (n equal steps; `first` holds the eigenvalues at θa).
+// to the next (n equal steps; `first` holds the eigenvalues at θa). Where the matching of an
+// eigenvalue that matters is ambiguous — its nearest successor is not clearly nearer than the
+// next one, as when eigenvalues crowd — the step is split in kSplit and followed again (at
+// most kMaxSplits times), so that a crossing is neither missed nor made up by a swap.
 void find_candidates(Evaluator& ev, double theta_a, double theta_b, long long n,
                      Eigen::VectorXcd first, double keep, int level,
-                     std::vector<Candidate>& candidates, Eigen::VectorXcd* last = nullptr) {
+                     std::vector<Candidate>& candidates, Eigen::VectorXcd* last = nullptr,
+                     int splits = 0) {
+  constexpr long long kSplit = 4;
+  constexpr int kMaxSplits = 3;
   const double h = (theta_b - theta_a) / static_cast<double>(n);
   Eigen::VectorXcd prev = std::move(first);
   double prev_theta = theta_a;
@@ -71,28 +77,41 @@ void find_candidates(Evaluator& ev, double theta_a, double theta_b, long long n,
     const double theta = s == n ? theta_b : theta_a + static_cast<double>(s) * h;
     Eigen::VectorXcd cur = ev.values(theta);
     if (prev.size() > 0 && cur.size() > 0) {
+      std::vector<Candidate> found;
+      bool ambiguous = false;
       std::vector<bool> used(static_cast<std::size_t>(cur.size()), false);
       for (Eigen::Index i = 0; i < prev.size(); ++i) {
         const cplx a = prev(i);
         if (a.real() < keep) continue;
         Eigen::Index best = -1;
         double best_d = std::numeric_limits<double>::infinity();
+        double second_d = std::numeric_limits<double>::infinity();
         for (Eigen::Index j = 0; j < cur.size(); ++j) {
-          if (used[static_cast<std::size_t>(j)]) continue;
           const double dist = std::abs(cur(j) - a);
+          if (used[static_cast<std::size_t>(j)]) continue;
           if (dist < best_d) {
+            second_d = best_d;
             best_d = dist;
             best = j;
+          } else if (dist < second_d) {
+            second_d = dist;
           }
         }
         if (best < 0) continue;
+        if (best_d > 0.5 * second_d) ambiguous = true;
         used[static_cast<std::size_t>(best)] = true;
         const cplx b = cur(best);
         if ((a.imag() > 0.0) == (b.imag() > 0.0) || a.imag() == b.imag()) continue;
         const double frac = a.imag() / (a.imag() - b.imag());
         const double re = a.real() + frac * (b.real() - a.real());
         if (re < keep) continue;
-        candidates.push_back({prev_theta, theta, a, b, 1.0 / re, level});
+        found.push_back({prev_theta, theta, a, b, 1.0 / re, level});
+      }
+      if (ambiguous && splits < kMaxSplits) {
+        find_candidates(ev, prev_theta, theta, kSplit, prev, keep, level, candidates, nullptr,
+                        splits + 1);
+      } else {
+        candidates.insert(candidates.end(), found.begin(), found.end());
       }
     }
     prev = std::move(cur);

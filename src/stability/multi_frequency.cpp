@@ -82,12 +82,14 @@ int multi_frequency_harmonics(const DelayedSystem& system, const MultiFrequencyO
   if (system.H.constant || o.harmonics == 0) return 0;
   if (o.exact_harmonics) return o.harmonics;
   const double Omega = kTwoPi / system.H.period_s;
-  // Reach the response band, and resolve the shortest contact pulse or gap of H(t) (a narrow
-  // pulse at low radial immersion has slowly decaying Fourier coefficients): 1.5 harmonics
-  // per pulse length keep the depth within about 0.2 % (docs/models/milling-stability.md).
+  // Reach the response band, plus the spread of a narrow contact pulse's spectrum: the
+  // coefficients H_(p−q) of a pulse of a fraction δ of the period couple a harmonic at a mode
+  // to about 1/δ harmonics either side, which must be in the window too (a/D = 0.05 with
+  // the band alone gave depths 10–27 % off). 1.5 harmonics per pulse length keep the depth
+  // within about 0.5 % of the full discretization (docs/models/milling-stability.md).
   constexpr double kHarmonicsPerPulse = 1.5;
-  const double needed = std::max(std::ceil(response_band_rad_s(system) / Omega),
-                                 std::ceil(kHarmonicsPerPulse / shortest_segment_fraction(system)));
+  const double needed = std::ceil(response_band_rad_s(system) / Omega) +
+                        std::ceil(kHarmonicsPerPulse / shortest_segment_fraction(system));
   if (needed > o.max_harmonics) {
     if (truncated) *truncated = true;
     return std::max(o.harmonics, o.max_harmonics);

@@ -14,8 +14,9 @@
 // a flip (period-doubling) boundary is a real eigenvalue at the end of the scan, taken
 // directly. The window must reach every frequency at which the structure responds — a mode
 // outside it is simply not seen, and the method then calls unstable speeds stable — so P is
-// raised from the requested value until P·Ω covers the response band and the
-// harmonics resolve the shortest contact pulse (multi_frequency_harmonics). With a constant
+// raised from the requested value until the window covers the response band
+// and, beyond it, the spread of the shortest contact pulse's spectrum
+// (multi_frequency_harmonics). With a constant
 // coefficient the scan covers every frequency at which the structure can respond enough to reach
 // the depth limit.
 #pragma once
@@ -48,10 +49,11 @@ struct MultiFrequencyOptions {
 CriticalDepth multi_frequency_critical_depth(const DelayedSystem& system,
                                              const MultiFrequencyOptions& options);
 
-/// The harmonics P the method uses for `system`: `harmonics`, raised (unless exact) so that
-/// P·Ω reaches response_band_rad_s and P is at least 1.5 times the period over the shortest
-/// contact pulse or gap of H(t); at most max_harmonics. 0 for a constant coefficient.
-/// `truncated` (if given) is set when the band needs more than max_harmonics.
+/// The harmonics P the method uses for `system`: `harmonics`, raised (unless exact) to the
+/// harmonics that reach response_band_rad_s plus 1.5 times the period over the shortest
+/// contact pulse or gap of H(t) (the spread of the pulse's spectrum); at most max_harmonics. 0 for
+/// a constant coefficient. `truncated` (if given) is set when the band needs more than
+/// max_harmonics.
 int multi_frequency_harmonics(const DelayedSystem& system, const MultiFrequencyOptions& options,
                               bool* truncated = nullptr);
 

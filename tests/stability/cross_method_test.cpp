@@ -1,0 +1,188 @@
+// The cross-method matrix (ctest label "cross-method"): every stability method on the same
+// cuts — 1 to 4 modes, radial immersion 5–100 % (and the same cut given as entry/exit angles),
+// up- and down-milling, straight and helical teeth, conventional and vibration-assisted
+// turning. The tolerances are those docs/models/milling-stability.md ("How far the methods
+// agree") states:
+//   * multi-frequency vs full discretization: 5 % away from cusps, and never "stable to the
+//     limit" where the other finds a boundary;
+//   * zero-order vs full discretization: 15 % on Hopf lobes in slotting with the tooth
+//     frequency at least half the lowest mode's (its averaging is known to miss flip lobes and
+//     to be poor at partial immersion and low speeds: 17–86 % off there in this matrix, so it
+//     is not held to more);
+//   * turning: closed form, multi-frequency and full discretization within 1 %.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "cutdyn/core/units.hpp"
+#include "cutdyn/stability/milling.hpp"
+#include "cutdyn/stability/turning.hpp"
+#include "support/reference_cases.hpp"
+
+namespace cutdyn {
+namespace {
+
+struct Cut {
+  std::string name;
+  MillingModel model;
+  double depth_max_m;
+};
+
+MillingModel with_modes(int modes, double immersion, bool down) {
+  if (modes == 4) return testing::four_mode_milling(immersion, down);
+  MillingModel m = testing::insperger_benchmark(immersion, modes >= 2, down);
+  if (modes == 3) {  // a second, stiffer x mode above the first
+    m.modal.modes.push_back(Mode{Direction::kX, units::hz_to_rad_per_s(2300.0), 0.03,
+                                 3.0 * m.modal.modes[0].stiffness_n_per_m});
+  }
+  return m;
+}
+
+std::vector<Cut> cuts() {
+  std::vector<Cut> out;
+  for (int modes : {1, 2, 3, 4}) {
+    for (double immersion : {0.05, 0.25, 0.5, 1.0}) {
+      for (bool down : {true, false}) {
+        if (immersion == 1.0 && !down) continue;  // slotting: one cut
+        MillingModel m = with_modes(modes, immersion, down);
+        const double limit = modes == 4 ? 0.03 : 0.01;
+        out.push_back({std::to_string(modes) + " modes, a/D " + std::to_string(immersion) +
+                           (down ? " down" : " up"),
+                       m, limit});
+      }
+    }
+  }
+  return out;
+}
+
+// Speeds over which the tooth frequency runs from about 0.12 to 1.1 times the lowest mode.
+std::vector<double> speeds(const MillingModel& m) {
+  double f_low = 1e30;
+  for (const Mode& mode : m.modal.modes)
+    f_low = std::min(f_low, units::rad_per_s_to_hz(mode.natural_rad_s));
+  std::vector<double> out;
+  for (double ratio : {0.13, 0.21, 0.34, 0.55, 0.8, 1.1})
+    out.push_back(ratio * f_low * 60.0 / m.teeth);
+  return out;
+}
+
+MillingBoundary solve(const MillingModel& m, double rpm, MillingMethod method, double limit) {
+  MillingStabilityOptions o;
+  o.method = method;
+  o.depth_max_m = limit;
+  o.rel_tol = 1e-4;
+  return milling_critical_depth(m, rpm, o);
+}
+
+// Away from a cusp: the full discretization's lobe and bifurcation are the same 0.5 % either
+// side of the speed.
+bool away_from_cusp(const MillingModel& m, double rpm, const MillingBoundary& at, double limit) {
+  for (double f : {0.995, 1.005}) {
+    const MillingBoundary b = solve(m, f * rpm, MillingMethod::kFullDiscretization, limit);
+    if (b.lobe != at.lobe || b.boundary.bifurcation != at.boundary.bifurcation ||
+        b.boundary.found != at.boundary.found)
+      return false;
+  }
+  return true;
+}
+
+TEST(CrossMethod, MillingMultiFrequencyAgreesWithFullDiscretization) {
+  int compared = 0;
+  for (const Cut& cut : cuts()) {
+    for (double rpm : speeds(cut.model)) {
+      const MillingBoundary fd =
+          solve(cut.model, rpm, MillingMethod::kFullDiscretization, cut.depth_max_m);
+      const MillingBoundary mf =
+          solve(cut.model, rpm, MillingMethod::kMultiFrequency, cut.depth_max_m);
+      const std::string where = cut.name + ", " + std::to_string(rpm) + " rpm";
+      // Never stable to the limit where the other method finds a boundary (either way).
+      if (fd.boundary.found && fd.boundary.depth_m < 0.9 * cut.depth_max_m)
+        EXPECT_TRUE(mf.boundary.found) << where;
+      if (mf.boundary.found && mf.boundary.depth_m < 0.9 * cut.depth_max_m)
+        EXPECT_TRUE(fd.boundary.found) << where;
+      EXPECT_FALSE(mf.boundary.truncated) << where;
+      if (!fd.boundary.found || !mf.boundary.found) continue;
+      if (!away_from_cusp(cut.model, rpm, fd, cut.depth_max_m)) continue;
+      EXPECT_NEAR(mf.boundary.depth_m, fd.boundary.depth_m, 0.05 * fd.boundary.depth_m) << where;
+      EXPECT_EQ(mf.boundary.bifurcation, fd.boundary.bifurcation) << where;
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 60);
+}
+
+TEST(CrossMethod, MillingZeroOrderOnlyWhereItsAveragingHolds) {
+  for (const Cut& cut : cuts()) {
+    if (cut.model.radial_immersion < 1.0) continue;
+    const std::vector<double> fast = speeds(cut.model);
+    for (std::size_t k = 3; k < fast.size(); ++k) {
+      const double rpm = fast[k];
+      const MillingBoundary fd =
+          solve(cut.model, rpm, MillingMethod::kFullDiscretization, cut.depth_max_m);
+      if (!fd.boundary.found || fd.boundary.bifurcation != Bifurcation::kHopf) continue;
+      if (!away_from_cusp(cut.model, rpm, fd, cut.depth_max_m)) continue;
+      const MillingBoundary zo = solve(cut.model, rpm, MillingMethod::kZeroOrder, cut.depth_max_m);
+      ASSERT_TRUE(zo.boundary.found) << cut.name << ", " << rpm << " rpm";
+      EXPECT_NEAR(zo.boundary.depth_m, fd.boundary.depth_m, 0.15 * fd.boundary.depth_m)
+          << cut.name << ", " << rpm << " rpm";
+    }
+  }
+}
+
+TEST(CrossMethod, EntryAndExitAnglesAreTheSameCutAsTheImmersion) {
+  for (const Cut& cut : cuts()) {
+    MillingModel angles = cut.model;
+    angles.window_entry_rad = cut.model.entry_angle();
+    angles.window_exit_rad = cut.model.exit_angle();
+    angles.radial_immersion = 1.0;  // ignored when the window is given
+    angles.down_milling = !cut.model.down_milling;
+    const double rpm = speeds(cut.model)[3];
+    for (MillingMethod method : {MillingMethod::kFullDiscretization, MillingMethod::kZeroOrder}) {
+      const MillingBoundary a = solve(cut.model, rpm, method, cut.depth_max_m);
+      const MillingBoundary b = solve(angles, rpm, method, cut.depth_max_m);
+      EXPECT_NEAR(b.boundary.depth_m, a.boundary.depth_m, 1e-9 * a.boundary.depth_m) << cut.name;
+    }
+  }
+}
+
+TEST(CrossMethod, HelicalCutterMultiFrequencyAgreesWithFullDiscretization) {
+  // 30° helix, a/D 0.5 and 1, one and two modes; the structure 20 × stiffer so that the
+  // depths are long enough for the helix to matter (lag of 10–30° of the flute).
+  for (int modes : {1, 2}) {
+    for (double immersion : {0.5, 1.0}) {
+      MillingModel m = with_modes(modes, immersion, true);
+      for (Mode& mode : m.modal.modes) mode.stiffness_n_per_m *= 20.0;
+      m.helix_rad = units::deg_to_rad(30.0);
+      for (double rpm : {7000.0, 12000.0}) {
+        const MillingBoundary fd = solve(m, rpm, MillingMethod::kFullDiscretization, 0.02);
+        const MillingBoundary mf = solve(m, rpm, MillingMethod::kMultiFrequency, 0.02);
+        ASSERT_EQ(fd.boundary.found, mf.boundary.found) << modes << " " << immersion << " " << rpm;
+        if (!fd.boundary.found) continue;
+        EXPECT_NEAR(mf.boundary.depth_m, fd.boundary.depth_m, 0.05 * fd.boundary.depth_m)
+            << modes << " modes, a/D " << immersion << ", " << rpm << " rpm";
+      }
+    }
+  }
+}
+
+TEST(CrossMethod, TurningMethodsAgree) {
+  for (bool assisted : {false, true}) {
+    const TurningModel m = assisted ? testing::table2_vibration() : testing::table2_conventional();
+    for (double rpm = 600.0; rpm <= 4800.0; rpm += 700.0) {
+      TurningStabilityOptions o;
+      o.method = TurningMethod::kClosedForm;
+      const double closed = turning_critical_depth(m, rpm, o).boundary.depth_m;
+      o.method = TurningMethod::kMultiFrequency;
+      const double mf = turning_critical_depth(m, rpm, o).boundary.depth_m;
+      o.method = TurningMethod::kFullDiscretization;
+      const double fd = turning_critical_depth(m, rpm, o).boundary.depth_m;
+      EXPECT_NEAR(mf, fd, 0.01 * fd) << (assisted ? "assisted " : "") << rpm;
+      EXPECT_NEAR(closed, fd, 0.01 * fd) << (assisted ? "assisted " : "") << rpm;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace cutdyn
