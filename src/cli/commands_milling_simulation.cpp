@@ -284,17 +284,18 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
 
   // The stability prediction at this speed, for the mechanistic law with regeneration.
   std::optional<MillingBoundary> predicted;
-  if (!s1 && s.cut.regenerative && !s.cut.modal.modes.empty() && !c.operation->entry_rad) {
+  if (!s1 && s.cut.regenerative && !s.cut.modal.modes.empty()) {
     MillingModel m = milling_model(c, "simulate");
     MillingStabilityOptions so;
     so.depth_max_m = c.lobes.depth_max_m;
     so.rel_tol = 1e-3;
     predicted = milling_critical_depth(m, s.rpm, so);
-    // Beyond the case's limit, search up to 4× the depth (not from the start: the coarse scan
-    // over a wide range can step over a low boundary).
-    if (!predicted->boundary.found && 4.0 * s.cut.width_m > so.depth_max_m) {
-      so.depth_max_m = 4.0 * s.cut.width_m;
-      predicted = milling_critical_depth(m, s.rpm, so);
+    // Beyond the case's limit, carried on to 1.25× the depth on the same depth grid (as
+    // `cutdyn check`), so the prediction is that of the lobes.
+    const double reach = 1.25 * s.cut.width_m;
+    if (!predicted->boundary.found && reach > so.depth_max_m &&
+        reach <= kMaxSearchExtension * so.depth_max_m) {
+      predicted = milling_critical_depth(m, s.rpm, extend_search(so, reach));
     }
   }
 
