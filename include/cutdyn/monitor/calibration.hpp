@@ -57,7 +57,7 @@ struct AxisCalibration {
 };
 
 /// `zheng2012_axis(axis)`: the source's coefficients, of the source's machine, with their
-/// units in doubt (models.md S3). Their uncertainty for any machine is unknown, so
+/// units in doubt (docs/models/monitor.md). Their uncertainty for any machine is unknown, so
 /// `uncertainty_known` is false (docs/models/monitor.md §4.3); sigma and noise are zero.
 AxisCalibration zheng2012_calibration(char axis);
 

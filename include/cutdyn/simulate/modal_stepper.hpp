@@ -7,7 +7,7 @@
 //
 // (the W0, W1 of the full discretization [Ding2010]), all from one matrix exponential of
 // [[A·h, B·h, 0], [0, 0, I], [0, 0, 0]]. Exact for each linear mode — no step-size error for
-// the structure itself (models.md S1.4); the only error is the hold of the force.
+// the structure itself ([Ermolaev2020, eq. 10]; docs/models/milling-simulation.md); the only error is the hold of the force.
 #pragma once
 
 #include <Eigen/Dense>
