@@ -332,6 +332,11 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
   out << fmt::format("    chatter indicator       {}\n", human(r.chatter_indicator, 3));
   out << fmt::format("    perturbation growth     {:+.3g} per period ({:+.3g} 1/s) → {}\n",
                      r.growth_per_period, r.growth_rate_per_s, shout(r.verdict()));
+  if (!r.growth_settled && r.status == SimulationStatus::kCompleted)
+    err << "cutdyn: warning: " << c.source << ": the perturbation's growth has not settled over "
+        << human(s.options.revolutions)
+        << " revolutions (the decisive root is not yet told from its neighbours): the verdict is "
+           "uncertain; run more revolutions ([simulate] revolutions)\n";
   if (predicted) {
     out << "    predicted critical depth " << depth_text(predicted->boundary) << " → depth is "
         << human(100.0 * s.cut.width_m / predicted->boundary.depth_m, 3) << " % of it\n";
@@ -358,6 +363,8 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
                  {"chatter_indicator", r.chatter_indicator},
                  {"growth_per_period", r.growth_per_period},
                  {"growth_rate_per_s", r.growth_rate_per_s},
+                 {"growth_settled", r.growth_settled},
+                 {"growth_components", r.growth_components},
                  {"status", to_string(r.status)},
                  {"stop_time_s", r.stop_time_s},
                  {"verdict", r.verdict()},

@@ -262,6 +262,10 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
                        : "");
     if (s.status == SimulationStatus::kRunaway)
       out << "  " << std::string(20, ' ') << "CHATTER" << s.verdict().substr(7) << "\n";
+    if (!s.growth_settled)
+      err << "cutdyn: warning: " << c.source << ": " << r.name
+          << ": the free response's growth has not settled over " << human(o.duration_s)
+          << " s: the verdict is uncertain; simulate longer ([simulate] duration_s)\n";
     out << "  " << std::string(20, ' ') << "predicted critical depth "
         << depth_text(r.predicted.boundary) << " → depth is "
         << human(100.0 * o.depth_m / r.predicted.boundary.depth_m, 3) << " % of it\n";
@@ -287,6 +291,8 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
       results.push_back({{"process", r.name},
                          {"chatter", s.chatter},
                          {"growth_rate_per_s", s.growth_rate_per_s},
+                         {"growth_settled", s.growth_settled},
+                         {"growth_components", s.growth_components},
                          {"lost_contact", s.lost_contact},
                          {"contact_loss_time_s", s.contact_loss_time_s},
                          {"duty_cycle", s.duty_cycle},

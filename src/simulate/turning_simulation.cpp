@@ -6,6 +6,7 @@
 
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
+#include "cutdyn/simulate/growth_estimate.hpp"
 #include "cutdyn/simulate/modal_stepper.hpp"
 
 namespace cutdyn {
@@ -98,6 +99,13 @@ TurningSimulationResult simulate_turning(const TurningModel& model,
   for (Run& r : runs) r.y = c * r.x;
 
   const long long stride = std::max<long long>(1, steps / o.max_recorded_samples + 1);
+  // The difference of the runs' states every quarter of the shortest mode period: the free
+  // response of a delay equation with constant coefficients (the pulses of the assisted cut
+  // are averaged at this spacing) is a sum of c_i·e^(λ_i·t), for its dominant root.
+  const long long sample_steps =
+      std::max<long long>(1, std::llround(0.25 * units::kTwoPi / w_top / h));
+  std::vector<std::vector<double>> samples_all;
+  std::vector<double> sample_time_s;
   double rev_min = 1e300, rev_max = -1e300, diff_min = 1e300, diff_max = -1e300;
   double g_before = window.mean(-h, 0.0);  // window mean over the step ending at the node
   long long k = 0;
@@ -145,6 +153,12 @@ TurningSimulationResult simulate_turning(const TurningModel& model,
     rev_max = std::max(rev_max, y);
     diff_min = std::min(diff_min, diff);
     diff_max = std::max(diff_max, diff);
+    if ((k + 1) % sample_steps == 0) {
+      samples_all.emplace_back(static_cast<std::size_t>(d));
+      for (Eigen::Index i = 0; i < d; ++i)
+        samples_all.back()[static_cast<std::size_t>(i)] = runs[0].x(i) - runs[1].x(i);
+      sample_time_s.push_back(t + h);
+    }
     if ((k + 1) % per_rev == 0) {
       out.revolution_time_s.push_back(t + h);
       out.revolution_amplitude_m.push_back(0.5 * (rev_max - rev_min));
@@ -165,30 +179,44 @@ TurningSimulationResult simulate_turning(const TurningModel& model,
   out.steps = k;
   if (out.status == SimulationStatus::kCompleted) out.stop_time_s = static_cast<double>(k) * h;
 
-  // Growth rate: least squares on ln(amplitude of the difference) per revolution, from the
-  // third revolution (the first two carry the start of the regeneration), up to the first
-  // loss of contact (after it the runs are no longer linear) or a 1e9-fold decay (rounding).
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  int count = 0;
+  // Growth rate of the difference, over the revolutions from the third (the first two carry
+  // the start of the regeneration) up to the first loss of contact (after it the runs are no
+  // longer linear) or a 1e9-fold decay (rounding): the largest multiplier present in its
+  // samples, or, where a few multipliers do not explain them, least squares on the logarithm of
+  // its per-revolution amplitude.
+  std::vector<double> log_amplitude;
   const std::size_t first = out.perturbation_amplitude_m.size() >= 6 ? 2 : 0;
+  double fit_from = 0.0, fit_to = 0.0;
   for (std::size_t j = first; j < out.perturbation_amplitude_m.size(); ++j) {
     const double tj = out.revolution_time_s[j];
     if (out.lost_contact && tj - tau > out.contact_loss_time_s) break;
     const double a = out.perturbation_amplitude_m[j];
     if (!(a > 1e-9 * o.initial_displacement_m)) break;
-    const double ly = std::log(a);
-    sx += tj;
-    sy += ly;
-    sxx += tj * tj;
-    sxy += tj * ly;
-    ++count;
+    if (log_amplitude.empty()) fit_from = tj - tau;
+    fit_to = tj;
+    log_amplitude.push_back(std::log(a));
   }
-  if (count >= 2) {
-    const double den = count * sxx - sx * sx;
-    if (den > 0.0) out.growth_rate_per_s = (count * sxy - sx * sy) / den;
+  std::vector<std::vector<double>> samples;
+  for (std::size_t i = 0; i < samples_all.size(); ++i)
+    if (sample_time_s[i] > fit_from && sample_time_s[i] <= fit_to + 0.5 * h &&
+        !(out.lost_contact && sample_time_s[i] >= out.contact_loss_time_s))
+      samples.push_back(samples_all[i]);
+  const int count = static_cast<int>(log_amplitude.size());
+  const double revolution_s = tau;
+  if (const auto multiplier = dominant_multiplier(samples)) {
+    out.growth_rate_per_s =
+        multiplier->growth_per_period / (static_cast<double>(sample_steps) * h);
+    out.growth_components = multiplier->components;
+    out.growth_settled = true;
+  } else if (count >= 2) {
+    out.growth_rate_per_s = index_slope(log_amplitude) / revolution_s;
+    out.growth_settled = slope_settled(log_amplitude);
   }
   out.chatter = out.status == SimulationStatus::kRunaway || out.growth_rate_per_s > 0.0 ||
                 (count < 2 && out.lost_contact);
+  // (A runaway, or a loss of contact before any fit, is chatter whatever the estimate.)
+  if (out.status == SimulationStatus::kRunaway || (count < 2 && out.lost_contact))
+    out.growth_settled = true;
   return out;
 }
 

@@ -9,7 +9,10 @@
 //     frequency at least half the lowest mode's (its averaging is known to miss flip lobes and
 //     to be poor at partial immersion and low speeds: 17–86 % off there in this matrix, so it
 //     is not held to more);
-//   * turning: closed form, multi-frequency and full discretization within 1 %.
+//   * turning: closed form, multi-frequency and full discretization within 1 %;
+//   * the time-domain simulation (default settings) brackets the full discretization's
+//     boundary within 1 %: its perturbation decays at 0.99× the critical depth and grows at
+//     1.01×, for milling and for conventional and vibration-assisted turning.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,6 +20,8 @@
 #include <vector>
 
 #include "cutdyn/core/units.hpp"
+#include "cutdyn/simulate/milling_simulation.hpp"
+#include "cutdyn/simulate/turning_simulation.hpp"
 #include "cutdyn/stability/milling.hpp"
 #include "cutdyn/stability/turning.hpp"
 #include "support/reference_cases.hpp"
@@ -180,6 +185,77 @@ TEST(CrossMethod, TurningMethodsAgree) {
       const double fd = turning_critical_depth(m, rpm, o).boundary.depth_m;
       EXPECT_NEAR(mf, fd, 0.01 * fd) << (assisted ? "assisted " : "") << rpm;
       EXPECT_NEAR(closed, fd, 0.01 * fd) << (assisted ? "assisted " : "") << rpm;
+    }
+  }
+}
+
+// The simulation's verdict at 0.99× and 1.01× of `critical_m`: decays, then grows.
+void expect_simulation_brackets(const MillingModel& m, double rpm, double critical_m,
+                                const std::string& where) {
+  const MillingSimulationResult below = testing::simulate_model(m, rpm, 0.99 * critical_m);
+  const MillingSimulationResult above = testing::simulate_model(m, rpm, 1.01 * critical_m);
+  EXPECT_LT(below.growth_per_period, 0.0) << where << ", 0.99×";
+  EXPECT_FALSE(below.chatter) << where << ", 0.99×";
+  EXPECT_GT(above.growth_per_period, 0.0) << where << ", 1.01×";
+  EXPECT_TRUE(above.chatter) << where << ", 1.01×";
+}
+
+TEST(CrossMethod, MillingSimulationBracketsTheBoundaryWithinOnePercent) {
+  // Every cut of the matrix (1–4 modes, a/D 5–100 %, up and down) at two speeds, on Hopf and
+  // flip lobes alike, away from cusps (where the boundary has a corner in speed).
+  int compared = 0;
+  for (const Cut& cut : cuts()) {
+    const std::vector<double> all = speeds(cut.model);
+    for (double rpm : {all[2], all[4]}) {
+      const MillingBoundary fd =
+          solve(cut.model, rpm, MillingMethod::kFullDiscretization, cut.depth_max_m);
+      if (!fd.boundary.found || fd.boundary.depth_m > 0.9 * cut.depth_max_m) continue;
+      if (!away_from_cusp(cut.model, rpm, fd, cut.depth_max_m)) continue;
+      expect_simulation_brackets(cut.model, rpm, fd.boundary.depth_m,
+                                 cut.name + ", " + std::to_string(rpm) + " rpm");
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 30);
+}
+
+TEST(CrossMethod, HelicalMillingSimulationBracketsTheBoundaryWithinOnePercent) {
+  // 4 teeth, 30° helix, a/D 0.25 up, 0.5 and 1 down, the structure 20× stiffer (the flute's
+  // lag matters at these depths).
+  for (double immersion : {0.25, 0.5, 1.0}) {
+    MillingModel m = with_modes(2, immersion, immersion > 0.3);
+    m.teeth = 4;
+    for (Mode& mode : m.modal.modes) mode.stiffness_n_per_m *= 20.0;
+    m.helix_rad = units::deg_to_rad(30.0);
+    const double rpm = 6000.0;
+    const MillingBoundary fd = solve(m, rpm, MillingMethod::kFullDiscretization, 0.05);
+    ASSERT_TRUE(fd.boundary.found) << immersion;
+    expect_simulation_brackets(m, rpm, fd.boundary.depth_m,
+                               "helix, a/D " + std::to_string(immersion));
+  }
+}
+
+TEST(CrossMethod, TurningSimulationBracketsTheBoundaryWithinOnePercent) {
+  for (bool assisted : {false, true}) {
+    const TurningModel m = assisted ? testing::table2_vibration() : testing::table2_conventional();
+    for (double rpm = 600.0; rpm <= 4800.0; rpm += 700.0) {
+      TurningStabilityOptions so;
+      so.method = TurningMethod::kFullDiscretization;
+      const CriticalDepth boundary = turning_critical_depth(m, rpm, so).boundary;
+      if (!boundary.found) continue;
+      const double critical = boundary.depth_m;
+      for (double factor : {0.99, 1.01}) {
+        TurningSimulationOptions o;
+        o.rpm = rpm;
+        o.depth_m = factor * critical;
+        o.feed_m = 0.05e-3;
+        const TurningSimulationResult r = simulate_turning(m, o);
+        const std::string where =
+            std::string(assisted ? "assisted " : "conventional ") + std::to_string(rpm) +
+            " rpm, " + std::to_string(factor) + "×";
+        EXPECT_EQ(r.growth_rate_per_s > 0.0, factor > 1.0) << where << ": " << r.growth_rate_per_s;
+        EXPECT_EQ(r.chatter, factor > 1.0) << where;
+      }
     }
   }
 }

@@ -5,6 +5,7 @@
 
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/modal/modal_model.hpp"
+#include "cutdyn/simulate/milling_simulation.hpp"
 #include "cutdyn/stability/milling.hpp"
 #include "cutdyn/stability/turning.hpp"
 
@@ -102,6 +103,25 @@ inline Eigen::Matrix2d direct_milling_h(const MillingModel& m, double rpm, doubl
       h += -0.5 * m.kt_pa * milling_directional_matrix(phi, m.kr_pa / m.kt_pa);
   }
   return h;
+}
+
+// The time-domain simulation of the cut `m` at `rpm` and depth `width_m` (0.05 mm per tooth,
+// the mechanistic law of the model without edge terms): the stability model's cut, integrated.
+inline MillingSimulationResult simulate_model(const MillingModel& m, double rpm, double width_m,
+                                              const MillingSimulationOptions& options = {}) {
+  MillingCut c;
+  c.modal = m.modal;
+  c.teeth = m.teeth;
+  c.pitch_rad = m.pitch_rad;
+  c.diameter_m = m.diameter_m;
+  c.helix_rad = m.helix_rad;
+  c.entry_rad = m.entry_angle();
+  c.exit_rad = m.exit_angle();
+  c.spindle_rad_s = units::rpm_to_rad_per_s(rpm);
+  c.feed_per_tooth_m = 0.05e-3;
+  c.width_m = width_m;
+  c.law = MechanisticForceLaw{m.kt_pa, m.kr_pa, 0.0, 0.0};
+  return simulate_milling(c, options);
 }
 
 }  // namespace cutdyn::testing

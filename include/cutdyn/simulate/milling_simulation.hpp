@@ -94,10 +94,18 @@ struct MillingSimulationResult {
   /// the peak-to-peak vibration. Near 0 for a periodic (forced) vibration.
   double chatter_indicator = 0.0;
   /// Growth of the perturbation per period (tooth period; revolution with uneven pitch), ln
-  /// units: the least-squares slope of ln(amplitude) of x(t) − x(t − period) (the modal state,
-  /// amplitude √Σ(q² + (q̇/ωn)²) averaged over each period), over the second half of the run
-  /// before it fell 1e9-fold or grew to 10 % of the feed per tooth. Zero without regeneration.
+  /// units, from x(t) − x(t − period) (the free response: the forced vibration repeats) over the
+  /// run before it fell 1e9-fold or grew to 10 % of the feed per tooth: ln|μ| of the largest
+  /// Floquet multiplier present in its samples at four phases of each period (matrix pencil,
+  /// cutdyn/simulate/growth_estimate.hpp), or, where a few multipliers do not explain them, the
+  /// least-squares slope of its log-amplitude (√Σ(q² + (q̇/ωn)²) averaged over each period) over
+  /// the second half of those periods. Zero without regeneration.
   double growth_per_period = 0.0;
+  /// The multipliers explained the samples (`growth_components` of them), or the slope's two
+  /// halves agree in sign with it. When false the run is too short to tell the decisive root
+  /// from its neighbours: the verdict is uncertain (a longer run settles it).
+  bool growth_settled = false;
+  int growth_components = 0;
   double growth_rate_per_s = 0.0;  // the same per second
   /// Fraction of the slice passes inside the window (away from its zero-chip edges,
   /// |sin θ| >= 0.05) in which the tooth was out of the cut (chip <= 0).
@@ -118,7 +126,9 @@ struct MillingSimulationResult {
   int slices = 1;
   int steps_per_revolution = 0;
 
-  std::string verdict() const { return simulation_verdict(chatter, status, stop_time_s); }
+  std::string verdict() const {
+    return simulation_verdict(chatter, status, stop_time_s, growth_settled);
+  }
 };
 
 /// Throws cutdyn::InvalidInput for an invalid cut or options, naming every problem.

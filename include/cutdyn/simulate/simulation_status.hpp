@@ -14,7 +14,9 @@ enum class SimulationStatus {
 const char* to_string(SimulationStatus status);
 
 /// The verdict of a run: "stable", "chatter", or "chatter (runaway growth, stopped at t = …
-/// s)". One rule for every front end.
-std::string simulation_verdict(bool chatter, SimulationStatus status, double stop_time_s);
+/// s)"; a completed run whose growth estimate has not settled adds " (uncertain: the growth
+/// has not settled; run longer)". One rule for every front end.
+std::string simulation_verdict(bool chatter, SimulationStatus status, double stop_time_s,
+                               bool settled = true);
 
 }  // namespace cutdyn

@@ -51,10 +51,17 @@ struct TurningSimulationResult {
   /// Per revolution: half the peak-to-peak of the difference between the run with the initial
   /// displacement and the run without (the free regenerative response).
   std::vector<double> perturbation_amplitude_m;
-  /// Exponential growth rate of that difference (1/s): least squares on the logarithm of its
-  /// per-revolution amplitude, from the third revolution (the first in runs of under six)
-  /// until the tool first leaves the cut in either run or the difference has fallen 1e9-fold.
+  /// Exponential growth rate of that difference (1/s), from the third revolution (the first in
+  /// runs of under six) until the tool first leaves the cut in either run or the difference has
+  /// fallen 1e9-fold: ln|μ| per revolution of the largest multiplier present in its samples at
+  /// four phases of each revolution (matrix pencil, cutdyn/simulate/growth_estimate.hpp), or,
+  /// where a few multipliers do not explain them, least squares on the logarithm of its
+  /// per-revolution amplitude.
   double growth_rate_per_s = 0.0;
+  /// The multipliers explained the samples (`growth_components` of them), or the slope's two
+  /// halves agree in sign with it. When false the verdict is uncertain: a longer run settles it.
+  bool growth_settled = false;
+  int growth_components = 0;
   bool lost_contact = false;         // h <= 0 happened (the tool jumped out of the cut)
   double contact_loss_time_s = 0.0;  // first time it did
   /// growth_rate_per_s > 0, or a runaway (or, when the tool left the cut before two
@@ -69,7 +76,9 @@ struct TurningSimulationResult {
   double step_s = 0.0;
   long long steps = 0;
 
-  std::string verdict() const { return simulation_verdict(chatter, status, stop_time_s); }
+  std::string verdict() const {
+    return simulation_verdict(chatter, status, stop_time_s, growth_settled);
+  }
 };
 
 TurningSimulationResult simulate_turning(const TurningModel& model,
