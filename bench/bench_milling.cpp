@@ -33,8 +33,9 @@ const MillingModel& model() {
   return m;
 }
 
-LobesOptions lobe_grid(int threads) {
+LobesOptions lobe_grid(int threads, bool refine = true) {
   LobesOptions o;
+  o.refine = refine;
   o.rpm_min = kRpmMin;
   o.rpm_max = kRpmMax;
   o.rpm_steps = kSpeeds;
@@ -52,13 +53,13 @@ MillingStabilityOptions cli_options() {
   return o;
 }
 
-LobesReport fd_lobes(const MillingStabilityOptions& o, int threads) {
+LobesReport fd_lobes(const MillingStabilityOptions& o, int threads, bool refine = true) {
   return trace_lobes(
       [&](double rpm) {
         const MillingBoundary b = milling_critical_depth(model(), rpm, o);
         return LobePoint{rpm, b.boundary, 1.0, b.lobe};
       },
-      lobe_grid(threads));
+      lobe_grid(threads, refine));
 }
 
 // The straightforward method at one speed: the dense transition matrix on the grid `fd` and
@@ -78,10 +79,69 @@ void BM_MillingLobes(benchmark::State& state) {
   Result& r = timed(state, threads_key("fd_lobes", state),
                     [&] { report = fd_lobes(cli_options(), threads); });
   r.figures["threads"] = threads;
-  r.figures["evals_per_speed"] = static_cast<double>(report.evaluations) / kSpeeds;
+  r.figures["speeds"] = static_cast<double>(report.points.size());
+  r.figures["evals_per_speed"] =
+      static_cast<double>(report.evaluations) / static_cast<double>(report.points.size());
+  // The finest spacing the adaptive tracing reached (around cusps).
+  double finest = kRpmMax - kRpmMin;
+  for (std::size_t i = 1; i < report.points.size(); ++i)
+    finest = std::min(finest, report.points[i].rpm - report.points[i - 1].rpm);
+  r.figures["finest_rpm"] = finest;
+  state.counters["speeds"] = r.figures["speeds"];
   state.counters["threads"] = threads;
   state.counters["ms_per_speed"] = 1e3 * r.seconds / kSpeeds;
   state.counters["radii_per_speed"] = r.figures["evals_per_speed"];
+}
+
+// The same 200 speeds without the adaptive refinement: the per-speed cost of a uniform grid,
+// from which a uniform grid as fine as the adaptive tracing's finest spacing is extrapolated
+// (that grid would resolve the same cusps; running it would take minutes).
+void BM_MillingLobesUniform(benchmark::State& state) {
+  const int threads = threads_arg(state);
+  Result& r = timed(state, threads_key("fd_lobes_uniform", state),
+                    [&] { fd_lobes(cli_options(), threads, false); });
+  r.figures["per_speed_s"] = r.seconds / kSpeeds;
+  state.counters["ms_per_speed"] = 1e3 * r.seconds / kSpeeds;
+}
+
+// Multi-frequency against full discretization on the four-mode case of the tests (modes of
+// 480–1500 Hz in x and y, a/D 0.5 down, 2 teeth, depth limit 30 mm), 24 speeds 4000–16 000
+// rpm: the cost of the window that covers every mode, and how far the two agree.
+void BM_FourModeMethods(benchmark::State& state) {
+  const auto method = static_cast<MillingMethod>(state.range(0));
+  const MillingModel m = testing::four_mode_milling(0.5, true);
+  MillingStabilityOptions o;
+  o.method = method;
+  o.depth_max_m = 0.03;
+  LobesOptions grid;
+  grid.rpm_min = 4000.0;
+  grid.rpm_max = 16000.0;
+  grid.rpm_steps = 24;
+  grid.refine = false;
+  grid.threads = 0;
+  LobesReport report;
+  const std::string key = method == MillingMethod::kMultiFrequency ? "four_mode_mf" : "four_mode_fd";
+  Result& r = timed(state, key, [&] {
+    report = trace_lobes(
+        [&](double rpm) {
+          const MillingBoundary b = milling_critical_depth(m, rpm, o);
+          return LobePoint{rpm, b.boundary, 1.0, b.lobe};
+        },
+        grid);
+  });
+  static std::vector<double> fd_depths;
+  if (method == MillingMethod::kFullDiscretization) {
+    fd_depths.clear();
+    for (const LobePoint& p : report.points) fd_depths.push_back(p.boundary.depth_m);
+  } else if (fd_depths.size() == report.points.size()) {
+    double worst = 0.0;
+    for (std::size_t i = 0; i < fd_depths.size(); ++i)
+      worst = std::max(worst, std::abs(report.points[i].boundary.depth_m - fd_depths[i]) /
+                                  fd_depths[i]);
+    r.figures["worst_rel"] = worst;
+    state.counters["worst_rel_vs_fd_pct"] = 1e2 * worst;
+  }
+  state.counters["ms_per_speed"] = 1e3 * r.seconds / grid.rpm_steps;
 }
 
 // Accuracy of those lobes (not timed for the ratio): against the full discretization with
@@ -91,9 +151,9 @@ void BM_MillingLobesAccuracy(benchmark::State& state) {
   fine.fd.max_step_fraction *= 0.5;
   fine.rel_tol = 1e-6;
   LobesReport report, reference;
-  LobesOptions every10 = lobe_grid(0);
+  LobesOptions every10 = lobe_grid(0, false);
   Result& r = timed(state, "accuracy", [&] {
-    report = fd_lobes(cli_options(), 0);
+    report = fd_lobes(cli_options(), 0, false);  // the same 200 speeds, without refinement
     reference = trace_lobes(
         [&](double rpm) {
           return LobePoint{rpm, milling_critical_depth(model(), rpm, fine).boundary, 1.0, 0};
@@ -155,12 +215,12 @@ void BM_DenseGridScripts(benchmark::State& state) {
   LobesReport report;
   Result& r = timed(state, threads_key("grid_scripts", state), [&] {
     report = trace_lobes([&](double rpm) { return grid_column(rpm, fd, kGridDepths); },
-                         lobe_grid(threads));
+                         lobe_grid(threads, false));  // the scripts' uniform grid
   });
   // Its accuracy against the converged lobes (outside the timing).
   MillingStabilityOptions ref = cli_options();
   ref.rel_tol = 1e-5;
-  const LobesReport exact = fd_lobes(ref, threads);
+  const LobesReport exact = fd_lobes(ref, threads, false);
   double worst = 0.0;
   for (std::size_t i = 0; i < report.points.size(); ++i) {
     const double e = std::abs(report.points[i].boundary.depth_m - exact.points[i].boundary.depth_m);
@@ -178,6 +238,14 @@ void BM_DenseGridScripts(benchmark::State& state) {
 constexpr auto kMs = benchmark::kMillisecond;
 
 BENCHMARK(BM_MillingLobes)->ArgName("threads")->Arg(1)->Arg(0)->Unit(kMs)->UseRealTime();
+BENCHMARK(BM_MillingLobesUniform)->ArgName("threads")->Arg(0)->Unit(kMs)->UseRealTime();
+BENCHMARK(BM_FourModeMethods)
+    ->ArgName("method")
+    ->Arg(static_cast<int>(MillingMethod::kFullDiscretization))
+    ->Arg(static_cast<int>(MillingMethod::kMultiFrequency))
+    ->Iterations(1)
+    ->Unit(kMs)
+    ->UseRealTime();
 BENCHMARK(BM_MillingLobesAccuracy)->Iterations(1)->Unit(kMs)->UseRealTime();
 BENCHMARK(BM_DenseGridConvergedSample)->Iterations(1)->Unit(kMs)->UseRealTime();
 BENCHMARK(BM_DenseGridScripts)->ArgName("threads")->Arg(0)->Iterations(1)->Unit(kMs)->UseRealTime();
@@ -224,6 +292,28 @@ void print_summary() {
                 "ratio grid (same steps, extrap., / threads) / lobes, all thr.",
                 sample->figures.at("grid_estimate_s") / all_threads() / ln->seconds);
   ratio("ratio grid (m = 40, measured) / lobes, all threads", scripts, 1.0, ln, 1.0);
+  const auto uniform = result("fd_lobes_uniform/all");
+  std::printf("\nAdaptive tracing (cusps and pockets) against a uniform grid as fine:\n");
+  line("uniform grid, 200 speeds, all threads", uniform);
+  if (ln && uniform) {
+    const double finest = ln->figures.at("finest_rpm");
+    const double speeds = (kRpmMax - kRpmMin) / finest + 1.0;
+    const double uniform_s = uniform->figures.at("per_speed_s") * speeds;
+    std::printf("  %-58s %12.0f  (finest spacing %.2f rpm)\n", "adaptive lobes: speeds evaluated",
+                ln->figures.at("speeds"), finest);
+    std::printf("  %-58s %12s  (%.0f speeds)\n", "uniform grid as fine, extrapolated, all thr.",
+                seconds_text(uniform_s).c_str(), speeds);
+    std::printf("  %-58s %11.0fx\n", "ratio uniform (as fine, extrap.) / adaptive, all thr.",
+                uniform_s / ln->seconds);
+  }
+  const auto fd4 = result("four_mode_fd"), mf4 = result("four_mode_mf");
+  std::printf("\nFour-mode case (480-1500 Hz), a/D 0.5 down, 24 speeds 4000-16000 rpm, all threads:\n");
+  line("full discretization", fd4);
+  line("multi-frequency (window covering every mode)", mf4);
+  ratio("ratio multi-frequency / full discretization", mf4, 1.0, fd4, 1.0);
+  if (mf4 && mf4->figures.count("worst_rel"))
+    std::printf("  %-58s %11.3f %%\n", "  largest difference multi-frequency vs full discr.",
+                1e2 * mf4->figures.at("worst_rel"));
   std::printf("\n");
 }
 
