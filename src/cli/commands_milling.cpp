@@ -136,6 +136,8 @@ int run_lobes_milling(const LobesArgs& args, const io::Case& c, std::ostream& ou
   view.title = "Stability lobes: milling";
   view.label = fmt::format("{}, {} ({})", cutter(model), engagement(model), to_string(method));
   if (args.target_depth_mm) view.target_depth_m = mm_to_m(*args.target_depth_mm);
+  if (auto caveat = milling_method_caveat(model, method, grid.rpm_min, grid.rpm_max))
+    view.warnings.push_back(*caveat);
   report_lobes(c, report, view, args.outputs, out, err);
   return 0;
 }
@@ -166,6 +168,10 @@ int run_check_milling(const CheckArgs& args, const io::Case& c, std::ostream& ou
   view.description = describe(model);
   view.method = to_string(method);
   view.lobe = b.lobe;
+  if (auto caveat = milling_method_caveat(model, method, args.rpm, args.rpm)) {
+    view.notes.push_back("warning: " + *caveat);
+    view.extra["warnings"] = std::vector<std::string>{*caveat};
+  }
   report_check(c, args, b.boundary, view, out);
   return 0;
 }

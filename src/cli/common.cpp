@@ -176,6 +176,7 @@ void report_lobes(const io::Case& c, const LobesReport& report, const LobesView&
   using nlohmann::json;
   using units::m_to_mm;
   if (report.status != LobesStatus::kSuccess) err << "cutdyn: warning: " << report.message << "\n";
+  for (const std::string& w : view.warnings) err << "cutdyn: warning: " << w << "\n";
   const auto& pts = report.points;
   const auto* ref = view.reference;
   std::size_t lowest = 0;
@@ -289,6 +290,7 @@ void report_lobes(const io::Case& c, const LobesReport& report, const LobesView&
                {"critical_depth_mm", m_to_mm(pts[lowest].boundary.depth_m)}}},
              {"points", std::move(points)}};
     if (report.status != LobesStatus::kSuccess) doc["warning"] = report.message;
+    if (!view.warnings.empty()) doc["warnings"] = view.warnings;
     if (view.target_depth_m) {
       doc["target_depth_mm"] = m_to_mm(*view.target_depth_m);
       doc["stable_ranges"] = ranges;

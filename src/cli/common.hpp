@@ -83,6 +83,7 @@ struct LobesView {
   std::string reference_label;
   bool duty_cycle = false;               // add the duty_cycle column
   std::optional<double> target_depth_m;  // list the speed ranges stable at this depth
+  std::vector<std::string> warnings;     // where the method is weak (printed and in --json)
 };
 
 /// Prints the summary table, lowest depth and stable pockets, and writes the CSV

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstdio>
+#include <limits>
 
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
@@ -321,6 +323,32 @@ MillingBoundary milling_critical_depth(const MillingModel& model, double rpm,
     out.lobe = static_cast<int>(std::floor(out.boundary.chatter_hz * tooth_period));
   }
   return out;
+}
+
+std::optional<std::string> milling_method_caveat(const MillingModel& model, MillingMethod method,
+                                                 double rpm_min, double /*rpm_max*/) {
+  if (method != MillingMethod::kZeroOrder) return std::nullopt;
+  std::vector<std::string> reasons;
+  if (model.exit_angle() - model.entry_angle() < units::kPi - 1e-9)
+    reasons.push_back("the cut is not a slot (it misses flip lobes, about half the depth at a/D "
+                      "<= 0.1)");
+  double lowest_hz = std::numeric_limits<double>::infinity();
+  for (const Mode& m : model.modal.modes)
+    lowest_hz = std::min(lowest_hz, units::rad_per_s_to_hz(m.natural_rad_s));
+  const double threshold_rpm = 0.5 * lowest_hz * 60.0 / model.teeth;
+  if (rpm_min < threshold_rpm) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "below %.0f rpm the tooth frequency is under half the lowest mode's (%.4g Hz)",
+                  threshold_rpm, lowest_hz);
+    reasons.emplace_back(text);
+  }
+  if (reasons.empty()) return std::nullopt;
+  std::string text = "zero-order (averaged) method outside its range: ";
+  for (std::size_t i = 0; i < reasons.size(); ++i) text += (i ? "; " : "") + reasons[i];
+  return text +
+         "; it was 17-86 % off such cuts in the cross-method tests, in either direction — a "
+         "screening method only; full-discretization (the default) decides";
 }
 
 }  // namespace cutdyn

@@ -63,6 +63,32 @@ TEST_F(StabilityCli, MultiFrequencyCheckOfTheShippedExampleIsUnstable) {
               0.005 * fd["critical_depth_mm"].get<double>());
 }
 
+TEST_F(StabilityCli, ZeroOrderSaysWhereItIsWeak) {
+  // The shipped example at a/D 0.05, 20 000 rpm: the full discretization finds a flip lobe at
+  // 3.26 mm, the zero-order method (which cannot see flip lobes) 6.85 mm — twice the safe
+  // depth. Its check and lobes carry the caveat (stdout, stderr, JSON); the default method,
+  // and the zero-order method on a slot at high speed (its range), carry none.
+  const std::string low = insperger({{"radial_immersion = 1.0           # slotting",
+                                      "radial_immersion = 0.05"},
+                                     {"depth_max_mm = 1", "depth_max_mm = 10"}},
+                                    "low.toml");
+  const auto zo = check(low, "20000", "0.1", {"--method", "zero-order"});
+  const auto fd = check(low, "20000", "0.1");
+  EXPECT_EQ(fd["bifurcation"], "flip");
+  EXPECT_GT(zo["critical_depth_mm"].get<double>(), 1.8 * fd["critical_depth_mm"].get<double>());
+  ASSERT_TRUE(zo.contains("warnings"));
+  EXPECT_NE(zo["warnings"][0].get<std::string>().find("the cut is not a slot"), std::string::npos);
+  EXPECT_FALSE(fd.contains("warnings"));
+  EXPECT_FALSE(check("milling-insperger", "20000", "0.01", {"--method", "zero-order"})
+                   .contains("warnings"));
+  const auto r = run_cutdyn({"lobes", low, "--method", "zero-order", "--json", path("zo.json")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("cutdyn: warning: zero-order (averaged) method outside its range"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(nlohmann::json::parse(std::ifstream(path("zo.json")))["warnings"].size(), 1u);
+}
+
 TEST_F(StabilityCli, EntryAndExitAnglesActInLobesAndCheck) {
   // A 90–180° window is half immersion in down-milling (0.181 mm at 10 000 rpm), not the
   // slotting limit (0.0714 mm) that lobes and check gave when they ignored the angles.

@@ -327,8 +327,9 @@ TEST(MillingSimulation, RunawayGrowthStopsTheRunWithFiniteOutputs) {
       for (double v : *trace) ASSERT_TRUE(std::isfinite(v)) << depth;
     // 1000 × (s_z + the forced vibration) < 1 m (at 1 m of depth the forced vibration alone is
     // metres).
-    if (depth < 0.01)
+    if (depth < 0.01) {
       for (double v : r.x_m) ASSERT_LT(std::abs(v), 1.0) << depth;
+    }
     for (double v : {r.force_pulsation, r.mean_force_n, r.peak_force_n, r.min_force_n,
                      r.vibration_pp_x_m, r.vibration_pp_y_m, r.chatter_indicator,
                      r.growth_per_period, r.growth_rate_per_s, r.contact_loss})

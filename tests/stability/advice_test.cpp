@@ -121,8 +121,9 @@ TEST(Advice, RecommendedSpeedKeepsAwayFromCliffs) {
   EXPECT_NEAR(a.range.rpm_from, 1290.0 + 10.0 * 5.0 / 7.0, 1e-9);
   // Its definition, checked directly: every speed within ±ε has a depth of at least a(1 + ε).
   for (const LobePoint& q : p)
-    if (std::abs(q.rpm - a.rpm) < a.margin * a.rpm * (1.0 - 1e-12))
+    if (std::abs(q.rpm - a.rpm) < a.margin * a.rpm * (1.0 - 1e-12)) {
       EXPECT_GE(q.boundary.depth_m, 10e-3 * (1.0 + a.margin) - 1e-15) << q.rpm;
+    }
   EXPECT_FALSE(recommend_speed(p, 40e-3).found);
 }
 

@@ -95,6 +95,14 @@ struct MillingBoundary {
 MillingBoundary milling_critical_depth(const MillingModel& model, double rpm,
                                        const MillingStabilityOptions& options);
 
+/// Where `method` is known to be weak for this cut over rpm_min..rpm_max, the warning a front
+/// end prints with its results (docs/models/milling-stability.md, "How far the methods
+/// agree"); empty where the method is within its stated tolerance. Today: the zero-order
+/// method at partial immersion (window under 180°) or with the tooth frequency below half the
+/// lowest mode's.
+std::optional<std::string> milling_method_caveat(const MillingModel& model, MillingMethod method,
+                                                 double rpm_min, double rpm_max);
+
 /// The same search carried on to at least `depth_m`, with the same coarse depth step
 /// (depth_max_m / coarse_steps): the first unstable depth is found on the same grid points, so
 /// the critical depth at a speed does not depend on how far the search goes (`cutdyn check`
