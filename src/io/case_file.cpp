@@ -743,7 +743,7 @@ void read_simulate(TableReader& t, Case& c) {
   if (auto v = t.number("duration_s", Range{0.0, true, 1000.0, false}, Need::kOptional)) {
     s.duration_s = *v;
   }
-  if (auto v = t.number("initial_displacement_um", kNonNegative, Need::kOptional)) {
+  if (auto v = t.number("initial_displacement_um", kPositive, Need::kOptional)) {
     s.initial_displacement_m = um_to_m(*v);
   }
   if (auto v = t.number("revolutions", Range{1.0, false, 1e6, false}, Need::kOptional))

@@ -366,7 +366,7 @@ TEST(CaseFileErrors, ValuesOutOfRange) {
                           "tool.helix_deg = 90: must be at least 0 and less than 90"));
   EXPECT_THAT(problems_of(with("[simulate]\nduration_s = 1000.5\ninitial_displacement_um = -1\n")),
               ElementsAre("simulate.duration_s = 1000.5: must be greater than 0 and at most 1000",
-                          "simulate.initial_displacement_um = -1: must be at least 0"));
+                          "simulate.initial_displacement_um = -1: must be positive"));
   EXPECT_THAT(problems_of(with("[cutting]\nkc_n_per_mm2 = 0\n")),
               ElementsAre("cutting.kc_n_per_mm2 = 0: must be positive"));
   EXPECT_THAT(problems_of(milling_with("[cutting]\nkr_n_per_mm2 = -0.5\n")),
@@ -400,6 +400,14 @@ TEST(CaseFileErrors, NanAndInfAreRejected) {
                           "simulate.rpm = -inf: must be a finite number"));
   EXPECT_THAT(problems_of(with("[lobes]\nrpm_steps = nan\n")),
               ElementsAre("lobes.rpm_steps = nan: wrong type: expected an integer, got a float"));
+}
+
+TEST(CaseFileErrors, InitialDisplacementMustBePositive) {
+  // The disturbance whose growth decides chatter: zero was read and then refused by the
+  // simulation with a message naming its internal field; now the key is named.
+  const auto problems = problems_of(with("[simulate]\ninitial_displacement_um = 0\n"));
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_EQ(problems[0].rfind("simulate.initial_displacement_um = 0: ", 0), 0u) << problems[0];
 }
 
 TEST(CaseFileErrors, UnknownKeysAndTables) {
