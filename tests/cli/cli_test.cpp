@@ -876,7 +876,9 @@ TEST_F(Cli, SimulateStopsARunawayAndSaysChatter) {
   text.replace(text.find("[simulate]"), 10, "[simulate]\ninitial_displacement_um = 0");
   const Result zero = cutdyn({"simulate", write("z.toml", text)});
   EXPECT_EQ(zero.code, 2) << zero.out;
-  EXPECT_NE(zero.err.find("initial_displacement_m"), std::string::npos) << zero.err;
+  EXPECT_NE(zero.err.find("simulate.initial_displacement_um = 0: must be positive"),
+            std::string::npos)
+      << zero.err;
 }
 
 }  // namespace
