@@ -97,7 +97,11 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   drive_cmd->add_option("--depth-mm", drive.depth_mm, "axial depth of cut (mm)");
   drive_cmd->add_option("--currents", drive.currents,
                         "write the motor phase currents as CSV: time_s,axis,iu_a,iv_a,iw_a,"
-                        "speed_rad_s (needs [drives] motor data)");
+                        "speed_rad_s,rotor_angle_rad (needs [drives] motor data)");
+  drive_cmd->add_option("--seed", drive.seed,
+                        "seed of the current noise, for every axis (each axis draws its own "
+                        "stream of it); overrides [[drives]] seed")
+      ->check(CLI::Range(0, 2147483647));
   drive_cmd->add_option("--sweep", drive.sweep,
                         "vary one case key, KEY=FROM:STEP:TO (e.g. simulate.rpm=1000:500:20000)");
   drive_cmd->add_option("--metric", drive.metric,

@@ -70,6 +70,7 @@ struct DriveArgs {
   std::string sweep;     // KEY=FROM:STEP:TO
   std::string metric;
   int threads = 0;
+  std::optional<int> seed;  // --seed: the current noise's seed for every axis (else the case's)
 };
 int run_drive(const DriveArgs& args, std::ostream& out, std::ostream& err);
 

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
@@ -35,8 +37,20 @@ double Transmission::torque_per_newton() const {
                                  : lead_m / (units::kTwoPi * efficiency * gear_ratio);
 }
 
+double Transmission::back_driving_efficiency() const {
+  // A screw that converts torque to force with η = tan λ/tan(λ + ρ) converts force to torque,
+  // back-driven, with η' = tan(λ − ρ)/tan λ; for small angles η ≈ 1 − ρ/λ and η' ≈ 1 − ρ/λ
+  // ≈ 2 − 1/η (docs/models/feed-drive.md).
+  return kind == Kind::kLeverArm ? 1.0 : 2.0 - 1.0 / efficiency;
+}
+
+double Transmission::torque_per_newton(double axis_force_n) const {
+  if (axis_force_n >= 0.0 || kind == Kind::kLeverArm) return torque_per_newton();
+  return lead_m * back_driving_efficiency() / (units::kTwoPi * gear_ratio);
+}
+
 double Transmission::load_torque(double axis_force_n) const {
-  return torque_per_newton() * axis_force_n + idle_torque_nm;
+  return torque_per_newton(axis_force_n) * axis_force_n + idle_torque_nm;
 }
 
 std::vector<std::string> FeedDrive::validate() const {
@@ -64,17 +78,36 @@ const char* to_string(Verdict v) {
       return "acceptable";
     case Verdict::kMarginal:
       return "marginal";
-    case Verdict::kUnstable:
-      return "unstable";
+    case Verdict::kBeyondLimit:
+      return "beyond-limit";
+  }
+  return "?";
+}
+
+const char* describe(Verdict v) {
+  switch (v) {
+    case Verdict::kAcceptable:
+      return "acceptable (≤ 0.2)";
+    case Verdict::kMarginal:
+      return "marginal (0.2 … 0.4)";
+    case Verdict::kBeyondLimit:
+      return "non-uniform beyond the source's 0.4 limit for regulated drives";
   }
   return "?";
 }
 
 Verdict nonuniformity_verdict(double k_delta) {
-  // [Ermolaev2020, p. 15]: kδ <= 0.2 for a regulated drive; above 0.4 it loses stability.
+  // [Ermolaev2020, p. 15]: kδ <= 0.2 for a regulated drive; above 0.4 the source says the drive
+  // loses stability, which a linear drive model cannot: the verdict names the limit instead.
   if (k_delta <= 0.2) return Verdict::kAcceptable;
   if (k_delta <= 0.4) return Verdict::kMarginal;
-  return Verdict::kUnstable;
+  return Verdict::kBeyondLimit;
+}
+
+double nonuniformity(double speed_min, double speed_max) {
+  // [Ermolaev2020, eq. 1]: kδ = ΔΩ/Ω̄ = 2(Ωmax − Ωmin)/(Ωmax + Ωmin), range over mean.
+  const double sum = speed_max + speed_min;
+  return sum > 0.0 ? 2.0 * (speed_max - speed_min) / sum : 2.0;
 }
 
 double torque_ripple(const Transmission& t, double force_min_n, double force_max_n,
@@ -82,6 +115,119 @@ double torque_ripple(const Transmission& t, double force_min_n, double force_max
   // [Ermolaev2020, eq. 14] with the transmission's torque per newton.
   return 0.5 * t.torque_per_newton() * std::cos(angle_rad) * (force_max_n - force_min_n);
 }
+
+namespace {
+
+// printf-style text for the warnings.
+template <typename... Args>
+std::string format(const char* pattern, Args... args) {
+  char text[400];
+  std::snprintf(text, sizeof text, pattern, args...);
+  return text;
+}
+
+// Ω at time τ (t0 <= τ <= tend), linear between samples.
+double interpolate(const std::vector<double>& t, const std::vector<double>& w, double tau) {
+  auto it = std::lower_bound(t.begin(), t.end(), tau);
+  if (it == t.end()) return w.back();
+  const auto k = static_cast<std::size_t>(it - t.begin());
+  if (k == 0 || *it == tau) return w[k];
+  const double a = (tau - t[k - 1]) / (t[k] - t[k - 1]);
+  return w[k - 1] + a * (w[k] - w[k - 1]);
+}
+
+struct SteadyWindow {
+  bool checked = false, steady = true;
+  double from = 0.0, change = 0.0;
+  int periods = 0;
+  std::string why;  // why not steady
+};
+
+// The periodic steady state of Ω(t) at the period T (docs/models/feed-drive.md). The periods are
+// counted back from the end of the trace: b_j = tend − (P − j)·T, j = 0 … P. d_j is the largest
+// |Ω(t + T) − Ω(t)| over period j; the distance of period j from the limit cycle is at most
+// Σ_{k>=j} d_k, the known differences plus a geometric tail d_last·r/(1 − r), r the ratio of
+// the last two. The steady window starts at the first period whose bound is within the
+// tolerance: a fraction of the peak-to-peak speed in the last period.
+SteadyWindow find_steady_state(const std::vector<double>& t, const std::vector<double>& w,
+                               double omega0, const SteadyStateOptions& o) {
+  SteadyWindow s;
+  s.from = t.front();
+  if (!(o.period_s > 0.0)) return s;
+  s.checked = true;
+  const double period = o.period_s, t0 = t.front(), tend = t.back();
+  const int p = static_cast<int>(std::floor((tend - t0) / period * (1.0 + 1e-12)));
+  if (p < 3) {
+    s.steady = false;
+    s.from = p >= 1 ? tend - period : t0;
+    s.periods = p >= 1 ? 1 : 0;
+    s.why = format("the run is %.4g forcing periods long; the steady state needs at least 3 to "
+                   "be detected",
+                   (tend - t0) / period);
+    return s;
+  }
+  const auto boundary = [&](int j) { return std::max(t0, tend - (p - j) * period); };
+  double lo = 1e300, hi = -1e300, largest = 0.0;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    largest = std::max(largest, std::abs(w[i]));
+    if (t[i] >= boundary(p - 1)) {
+      lo = std::min(lo, w[i]);
+      hi = std::max(hi, w[i]);
+    }
+  }
+  const double tol = o.relative_tolerance * (hi - lo) + 1e-12 * std::max(std::abs(omega0), largest);
+  std::vector<double> d(static_cast<std::size_t>(p - 1), 0.0);
+  std::size_t i = 0;
+  for (int j = 0; j + 1 < p; ++j) {
+    const double b0 = boundary(j), b1 = boundary(j + 1);
+    while (i < t.size() && t[i] < b0) ++i;
+    double worst = std::abs(interpolate(t, w, b0 + period) - interpolate(t, w, b0));
+    for (; i < t.size() && t[i] < b1; ++i)
+      worst = std::max(worst, std::abs(interpolate(t, w, t[i] + period) - w[i]));
+    d[static_cast<std::size_t>(j)] = worst;
+  }
+  const double last = d.back(), before = d[d.size() - 2];
+  double tail = 0.0;
+  if (last > 1e-3 * tol) {
+    const double r = before > 0.0 ? last / before : 1.0;
+    tail = r < 1.0 ? last * r / (1.0 - r) : 1e300;
+  }
+  s.change = last;
+  double bound = tail;
+  int first = p;  // first steady period
+  for (int j = p - 2; j >= 0; --j) {
+    bound += d[static_cast<std::size_t>(j)];
+    if (bound > tol) break;
+    first = j;
+  }
+  if (first >= p) {
+    s.steady = false;
+    s.from = boundary(p - 1);
+    s.periods = 1;
+    s.why = format("the speed still changes by %.3g rad/s from one forcing period to the next at "
+                   "the end of the run (tolerance %.3g rad/s, %.3g %% of its peak-to-peak); the "
+                   "summary is of the last period",
+                   last, tol, 100.0 * o.relative_tolerance);
+    return s;
+  }
+  s.from = boundary(first);
+  s.periods = p - first;
+  return s;
+}
+
+// Time average of v over [from, tend] (trapezoidal; `from` on or before a sample).
+double time_average(const std::vector<double>& t, const std::vector<double>& v, double from) {
+  double sum = 0.0;
+  for (std::size_t i = 1; i < t.size(); ++i) {
+    if (t[i] <= from) continue;
+    const double a = std::max(t[i - 1], from);
+    const double va = t[i - 1] >= from ? v[i - 1] : interpolate(t, v, from);
+    sum += 0.5 * (va + v[i]) * (t[i] - a);
+  }
+  return t.back() > from ? sum / (t.back() - from) : v.back();
+}
+
+}  // namespace
 
 namespace {
 
@@ -132,7 +278,7 @@ void advance(const FeedDrive& d, double omega0, double load0, double load1, doub
 FeedDriveResult simulate_feed_drive(const FeedAxis& axis, const std::vector<double>& t,
                                     const std::vector<double>& fx, const std::vector<double>& fy,
                                     const std::vector<double>& fz, double feed_speed,
-                                    bool start_at_mean_load) {
+                                    bool start_at_mean_load, const SteadyStateOptions& steady) {
   Validator v;
   v.merge(axis.drive.validate());
   const double norm = std::hypot(axis.direction[0], axis.direction[1], axis.direction[2]);
@@ -146,6 +292,11 @@ FeedDriveResult simulate_feed_drive(const FeedAxis& axis, const std::vector<doub
             "must be finite and not negative");
   for (std::size_t i = 1; i < t.size() && v.ok(); ++i)
     v.require(t[i] > t[i - 1], "time_s[" + std::to_string(i) + "]", t[i], "s", "must increase");
+
+  v.require(steady.period_s >= 0.0 && std::isfinite(steady.period_s), "period_s",
+            steady.period_s, "s", "must be finite and not negative (0: unknown)");
+  v.require(steady.relative_tolerance > 0.0 && steady.relative_tolerance < 1.0,
+            "relative_tolerance", steady.relative_tolerance, "", "must be between 0 and 1");
   v.throw_if_any("feed drive " + axis.name);
 
   const FeedDrive& d = axis.drive;
@@ -155,35 +306,38 @@ FeedDriveResult simulate_feed_drive(const FeedAxis& axis, const std::vector<doub
   const double omega0 = r.commanded_speed_rad_s;
   const std::size_t n = t.size();
   r.time_s = t;
-  double load_sum = 0.0;
+  const double motion = omega0 > 0.0 ? 1.0 : omega0 < 0.0 ? -1.0 : 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     // [Ermolaev2020, eq. 11] as a projection (decision): the resistance to the axis' motion is
     // the component of the force on the cutter against it.
     const double fn =
         -(fx[i] * axis.direction[0] + fy[i] * axis.direction[1] + fz[i] * axis.direction[2]);
     r.axis_force_n.push_back(fn);
-    // Idle torque Mc0 opposes the motion (none for an axis at rest).
-    r.load_torque_nm.push_back(tr.torque_per_newton() * fn + (omega0 > 0.0   ? 1.0
-                                                              : omega0 < 0.0 ? -1.0
-                                                                             : 0.0) *
-                                                                 tr.idle_torque_nm);
-    load_sum += r.load_torque_nm.back();
+    // Idle torque Mc0 opposes the motion (none for an axis at rest); an aiding force back-drives
+    // a ball screw (back-driving efficiency).
+    r.load_torque_nm.push_back(tr.torque_per_newton(fn) * fn + motion * tr.idle_torque_nm);
   }
-  r.mean_load_torque_nm = load_sum / static_cast<double>(n);
+  // The starting load: the mean over the trace (or the first sample's).
+  const double start_load =
+      start_at_mean_load ? time_average(t, r.load_torque_nm, t.front()) : r.load_torque_nm[0];
   const double beta = std::abs(d.stiffness_nm_s_per_rad);
   if (d.model == FeedDrive::Model::kStatic) {
     for (std::size_t i = 0; i < n; ++i) {
       r.speed_rad_s.push_back(omega0 - r.load_torque_nm[i] / beta);  // [Ermolaev2020, eq. 13]
       r.motor_torque_nm.push_back(r.load_torque_nm[i]);              // the drive carries the load
     }
-    r.static_error = omega0 > 0.0 ? r.mean_load_torque_nm / (omega0 * beta) : 0.0;
   } else {
+    // The equilibrium under the starting load: with an integrator Ω = Ω0 and ∫e carries the
+    // torque; P-only, Kp·(Ω0 − Ω) = Mc + b·Ω.
     DynamicState s;
-    s.speed = omega0;
-    const double start_load = start_at_mean_load ? r.mean_load_torque_nm : r.load_torque_nm[0];
-    const double te0 = start_load + d.viscous_nm_s_per_rad * omega0;
-    s.integral = d.ki_nm_per_rad > 0.0 ? te0 / d.ki_nm_per_rad : 0.0;
-    s.torque = motor_torque(d, 0.0, s.integral);
+    const double kp = d.kp_nm_s_per_rad, b = d.viscous_nm_s_per_rad;
+    if (d.ki_nm_per_rad > 0.0) {
+      s.speed = omega0;
+      s.integral = (start_load + b * omega0) / d.ki_nm_per_rad;
+    } else {
+      s.speed = (kp * omega0 - start_load) / (kp + b);
+    }
+    s.torque = motor_torque(d, omega0 - s.speed, s.integral);
     r.speed_rad_s.push_back(s.speed);
     r.motor_torque_nm.push_back(s.torque);
     for (std::size_t i = 1; i < n; ++i) {
@@ -192,31 +346,60 @@ FeedDriveResult simulate_feed_drive(const FeedAxis& axis, const std::vector<doub
       r.motor_torque_nm.push_back(s.torque);
     }
   }
+  // The periodic steady state, detected on the speed.
+  const SteadyWindow w = find_steady_state(t, r.speed_rad_s, omega0, steady);
+  r.steady_checked = w.checked;
+  r.steady = w.steady;
+  r.steady_from_s = w.from;
+  r.steady_periods = w.periods;
+  r.periodicity_change_rad_s = w.change;
+  if (!w.checked && d.model == FeedDrive::Model::kDynamic)
+    r.warnings.push_back("no forcing period given: the summary is of the whole run, start-up "
+                         "transient included (steady state not checked)");
+  if (w.checked && !w.steady)
+    r.warnings.push_back("no periodic steady state within the run: " + w.why);
+  // Summary over the window.
+  const auto first = static_cast<std::size_t>(
+      std::lower_bound(t.begin(), t.end(), w.from - 1e-12 * (1.0 + std::abs(w.from))) - t.begin());
+  const auto range = [&](const std::vector<double>& trace) {
+    // Extremes over the window; its start interpolated when it falls between samples.
+    double lo = interpolate(t, trace, w.from), hi = lo;
+    for (std::size_t i = first; i < n; ++i) {
+      lo = std::min(lo, trace[i]);
+      hi = std::max(hi, trace[i]);
+    }
+    return std::pair{lo, hi};
+  };
+  r.mean_load_torque_nm = time_average(t, r.load_torque_nm, w.from);
+  const auto [tmin, tmax] = range(r.load_torque_nm);
+  r.torque_ripple_nm = 0.5 * (tmax - tmin);
+  const auto [wmin, wmax] = range(r.speed_rad_s);
+  r.speed_ripple_rad_s = 0.5 * (wmax - wmin);
+  r.mean_speed_rad_s = time_average(t, r.speed_rad_s, w.from);
   r.moving = omega0 > 0.0;
-  r.static_error_ok = r.static_error <= 0.1;
-  const auto [tmin, tmax] = std::minmax_element(r.load_torque_nm.begin(), r.load_torque_nm.end());
-  r.torque_ripple_nm = 0.5 * (*tmax - *tmin);
-  const auto [wmin, wmax] = std::minmax_element(r.speed_rad_s.begin(), r.speed_rad_s.end());
-  r.speed_ripple_rad_s = 0.5 * (*wmax - *wmin);
   if (r.moving) {
-    // [Ermolaev2020, eq. 1], decision: half-range over mean. Stalled or reversing: the worst.
-    r.k_delta = *wmax + *wmin > 0.0 ? (*wmax - *wmin) / (*wmax + *wmin) : 1.0;
+    r.k_delta = nonuniformity(wmin, wmax);
+    if (wmin <= 0.0)
+      r.warnings.push_back(format("the motor stalls or reverses (lowest speed %.4g rad/s against "
+                                  "%.4g commanded)",
+                                  wmin, omega0));
+    // δ = (Ω0 − Ω̄)/Ω0; for the static characteristic exactly mean Mc/(Ω0·|β|).
+    r.static_error = d.model == FeedDrive::Model::kStatic
+                         ? r.mean_load_torque_nm / (omega0 * beta)
+                         : (omega0 - r.mean_speed_rad_s) / omega0;
   }
   r.k_delta_verdict = nonuniformity_verdict(r.k_delta);
-  // Position error about uniform motion at the mean actual speed (trapezoidal integral).
-  double mean_speed = 0.0;
-  for (std::size_t i = 1; i < n; ++i)
-    mean_speed += 0.5 * (r.speed_rad_s[i] + r.speed_rad_s[i - 1]) * (t[i] - t[i - 1]);
-  mean_speed /= t.back() - t.front();
+  r.static_error_ok = r.static_error <= 0.1;
+  // Position error about uniform motion at the steady mean speed (trapezoidal integral).
   double angle = 0.0;
   r.position_error_m.push_back(0.0);
   for (std::size_t i = 1; i < n; ++i) {
-    angle += 0.5 * (r.speed_rad_s[i] + r.speed_rad_s[i - 1] - 2.0 * mean_speed) * (t[i] - t[i - 1]);
+    angle += 0.5 * (r.speed_rad_s[i] + r.speed_rad_s[i - 1] - 2.0 * r.mean_speed_rad_s) *
+             (t[i] - t[i - 1]);
     r.position_error_m.push_back(tr.travel_per_rad() * angle);
   }
-  const auto [pmin, pmax] =
-      std::minmax_element(r.position_error_m.begin(), r.position_error_m.end());
-  r.position_error_pp_m = *pmax - *pmin;
+  const auto [pmin, pmax] = range(r.position_error_m);
+  r.position_error_pp_m = pmax - pmin;
   return r;
 }
 

@@ -29,7 +29,10 @@ PhaseCurrents motor_currents(const PmsmMotor& m, const std::vector<double>& t,
   v.throw_if_any("motor currents");
   const double peak_per_amp =
       m.measure == CurrentMeasure::kRms ? std::sqrt(2.0) : 1.0;  // Î per equivalent ampere
-  std::mt19937_64 rng(m.seed);
+  // The stream of (seed, stream): seed_seq mixes the words, so neighbouring seeds and streams
+  // give unrelated generator states.
+  std::seed_seq sequence{m.seed, m.stream, 0x6d6f746fu /* "moto" */};
+  std::mt19937_64 rng(sequence);
   std::normal_distribution<double> noise(0.0, 1.0);
   PhaseCurrents out;
   double angle = initial_angle;
@@ -48,6 +51,10 @@ PhaseCurrents motor_currents(const PmsmMotor& m, const std::vector<double>& t,
     out.iv_a.push_back(measured[1]);
     out.iw_a.push_back(measured[2]);
     out.speed_rad_s.push_back(speed[i]);
+    double wrapped = std::fmod(theta, units::kTwoPi);
+    if (wrapped < 0.0) wrapped += units::kTwoPi;
+    if (wrapped >= units::kTwoPi) wrapped = 0.0;
+    out.rotor_angle_rad.push_back(wrapped);
   }
   return out;
 }

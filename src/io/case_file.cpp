@@ -544,9 +544,13 @@ void read_drive(TableReader& t, Case& c) {
       else
         for (int k = 0; k < 3; ++k) m.offset_a[k] = (*v)[static_cast<std::size_t>(k)];
     }
+    // The noise's seed; each axis draws its own stream of it (its index in [[drives]]).
+    if (auto v = t.integer("seed", 0, 2147483647, Need::kOptional))
+      m.seed = static_cast<unsigned>(*v);
+    m.stream = static_cast<unsigned>(c.drives.size());
     axis.motor = m;
   } else {
-    for (const char* key : {"current_measure", "current_noise_a", "current_offset_a"})
+    for (const char* key : {"current_measure", "current_noise_a", "current_offset_a", "seed"})
       if (t.has(key)) t.problem(key, "needs the motor: pole_pairs and torque_constant_nm_per_a");
   }
   t.report_unknown();
@@ -585,7 +589,8 @@ void read_drives(TableReader& top, Case& c) {
                                   "torque_constant_nm_per_a",
                                   "current_measure",
                                   "current_noise_a",
-                                  "current_offset_a"});
+                                  "current_offset_a",
+                                  "seed"});
                    read_drive(t, c);
                  });
 }
@@ -1437,6 +1442,7 @@ nlohmann::json to_json(const Case& c) {
         j_axis["current_noise_a"] = tidy(a.motor->noise_a);
         j_axis["current_offset_a"] = {tidy(a.motor->offset_a[0]), tidy(a.motor->offset_a[1]),
                                       tidy(a.motor->offset_a[2])};
+        j_axis["seed"] = a.motor->seed;
       }
       drives.push_back(std::move(j_axis));
     }

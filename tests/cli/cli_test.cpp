@@ -538,9 +538,15 @@ TEST_F(Cli, DriveUnderTheS1PresetLoad) {
   const double beta = 1e4, mean = x["mean_load_torque_nm"], ripple = x["torque_ripple_nm"];
   EXPECT_NEAR(x["speed_ripple_rad_s"].get<double>(), ripple / beta, 1e-12);
   EXPECT_NEAR(x["static_error"].get<double>(), mean / (2.5 * beta), 1e-12);
-  // kδ = ΔΩ/Ω̄ with Ω̄ = Ω0 − (mid-range torque)/β.
-  EXPECT_NEAR(x["k_delta"].get<double>(), (ripple / beta) / 2.5, 1e-9);
+  // kδ = 2(Ωmax − Ωmin)/(Ωmax + Ωmin) (eq. 1) = 2·ΔΩ/Ω̄mid, Ω̄mid = Ω0 − (mid-range torque)/β.
+  EXPECT_NEAR(x["k_delta"].get<double>(), 2 * (ripple / beta) / 2.5, 1e-9);
   EXPECT_EQ(x["k_delta_verdict"], "acceptable");
+  // The summary is of the detected periodic steady state: the static drive follows the force,
+  // periodic at the revolution once the cut has settled.
+  EXPECT_TRUE(x["steady_state"].get<bool>());
+  EXPECT_TRUE(x["warnings"].empty());
+  EXPECT_GE(x["steady_revolutions"].get<int>(), 2);
+  EXPECT_NEAR(x["mean_speed_rad_s"].get<double>(), 2.5 - mean / beta, 1e-12);
   const auto& y = doc["axes"][1];
   EXPECT_TRUE(y["k_delta"].is_null());
   EXPECT_NEAR(y["commanded_speed_rad_s"].get<double>(), 0.0, 1e-15);
@@ -563,7 +569,7 @@ TEST_F(Cli, DriveCurrentsAndSweepAndBadDrives) {
   ASSERT_EQ(r.code, 0) << r.err;
   const auto currents = csv_lines(path("i.csv"));
   ASSERT_GT(currents.size(), 100u);
-  EXPECT_EQ(currents[0], "time_s,axis,iu_a,iv_a,iw_a,speed_rad_s");
+  EXPECT_EQ(currents[0], "time_s,axis,iu_a,iv_a,iw_a,speed_rad_s,rotor_angle_rad");
   const auto traces = csv_lines(path("d.csv"));
   // Row 1 of both: axis x at the first instant.
   const auto fields = [](const std::string& line) {
@@ -576,6 +582,17 @@ TEST_F(Cli, DriveCurrentsAndSweepAndBadDrives) {
   const double id = equivalent_current(std::stod(i1[2]), std::stod(i1[3]), std::stod(i1[4]),
                                        CurrentMeasure::kSpaceVector);
   EXPECT_NEAR(id, std::abs(std::stod(d1[3])) / 1.621, 1e-9);
+  // The rotor's electrical angle θe: iu = −Î·sin θe, Î = Te/KT (space vector, no noise).
+  EXPECT_NEAR(std::stod(i1[2]), -std::stod(d1[3]) / 1.621 * std::sin(std::stod(i1[6])), 1e-9);
+  // Ten rows later the angle has advanced by p·∫Ω dt (4 pole pairs, trapezoidal).
+  const auto i11 = fields(currents[11]);
+  double turned = 0.0;
+  for (int k = 1; k <= 10; ++k) {
+    const auto a = fields(currents[static_cast<std::size_t>(k)]),
+               b = fields(currents[static_cast<std::size_t>(k + 1)]);
+    turned += 4 * 0.5 * (std::stod(a[5]) + std::stod(b[5])) * (std::stod(b[0]) - std::stod(a[0]));
+  }
+  EXPECT_NEAR(std::fmod(std::stod(i1[6]) + turned, 2 * units::kPi), std::stod(i11[6]), 1e-6);
   // A sweep of the spindle speed tabulates ε per axis.
   const Result sweep =
       cutdyn({"drive", file, "--sweep", "simulate.rpm=60:60:180", "--json", path("s.json")});
@@ -595,6 +612,95 @@ TEST_F(Cli, DriveCurrentsAndSweepAndBadDrives) {
   no_motor.replace(no_motor.rfind("pole_pairs = 4"), 14, "");
   expect_rejected({"drive", write("nomotor.toml", no_motor), "--currents", path("x.csv")},
                   "drives (axis y): --currents needs the motor");
+}
+
+TEST_F(Cli, DriveSummariesAreOfTheSteadyStateAndSayWhenItIsNotReached) {
+  // The x axis as a dynamic P-only loop (the case: the mean speed far below the
+  // commanded one). Steady state of J·dΩ/dt = Kp·(Ω0 − Ω) − Mc − b·Ω: Ω̄ = (Kp·Ω0 − Mc̄)/(Kp + b),
+  // so δ = (Ω0 − Ω̄)/Ω0 from the reported mean load torque (Ω0 = 2.5 rad/s).
+  std::string text(*io::example_text("ermolaev2020"));
+  const std::string stat = "model = \"static\"\nstiffness_nm_s_per_rad = -10000  # beta\n";
+  ASSERT_NE(text.find(stat), std::string::npos);
+  text.replace(text.find(stat), stat.size(),
+               "model = \"dynamic\"\ninertia_kg_m2 = 2e-4\nkp_nm_s_per_rad = 0.2\n"
+               "ki_nm_per_rad = 0\nviscous_nm_s_per_rad = 0.01\n");
+  const Result r = cutdyn({"drive", write("ponly.toml", text), "--json", path("p.json")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(std::ifstream(path("p.json")));
+  const auto& x = doc["axes"][0];
+  const double mc = x["mean_load_torque_nm"], mean = (0.2 * 2.5 - mc) / 0.21;
+  EXPECT_TRUE(x["steady_state"].get<bool>()) << x.dump();
+  EXPECT_NEAR(x["mean_speed_rad_s"].get<double>(), mean, 1e-3 * mean);
+  EXPECT_NEAR(x["static_error"].get<double>(), 1.0 - mean / 2.5, 1e-3);
+  EXPECT_GT(x["static_error"].get<double>(), 0.1);
+  EXPECT_FALSE(x["static_error_ok"].get<bool>());
+  EXPECT_NE(r.out.find("ABOVE 10 %"), std::string::npos) << r.out;
+  // Two revolutions cannot show a steady state: a warning on stderr, in the text and the JSON.
+  text.replace(text.find("revolutions = 6"), 15, "revolutions = 2");
+  const Result two = cutdyn({"drive", write("two.toml", text), "--json", path("t.json")});
+  ASSERT_EQ(two.code, 0) << two.err;
+  const auto t = nlohmann::json::parse(std::ifstream(path("t.json")));
+  EXPECT_FALSE(t["axes"][0]["steady_state"].get<bool>());
+  ASSERT_FALSE(t["axes"][0]["warnings"].empty());
+  EXPECT_NE(two.err.find("cutdyn: warning: " + path("two.toml") + ": axis x: no periodic steady "
+                         "state within the run"),
+            std::string::npos)
+      << two.err;
+  EXPECT_NE(two.out.find("warning: no periodic steady state"), std::string::npos) << two.out;
+}
+
+TEST_F(Cli, DriveCurrentNoiseSeed) {
+  // Noise on both axes: --seed reproduces a run and another seed changes it; the case's
+  // [[drives]] seed is the same as --seed; the two axes' noise differs.
+  std::string text(*io::example_text("ermolaev2020"));
+  const std::string noise = "current_noise_a = 0.05\n";
+  for (std::size_t at = text.find("pole_pairs = 4"); at != std::string::npos;
+       at = text.find("pole_pairs = 4", at + noise.size() + 1))
+    text.insert(at, noise);
+  const auto file = write("noisy.toml", text);
+  const auto run = [&](std::vector<std::string> extra, const std::string& out) {
+    std::vector<std::string> args{"drive", file, "--currents", path(out)};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const Result r = cutdyn(args);
+    EXPECT_EQ(r.code, 0) << r.err;
+    return csv_lines(path(out));
+  };
+  const auto a = run({"--seed", "5"}, "a.csv"), b = run({"--seed", "5"}, "b.csv"),
+             c = run({"--seed", "6"}, "c.csv");
+  ASSERT_GT(a.size(), 100u);
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a, c);
+  std::string seeded = text;
+  seeded.insert(seeded.find("pole_pairs = 4"), "seed = 5\n");
+  seeded.insert(seeded.rfind("pole_pairs = 4"), "seed = 5\n");
+  const auto d = [&] {
+    const Result r = cutdyn({"drive", write("seeded.toml", seeded), "--currents", path("d.csv")});
+    EXPECT_EQ(r.code, 0) << r.err;
+    return csv_lines(path("d.csv"));
+  }();
+  EXPECT_EQ(d, a);
+  // Within a run, the noise of x and y is uncorrelated: the difference of the runs with seeds 5
+  // and 6 is pure noise (variance 2σ²) on each axis.
+  std::vector<double> dx, dy;
+  for (std::size_t i = 1; i < a.size(); ++i) {
+    std::stringstream sa(a[i]), sc(c[i]);
+    std::string fa, fc, axis;
+    std::vector<std::string> va, vc;
+    while (std::getline(sa, fa, ',')) va.push_back(fa);
+    while (std::getline(sc, fc, ',')) vc.push_back(fc);
+    (va[1] == "x" ? dx : dy).push_back(std::stod(va[2]) - std::stod(vc[2]));
+  }
+  ASSERT_EQ(dx.size(), dy.size());
+  double sxy = 0, sxx = 0, syy = 0;
+  for (std::size_t i = 0; i < dx.size(); ++i) {
+    sxy += dx[i] * dy[i];
+    sxx += dx[i] * dx[i];
+    syy += dy[i] * dy[i];
+  }
+  const double rho = sxy / std::sqrt(sxx * syy);
+  EXPECT_LT(std::abs(rho), 4.0 / std::sqrt(static_cast<double>(dx.size()))) << rho;
+  EXPECT_NEAR(std::sqrt(sxx / static_cast<double>(dx.size())), 0.05 * std::sqrt(2.0), 0.01);
+  expect_rejected({"drive", file, "--seed", "-1", "--currents", path("x.csv")}, "--seed");
 }
 
 TEST_F(Cli, PlanReportsTheBoreMillingQuantities) {

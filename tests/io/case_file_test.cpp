@@ -757,6 +757,31 @@ TEST(CaseFileProcessKeys, SweepOfAKeyTheProcessDoesNotUseIsAnError) {
   }
 }
 
+// [[drives]] seed: the current noise's seed, with the motor; each axis gets its own stream.
+TEST(CaseFileDrives, SeedOfTheCurrentNoise) {
+  const std::string motor = "[[drives]]\naxis = \"x\"\ntransmission = \"lever\"\n"
+                            "output_diameter_mm = 40\nstiffness_nm_s_per_rad = -100\n"
+                            "pole_pairs = 4\ntorque_constant_nm_per_a = 1.5\n";
+  const std::string second = "[[drives]]\naxis = \"y\"\ntransmission = \"lever\"\n"
+                             "output_diameter_mm = 40\nstiffness_nm_s_per_rad = -100\n"
+                             "pole_pairs = 4\ntorque_constant_nm_per_a = 1.5\n";
+  const Case c = parse_case(milling_with(motor + "seed = 42\n" + second), "s.toml");
+  ASSERT_EQ(c.drives.size(), 2u);
+  EXPECT_EQ(c.drives[0].motor->seed, 42u);
+  EXPECT_EQ(c.drives[1].motor->seed, 1u);  // the default
+  EXPECT_EQ(c.drives[0].motor->stream, 0u);
+  EXPECT_EQ(c.drives[1].motor->stream, 1u);
+  EXPECT_EQ(to_json(c)["drives"][0]["seed"], 42);
+  EXPECT_THAT(problems_of(milling_with(motor + "seed = -1\n")),
+              ElementsAre("drives[0].seed = -1: must be an integer from 0 to 2147483647"));
+  EXPECT_THAT(problems_of(milling_with(motor + "seed = 1.5\n")),
+              ElementsAre(HasSubstr("drives[0].seed = 1.5: wrong type: expected an integer")));
+  std::string no_motor = motor;
+  no_motor.erase(no_motor.find("pole_pairs"));
+  EXPECT_THAT(problems_of(milling_with(no_motor + "seed = 3\n")),
+              ElementsAre(HasSubstr("drives[0].seed")));
+}
+
 // The accuracy coefficient k of a plan case: the source's range 0.005 (finishing) … 0.1
 // (roughing).
 TEST(CaseFilePlan, AccuracyCoefficientInTheSourcesRange) {

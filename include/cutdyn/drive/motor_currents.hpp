@@ -3,7 +3,9 @@
 // (docs/models/feed-drive.md). With the equivalent current I = |Te|/KT (CurrentMeasure, the
 // same measure as KT) the phase peak is Î = I (space vector) or √2·I (RMS), and
 //     iu = −Î·sin θe,  iv = −Î·sin(θe − 2π/3),  iw = −Î·sin(θe + 2π/3),   θe = p·θm,
-// with Î signed like the torque. Optional white noise on each phase and a sensor offset.
+// with Î signed like the torque. Optional white noise on each phase and a sensor offset; the noise
+// is drawn from the stream (seed, stream) — std::seed_seq mixes both, so that the axes of one run
+// (stream = the axis' index) have independent noise and another seed gives another run.
 #pragma once
 
 #include <string>
@@ -19,13 +21,16 @@ struct PmsmMotor {
   CurrentMeasure measure = CurrentMeasure::kSpaceVector;
   double noise_a = 0.0;            // σ of white noise on each phase
   double offset_a[3] = {0, 0, 0};  // sensor offsets of u, v, w
-  unsigned seed = 1;               // of the noise
+  unsigned seed = 1;               // of the noise ([[drives]] seed, --seed)
+  unsigned stream = 0;             // the axis' own stream of the seed (its index)
 
   std::vector<std::string> validate() const;
 };
 
 struct PhaseCurrents {
   std::vector<double> time_s, iu_a, iv_a, iw_a, speed_rad_s;
+  /// The electrical angle θe = p·θm the currents were made with, wrapped into [0, 2π).
+  std::vector<double> rotor_angle_rad;
 };
 
 /// The phase currents for the motor torque and speed traces (equal lengths, time increasing);
