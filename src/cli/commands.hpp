@@ -122,6 +122,8 @@ struct MonitorEstimateArgs {
   std::string out;          // --out F.csv (else standard output, line by line)
   std::string band;         // --band B.json: add level/limits/alarm columns
   std::string alarms;       // --alarms F.csv: the alarm events
+  double tooth_frequency_hz = 0.0;  // --tooth-frequency-hz: report the filter there (0: not)
+  std::string json;                 // --json F.json: the summary (filter, warnings) as JSON
   double persist_s = 0.005;
   double wear_fraction = 0.15;
   double wear_time_constant_s = 0.5;

@@ -126,9 +126,10 @@ std::map<std::string, AxisRun> read_log(const std::string& path, const std::stri
   bad.take(errors);
   bad.finish(parser.good_rows());
   std::map<std::string, AxisRun> runs;
+  const bool angle = parser.has_rotor_angle();
   for (const CurrentRow& r : rows)
     runs[parser.axes()[static_cast<std::size_t>(r.axis)]].push_back(
-        {r.time_s, r.iu_a, r.iv_a, r.iw_a, r.speed_rad_s, r.extra});
+        {r.time_s, r.iu_a, r.iv_a, r.iw_a, r.speed_rad_s, r.extra, angle, r.rotor_angle_rad});
   return runs;
 }
 
@@ -460,6 +461,7 @@ class Estimators {
       if (it == cal_.end()) return nullptr;
       owned_.push_back(std::make_unique<AxisForceEstimator>(it->second, options_));
       by_index_[i] = owned_.back().get();
+      names_.push_back(name);
     }
     return by_index_[i];
   }
@@ -469,6 +471,23 @@ class Estimators {
     return "axis \"" + name + "\" is not in the calibration " + calib_name_ + " (it has " + have +
            ")";
   }
+  // Samples of an axis whose torque sign is in doubt (no rotor angle, §4.5 of
+  // docs/models/monitor.md): how many, and the first.
+  struct SignDoubt {
+    std::size_t samples = 0, first_line = 0;
+    double first_time_s = 0.0;
+  };
+  std::map<std::string, SignDoubt>& sign_doubts() { return doubts_; }
+  const std::map<std::string, SignDoubt>& sign_doubts() const { return doubts_; }
+  // Whether the logs gave the rotor angle (the signed torque current): set by the stream.
+  bool signed_current = false;
+
+  // The estimators made so far, with their axis names, in order of appearance.
+  std::vector<std::pair<std::string, const AxisForceEstimator*>> made() const {
+    std::vector<std::pair<std::string, const AxisForceEstimator*>> all;
+    for (std::size_t i = 0; i < owned_.size(); ++i) all.emplace_back(names_[i], owned_[i].get());
+    return all;
+  }
 
  private:
   std::map<std::string, AxisCalibration> cal_;
@@ -476,7 +495,60 @@ class Estimators {
   std::string calib_name_;
   std::vector<AxisForceEstimator*> by_index_;
   std::vector<std::unique_ptr<AxisForceEstimator>> owned_;
+  std::vector<std::string> names_;
+  std::map<std::string, SignDoubt> doubts_;
 };
+
+// What the estimate is (docs/models/monitor.md §4.1, §4.3): the filter of each axis, for its
+// first step, as text lines and as JSON.
+constexpr const char* kSignDoubt =
+    "the motor torque may be against the motion here (a load that aids the motion, or "
+    "braking), and the log has no rotor_angle_rad column: the estimate assumes the torque has "
+    "the sign of the motion and may have the wrong sign; log the electrical rotor angle for the "
+    "signed torque current (docs/models/monitor.md §4.5)";
+constexpr const char* kSigmaCovers =
+    "force_sigma_n is the standard uncertainty of force_n as an estimate of the filtered force "
+    "(current and speed noise, the calibration's parameter uncertainties); the filter itself is "
+    "stated, not an error: force_n is the true force through it";
+
+json filter_json(const AxisForceEstimator& e, double tooth_hz) {
+  const double dt = e.first_step_s();
+  json j{{"transfer_function", EstimateFilter::formula()},
+         {"bandwidth_hz", e.options().bandwidth_hz},
+         {"step_s", dt}};
+  if (dt > 0.0) {
+    const EstimateFilter h{e.options().bandwidth_hz, dt};
+    j["minus_3db_hz"] = h.minus_3db_hz();
+    j["delay_s"] = h.delay_s();
+    if (tooth_hz > 0.0) {
+      j["tooth_frequency_hz"] = tooth_hz;
+      j["gain_at_tooth_frequency"] = h.gain(tooth_hz);
+      j["lag_deg_at_tooth_frequency"] = h.lag_deg(tooth_hz);
+    }
+  }
+  return j;
+}
+
+void describe_filter(std::ostream& out, const std::string& axis, const AxisForceEstimator& e,
+                     double tooth_hz) {
+  const double dt = e.first_step_s();
+  const double fb = e.options().bandwidth_hz;
+  out << "  axis " << axis << ": force_n = the force through H(f) = sinc(f·Δt)·e^(−jπfΔt)·((1 − r)/"
+         "(1 − r·e^(−j2πfΔt)))², r = exp(−2π·f_b·Δt), f_b = "
+      << human(fb) << " Hz";
+  if (dt <= 0.0) {
+    out << " (one sample: no step)\n";
+    return;
+  }
+  const EstimateFilter h{fb, dt};
+  out << ", Δt = " << human(dt) << " s: −3 dB at " << human(h.minus_3db_hz()) << " Hz, gain "
+      << human(h.gain(fb), 3) << " and lag " << human(h.lag_deg(fb), 3) << "° at f_b, delay "
+      << human(h.delay_s(), 3) << " s at low frequency";
+  if (tooth_hz > 0.0)
+    out << "; at the tooth frequency " << human(tooth_hz) << " Hz: gain " << human(h.gain(tooth_hz), 3)
+        << ", lag " << human(h.lag_deg(tooth_hz), 3) << "°";
+  out << "\n";
+}
 
 // Streams `input` through the estimators: `each(row, axis name, estimate)` per good row,
 // `flush()` after each chunk read (so a live stream is answered line by line).
@@ -500,7 +572,9 @@ std::size_t estimate_stream(const std::string& input, Estimators& estimators, bo
       }
       ForceEstimate estimate;
       try {
-        estimate = e->update(r.time_s, r.iu_a, r.iv_a, r.iw_a, r.speed_rad_s);
+        estimate = e->update(r.time_s, r.iu_a, r.iv_a, r.iw_a, r.speed_rad_s,
+                             parser.has_rotor_angle() ? std::optional<double>(r.rotor_angle_rad)
+                                                      : std::nullopt);
       } catch (const InvalidInput& x) {
         // The bandwidth against the log's sampling (the only check of update): the flag.
         std::vector<std::string> problems;
@@ -508,6 +582,15 @@ std::size_t estimate_stream(const std::string& input, Estimators& estimators, bo
           problems.push_back("--bandwidth-hz: " + p + ", axis " + name + " at line " +
                              std::to_string(r.line));
         throw InvalidInput(problems, in.name());
+      }
+      if (estimate.torque_sign_doubtful) {
+        auto& d = estimators.sign_doubts()[name];
+        if (d.samples++ == 0) {
+          d.first_line = r.line;
+          d.first_time_s = r.time_s;
+          err << "cutdyn: warning: " << in.name() << ": line " << r.line << ", axis " << name
+              << " at " << human(r.time_s, 7) << " s: " << kSignDoubt << "\n";
+        }
       }
       each(r, name, estimate);
       ++good;
@@ -523,6 +606,11 @@ std::size_t estimate_stream(const std::string& input, Estimators& estimators, bo
   parser.finish(rows, errors, stop);
   process();
   bad.finish(good);
+  estimators.signed_current = parser.has_rotor_angle();
+  for (const auto& [axis, d] : estimators.sign_doubts())
+    if (d.samples > 1)
+      err << "cutdyn: warning: " << in.name() << ": axis " << axis << ": the torque sign is in "
+          << "doubt at " << d.samples << " samples\n";
   return good;
 }
 
@@ -567,7 +655,11 @@ int run_monitor_estimate(const MonitorEstimateArgs& args, std::ostream& out, std
     Validator v;
     check_output_folder(v, "--out", args.out);
     check_output_folder(v, "--alarms", args.alarms);
+    check_output_folder(v, "--json", args.json);
     if (!args.alarms.empty() && args.band.empty()) v.add("--alarms needs --band");
+    if (!(args.tooth_frequency_hz >= 0.0) || !std::isfinite(args.tooth_frequency_hz))
+      v.add("--tooth-frequency-hz = " + human(args.tooth_frequency_hz) +
+            ": must be a finite number >= 0 (0: not reported)");
     v.throw_if_any("command line");
   }
   Estimators estimators(read_calibration(args.estimator.calib), options, args.estimator.calib);
@@ -650,6 +742,24 @@ int run_monitor_estimate(const MonitorEstimateArgs& args, std::ostream& out, std
     buffer.clear();
   };
   const std::size_t samples = estimate_stream(args.input, estimators, stop, err, each, flush);
+  json summary{{"format", "cutdyn monitor estimate"}, {"version", 1}, {"samples", samples},
+               {"force_sigma_n_covers", kSigmaCovers}};
+  summary["axes"] = json::object();
+  for (const auto& [axis, e] : estimators.made()) {
+    json a{{"filter", filter_json(*e, args.tooth_frequency_hz)},
+           {"torque_current", estimators.signed_current
+                                  ? "signed: Park transform with rotor_angle_rad"
+                                  : "magnitude with the sign of the motion (no rotor_angle_rad)"},
+           {"warnings", json::array()}};
+    if (const auto d = estimators.sign_doubts().find(axis); d != estimators.sign_doubts().end())
+      a["warnings"].push_back({{"kind", "torque-sign"},
+                               {"message", kSignDoubt},
+                               {"samples", d->second.samples},
+                               {"first_line", d->second.first_line},
+                               {"first_time_s", d->second.first_time_s}});
+    summary["axes"][axis] = a;
+  }
+  if (!args.json.empty()) io::write_json(outputs.open(args.json), summary);
   if (!args.alarms.empty()) {
     io::CsvWriter csv(outputs.open(args.alarms),
                       {"time_s", "axis", "alarm", "detected_s", "level", "limit"});
@@ -661,7 +771,10 @@ int run_monitor_estimate(const MonitorEstimateArgs& args, std::ostream& out, std
   report << (args.out.empty() ? "cutdyn: " : "") << "monitor estimate: " << samples << " samples";
   if (with_band) report << ", " << events.size() << " alarm" << (events.size() == 1 ? "" : "s");
   report << "\n";
-  for (const std::string* f : {&args.out, &args.alarms})
+  for (const auto& [axis, e] : estimators.made())
+    describe_filter(report, axis, *e, args.tooth_frequency_hz);
+  report << "  " << kSigmaCovers << "\n";
+  for (const std::string* f : {&args.out, &args.alarms, &args.json})
     if (!f->empty()) out << "  wrote " << *f << "\n";
   return 0;
 }
@@ -752,7 +865,8 @@ std::function<int(std::ostream&, std::ostream&)> add_monitor_command(CLI::App& a
                   "zheng2012 (the source's preset)")
         ->required();
     c->add_option("--bandwidth-hz", a.bandwidth_hz,
-                  "bandwidth of the acceleration observer (default 50)");
+                  "f_b of the estimate's filter, where its gain is 0.5 and its lag 90° (−3 dB at "
+                  "0.644·f_b; default 50)");
     c->add_option("--standstill-rad-s", a.standstill_rad_s,
                   "below this speed the axis is at standstill (default 0.5)");
     bad_line(c, a.on_bad_line);
@@ -786,6 +900,12 @@ std::function<int(std::ostream&, std::ostream&)> add_monitor_command(CLI::App& a
   c2->add_option("--out", est->out, "write the estimate to a file (else standard output)");
   c2->add_option("--band", est->band, "band file from `monitor teach`: add alarms");
   c2->add_option("--alarms", est->alarms, "with --band: write the alarm events (CSV)");
+  c2->add_option("--tooth-frequency-hz", est->tooth_frequency_hz,
+                 "also report the estimate's filter gain and lag at this frequency (e.g. teeth × "
+                 "rpm/60)");
+  c2->add_option("--json", est->json,
+                 "write a summary as JSON: the filter of each axis, what force_sigma_n covers, "
+                 "warnings");
   c2->add_option("--persist-s", est->persist_s,
                  "overload and breakage must last this long (default 0.005 s)");
   c2->add_option("--wear-fraction", est->wear_fraction,

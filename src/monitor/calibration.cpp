@@ -57,6 +57,13 @@ const char* to_string(CalibrationStatus status) {
   return "?";
 }
 
+double torque_current_a(const AxisSample& s, CurrentMeasure measure) {
+  if (s.has_rotor_angle)
+    return signed_equivalent_current(s.iu_a, s.iv_a, s.iw_a, s.rotor_angle_rad, measure);
+  const double id = equivalent_current(s.iu_a, s.iv_a, s.iw_a, measure);
+  return s.speed_rad_s < 0.0 ? -id : id;
+}
+
 namespace {
 
 // Means over one window of one run.
@@ -66,7 +73,7 @@ struct Window {
   double accel = 0.0;        // slope of the least-squares line ω(t)
   double accel_sigma = 0.0;  // its standard error
   double sign = 0.0;         // the common sign of ω (0: standstill or a change of sign)
-  double current = 0.0;      // mean Id
+  double current = 0.0;      // mean s·Id
   double torque = 0.0;       // mean s·KT·Id
   double force = 0.0;        // mean reference force
   double current_ss = 0.0;   // Σ(Id − mean)²
@@ -119,7 +126,7 @@ std::vector<Window> windows_of(const AxisModel& m, const AxisRun& run,
       bool standstill = false;
       for (std::size_t k = i; k < j; ++k) {
         const AxisSample& s = run[k];
-        const double id = equivalent_current(s.iu_a, s.iv_a, s.iw_a, m.measure);
+        const double id = torque_current_a(s, m.measure);
         const double sg = motion_sign(s.speed_rad_s);
         if (std::abs(s.speed_rad_s) < o.standstill_rad_s ||
             (moving_sign != 0.0 && sg != moving_sign))
@@ -128,7 +135,7 @@ std::vector<Window> windows_of(const AxisModel& m, const AxisRun& run,
         t_mean += s.time_s;
         w.speed += s.speed_rad_s;
         w.current += id;
-        w.torque += sg * m.torque_constant_nm_per_a * id;
+        w.torque += m.torque_constant_nm_per_a * id;
         w.force += s.force_n;
       }
       const double n = w.n;
@@ -143,7 +150,7 @@ std::vector<Window> windows_of(const AxisModel& m, const AxisRun& run,
         const double dt = run[k].time_s - t_mean;
         stt += dt * dt;
         stw += dt * (run[k].speed_rad_s - w.speed);
-        const double id = equivalent_current(run[k].iu_a, run[k].iv_a, run[k].iw_a, m.measure);
+        const double id = torque_current_a(run[k], m.measure);
         w.current_ss += (id - w.current) * (id - w.current);
       }
       w.accel = stt > 0.0 ? stw / stt : 0.0;

@@ -59,6 +59,15 @@ void CurrentCsvParser::parse_header(std::string_view line) {
       slot_of_field_[f] = static_cast<int>(s);
     }
   }
+  for (std::size_t f = 0; f < fields.size(); ++f) {
+    if (fields[f] != kRotorAngleColumn) continue;
+    if (index_[kAngleSlot] >= 0) {
+      v.add("line " + std::to_string(line_) + ": column " + kRotorAngleColumn + " appears twice");
+      continue;
+    }
+    index_[kAngleSlot] = static_cast<int>(f);
+    slot_of_field_[f] = kAngleSlot;
+  }
   std::string missing;
   for (std::size_t s = 0; s < names.size(); ++s)
     if (index_[s] < 0) missing += (missing.empty() ? "" : ", ") + names[s];
@@ -73,6 +82,7 @@ void CurrentCsvParser::parse_header(std::string_view line) {
   header_fields_ = static_cast<int>(fields.size());
   for (std::size_t s = 0; s < names.size(); ++s)
     needed_fields_ = std::max(needed_fields_, index_[s] + 1);
+  needed_fields_ = std::max(needed_fields_, index_[kAngleSlot] + 1);
   header_done_ = true;
 }
 
@@ -93,8 +103,7 @@ bool CurrentCsvParser::parse_line(std::string_view line, std::vector<CurrentRow>
     return true;
   }
   ++data_lines_;
-  std::string_view field[7];
-  const int slots = extra_column_.empty() ? 6 : 7;
+  std::string_view field[8];
   int f = 0;
   const char* p = line.data();
   const char* end = p + line.size();
@@ -115,7 +124,7 @@ bool CurrentCsvParser::parse_line(std::string_view line, std::vector<CurrentRow>
   if (f < needed_fields_) {
     // Name the first required column the line does not reach.
     std::string missing;
-    for (int s = 0; s < slots; ++s)
+    for (int s = 0; s < 8; ++s)
       if (index_[s] >= f)
         missing +=
             (missing.empty() ? "" : ", ") + header_names_[static_cast<std::size_t>(index_[s])];
@@ -124,10 +133,11 @@ bool CurrentCsvParser::parse_line(std::string_view line, std::vector<CurrentRow>
   }
   CurrentRow row;
   row.line = line_;
-  double* target[7] = {&row.time_s, nullptr,          &row.iu_a, &row.iv_a,
-                       &row.iw_a,   &row.speed_rad_s, &row.extra};
-  for (int s = 0; s < slots; ++s) {
-    if (s == kAxis) continue;
+  double* target[8] = {&row.time_s,      nullptr,    &row.iu_a, &row.iv_a,
+                       &row.iw_a,        &row.speed_rad_s, &row.extra,
+                       &row.rotor_angle_rad};
+  for (int s = 0; s < 8; ++s) {
+    if (s == kAxis || index_[s] < 0) continue;
     std::string_view text = field[s];
     // Blanks around a number are allowed; nothing else.
     while (!text.empty() && (text.front() == ' ' || text.front() == '\t')) text.remove_prefix(1);

@@ -10,6 +10,14 @@ double equivalent_current(double iu, double iv, double iw, CurrentMeasure measur
   return measure == CurrentMeasure::kRms ? std::sqrt(sum / 3.0) : std::sqrt(sum * (2.0 / 3.0));
 }
 
+double signed_equivalent_current(double iu, double iv, double iw, double theta,
+                                 CurrentMeasure measure) {
+  constexpr double third = 2.0943951023931954923;  // 2π/3
+  const double peak = -(2.0 / 3.0) * (iu * std::sin(theta) + iv * std::sin(theta - third) +
+                                      iw * std::sin(theta + third));
+  return measure == CurrentMeasure::kRms ? peak * std::sqrt(0.5) : peak;
+}
+
 double equivalent_current_sigma(double phase_sigma_a, CurrentMeasure measure) {
   // d Id / d i_k = c²·i_k/Id with c² = 1/3 or 2/3, so var = c⁴·σ²·Σi²/Id² = c²·σ².
   return phase_sigma_a *

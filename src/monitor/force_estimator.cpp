@@ -1,6 +1,7 @@
 #include "cutdyn/monitor/force_estimator.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 
 #include "cutdyn/core/error.hpp"
@@ -66,6 +67,45 @@ AccelerationObserver::NoiseGain AccelerationObserver::noise_gain(double bandwidt
   return g;
 }
 
+std::complex<double> EstimateFilter::response(double f) const {
+  const double r = std::exp(-units::kTwoPi * bandwidth_hz * dt_s);
+  const double w = units::kTwoPi * f * dt_s;
+  const double x = units::kPi * f * dt_s;
+  const double sinc = x == 0.0 ? 1.0 : std::sin(x) / x;
+  const std::complex<double> stage = (1.0 - r) / (1.0 - r * std::polar(1.0, -w));
+  return sinc * std::polar(1.0, -0.5 * w) * stage * stage;
+}
+
+double EstimateFilter::lag_deg(double f) const {
+  const double r = std::exp(-units::kTwoPi * bandwidth_hz * dt_s);
+  const double w = units::kTwoPi * f * dt_s;
+  // Each stage lags by atan2(r·sin w, 1 − r·cos w) (continuous: 1 − r·cos w > 0 for r < 1);
+  // the step mean by w/2 (its sinc is positive below the sampling rate).
+  return (0.5 * w + 2.0 * std::atan2(r * std::sin(w), 1.0 - r * std::cos(w))) * 180.0 / units::kPi;
+}
+
+double EstimateFilter::minus_3db_hz() const {
+  const double nyquist = 0.5 / dt_s;
+  const double target = std::sqrt(0.5);
+  if (gain(nyquist) >= target) return nyquist;
+  double lo = 0.0, hi = nyquist;  // the gain falls monotonically on (0, Nyquist)
+  for (int i = 0; i < 200 && hi - lo > 1e-12 * nyquist; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (gain(mid) > target ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+double EstimateFilter::delay_s() const {
+  const double r = std::exp(-units::kTwoPi * bandwidth_hz * dt_s);
+  return 2.0 * r * dt_s / (1.0 - r) + 0.5 * dt_s;
+}
+
+const char* EstimateFilter::formula() {
+  return "H(f) = sinc(f*dt)*exp(-j*pi*f*dt)*((1 - r)/(1 - r*exp(-j*2*pi*f*dt)))^2, "
+         "r = exp(-2*pi*f_b*dt)";
+}
+
 std::vector<std::string> EstimatorOptions::validate() const {
   Validator v("estimator");
   v.require_positive("bandwidth_hz", bandwidth_hz, "Hz");
@@ -95,28 +135,45 @@ void AxisForceEstimator::reset() {
   step_checked_ = false;
   sign_ = 1.0;
   dt_ = -1.0;
-  // Until the step is known: the speed noise enters through X·ω only.
+  first_dt_ = 0.0;
+  r_ = 0.0;
+  // Until the step is known (the first sample): no filtering, the speed noise enters
+  // through X·ω only.
+  var_current_gain_ = 1.0;
   var_obs_nm2_ = x_ * x_ * cal_.speed_noise_rad_s * cal_.speed_noise_rad_s;
 }
 
-void AxisForceEstimator::set_step(double dt) {
-  dt_ = dt;
-  const double sw = cal_.speed_noise_rad_s;
-  if (sw == 0.0) {
-    var_obs_nm2_ = 0.0;
-    return;
-  }
-  const auto g = AccelerationObserver::noise_gain(options_.bandwidth_hz, dt);
-  const double a = x_ * g.speed, b = j_ * g.accel;
-  var_obs_nm2_ = sw * sw * (a * a + b * b + 2.0 * a * b * g.correlation);
+namespace {
+
+// Σh² of the impulse response of Q(z)·(a + b·z⁻¹), Q = ((1 − r)/(1 − r·z⁻¹))²: Q's response
+// is q_n = (1 − r)²(n + 1)rⁿ, so Σq_n² = (1 − r)⁴(1 + r²)/(1 − r²)³ and
+// Σq_n·q_{n−1} = (1 − r)⁴·2r/(1 − r²)³.
+double filtered_white_gain(double r, double a, double b) {
+  const double rho = r * r, c = std::pow(1.0 - r, 4) / std::pow(1.0 - rho, 3);
+  return (a * a + b * b) * c * (1.0 + rho) + 2.0 * a * b * c * 2.0 * r;
 }
 
-ForceEstimate AxisForceEstimator::update(double t, double iu, double iv, double iw, double w) {
+}  // namespace
+
+void AxisForceEstimator::set_step(double dt) {
+  dt_ = dt;
+  r_ = std::exp(-units::kTwoPi * options_.bandwidth_hz * dt);
+  // White noise on Id through ½(1 + z⁻¹)·Q; on ω through Q·(−X/2 − J/Δt + (−X/2 + J/Δt)·z⁻¹).
+  var_current_gain_ = filtered_white_gain(r_, 0.5, 0.5);
+  const double sw = cal_.speed_noise_rad_s;
+  var_obs_nm2_ = sw * sw * filtered_white_gain(r_, -0.5 * x_ - j_ / dt, -0.5 * x_ + j_ / dt);
+  sigma_accel_torque_ = j_ * sw * std::sqrt(filtered_white_gain(r_, 1.0 / dt, -1.0 / dt));
+}
+
+ForceEstimate AxisForceEstimator::update(double t, double iu, double iv, double iw, double w,
+                                         std::optional<double> rotor_angle) {
   const double id = equivalent_current(iu, iv, iw, cal_.model.measure);
+  double dt = 0.0;
   if (started_) {
-    const double dt = t - last_time_;
+    dt = t - last_time_;
     if (!step_checked_) {
       step_checked_ = true;
+      first_dt_ = dt;
       const double nyquist_hz = 0.5 / dt;
       if (!(options_.bandwidth_hz < nyquist_hz))
         throw InvalidInput({"bandwidth_hz = " + format_value(options_.bandwidth_hz) +
@@ -128,31 +185,70 @@ ForceEstimate AxisForceEstimator::update(double t, double iu, double iv, double 
     observer_.update(w, dt);
   } else {
     observer_.update(w, 0.0);
-    started_ = true;
   }
   last_time_ = t;
   ForceEstimate e;
   e.speed_rad_s = observer_.speed();
-  e.accel_rad_s2 = observer_.accel();
-  const double ws = e.speed_rad_s, eps = e.accel_rad_s2;
+  const double ws = e.speed_rad_s;
   e.standstill = std::abs(ws) < options_.standstill_rad_s;
   if (!e.standstill) sign_ = ws > 0.0 ? 1.0 : -1.0;
   const double friction = e.standstill ? 0.0 : tf_ * sign_;
-  // [Zheng2012, eq. 4] with ω̂, ε̂ of the observer.
-  const double load = sign_ * kt_ * id - x_ * ws - friction - j_ * eps;
-  e.force_n = load * inv_k_;
+  // The torque balance without its inertia term, at this sample [Zheng2012, eq. 4]: the signed
+  // torque current where the rotor angle is known, else the magnitude with the sign of motion.
+  const double torque_current =
+      rotor_angle ? signed_equivalent_current(iu, iv, iw, *rotor_angle, cal_.model.measure)
+                  : sign_ * id;
+  const double u = kt_ * torque_current - x_ * w - friction;
+  if (!started_) {
+    // The first sample: taken as steady (no acceleration), the filter at rest there.
+    y1_ = y2_ = u;
+    c1_ = c2_ = id;
+    a1_ = a2_ = 0.0;
+    prev_id_ = id;
+    started_ = true;
+  } else {
+    // The mean load torque over the step: the current term by the trapezoid rule, the
+    // inertia term exactly (J times the mean acceleration), then Q.
+    const double accel = (w - prev_w_) / dt;
+    const double load = 0.5 * (u + prev_u_) - j_ * accel;
+    const double g = 1.0 - r_;
+    y1_ += g * (load - y1_);
+    y2_ += g * (y1_ - y2_);
+    c1_ += g * (id - c1_);
+    c2_ += g * (c1_ - c2_);
+    a1_ += g * (accel - a1_);
+    a2_ += g * (a1_ - a2_);
+  }
+  e.force_n = y2_ * inv_k_;
+  e.accel_rad_s2 = a2_;
+  const double eps = a2_;
+  if (!rotor_angle && !e.standstill) {
+    // The magnitude cannot show a torque against the motion (§4.5 of docs/models/monitor.md).
+    // It may be there where (a) the motor gives less than half the friction torque, or less
+    // than three noise σ, or less than its own change over the last step (it may pass through
+    // zero within a step): a load aiding the motion takes part of the friction; or (b) the
+    // axis decelerates faster than friction alone can brake it (beyond three noise σ).
+    const double friction_torque = tf_ + x_ * std::abs(ws);
+    const double floor = std::max({0.5 * friction_torque, 3.0 * kt_ * id_noise_,
+                                   kt_ * std::abs(id - prev_id_)});
+    e.torque_sign_doubtful = kt_ * id <= floor ||
+                             sign_ * j_ * eps < -friction_torque - 3.0 * sigma_accel_torque_;
+  }
+  prev_u_ = u;
+  prev_w_ = w;
+  prev_id_ = id;
 
-  const AxisUncertainty& u = cal_.sigma;
-  const double kt_noise = kt_ * id_noise_, kt_u = id * u.torque_constant_nm_per_a;
-  double var = kt_noise * kt_noise + kt_u * kt_u + var_obs_nm2_;
-  var += ws * ws * u.viscous_nm_s_per_rad * u.viscous_nm_s_per_rad;
+  const AxisUncertainty& un = cal_.sigma;
+  const double kt_noise = kt_ * id_noise_, kt_u = c2_ * un.torque_constant_nm_per_a;
+  double var = kt_noise * kt_noise * var_current_gain_ + kt_u * kt_u + var_obs_nm2_;
+  var += ws * ws * un.viscous_nm_s_per_rad * un.viscous_nm_s_per_rad;
   if (e.standstill) {
     var += tf_ * tf_ / 3.0;  // static friction anywhere in ±Tnzm
   } else {
-    var += u.friction_nm * u.friction_nm + 2.0 * ws * sign_ * u.friction_viscous_covariance;
+    var += un.friction_nm * un.friction_nm + 2.0 * ws * sign_ * un.friction_viscous_covariance;
   }
-  var += eps * eps * u.inertia_kg_m2 * u.inertia_kg_m2;
-  const double fk = e.force_n * u.force_gain_m;
+  var += eps * eps * un.inertia_kg_m2 * un.inertia_kg_m2;
+  const double fk = e.force_n * un.force_gain_m;
   var += fk * fk;
   e.force_sigma_n = std::sqrt(std::max(0.0, var)) * inv_k_;
   e.sigma_known = cal_.uncertainty_known;

@@ -139,3 +139,41 @@ TEST(MonitorCsv, WritesEstimateRows) {
 
 }  // namespace
 }  // namespace cutdyn
+
+namespace cutdyn {
+namespace {
+
+TEST(MonitorCsvAngle, OptionalRotorAngleColumn) {
+  // Where the header has rotor_angle_rad every line gives it; without it, rows carry 0 and
+  // has_rotor_angle() is false.
+  CurrentCsvParser with("a.csv");
+  std::vector<CurrentRow> rows;
+  std::vector<CsvLineError> errors;
+  with.feed("time_s,axis,rotor_angle_rad,iu_a,iv_a,iw_a,speed_rad_s\n0,x,1.25,1,-0.5,-0.5,3\n"
+            "0.001,x,,1,-0.5,-0.5,3\n0.002,x,-7.5,1,-0.5,-0.5,3\n",
+            rows, errors, false);
+  with.finish(rows, errors, false);
+  EXPECT_TRUE(with.has_rotor_angle());
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].rotor_angle_rad, 1.25);
+  EXPECT_EQ(rows[1].rotor_angle_rad, -7.5);
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].text(), "line 3: rotor_angle_rad is empty");
+  CurrentCsvParser without("b.csv");
+  rows.clear();
+  without.feed("time_s,axis,iu_a,iv_a,iw_a,speed_rad_s\n0,x,1,-0.5,-0.5,3\n", rows, errors, false);
+  without.finish(rows, errors, false);
+  EXPECT_FALSE(without.has_rotor_angle());
+  // A line too short for the angle names it.
+  CurrentCsvParser shortline("c.csv");
+  errors.clear();
+  rows.clear();
+  shortline.feed("time_s,axis,iu_a,iv_a,iw_a,speed_rad_s,rotor_angle_rad\n0,x,1,-0.5,-0.5,3\n",
+                 rows, errors, false);
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].text(), "line 2: missing column rotor_angle_rad (the line has 6 fields, "
+                              "the header 7)");
+}
+
+}  // namespace
+}  // namespace cutdyn

@@ -23,7 +23,15 @@ struct AxisSample {
   double iu_a = 0.0, iv_a = 0.0, iw_a = 0.0;
   double speed_rad_s = 0.0;
   double force_n = 0.0;  // reference force (step 2 only)
+  // The electrical rotor angle θe, where the log has it: the torque current is then signed
+  // (signed_equivalent_current), not the magnitude with the sign of the motion.
+  bool has_rotor_angle = false;
+  double rotor_angle_rad = 0.0;
 };
+
+/// s·Id of a sample: the signed equivalent current where it has the rotor angle, else
+/// sign(ω)·Id (the motoring assumption, docs/models/monitor.md §2; +Id at ω = 0).
+double torque_current_a(const AxisSample& sample, CurrentMeasure measure);
 
 /// A log of one axis: samples in increasing time. Runs are separate logs (windows never
 /// span two runs).

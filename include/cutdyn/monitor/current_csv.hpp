@@ -21,12 +21,18 @@ namespace cutdyn {
 inline constexpr const char* kCurrentColumns[] = {"time_s", "axis", "iu_a",
                                                   "iv_a",   "iw_a", "speed_rad_s"};
 
+/// The optional column of the electrical rotor angle θe (rad): where the header has it, every
+/// line must give it and the monitor uses the signed torque current (Park transform,
+/// signed_equivalent_current) instead of the magnitude.
+inline constexpr const char* kRotorAngleColumn = "rotor_angle_rad";
+
 /// One good data line.
 struct CurrentRow {
   std::size_t line = 0;  // 1-based line number in the input
   int axis = 0;          // index into CurrentCsvParser::axes()
   double time_s = 0.0, iu_a = 0.0, iv_a = 0.0, iw_a = 0.0, speed_rad_s = 0.0;
-  double extra = 0.0;  // the extra column, if one was asked for
+  double extra = 0.0;            // the extra column, if one was asked for
+  double rotor_angle_rad = 0.0;  // θe, if the header has rotor_angle_rad (has_rotor_angle())
 };
 
 /// A bad data line: its number and what is wrong, e.g. `iu_a = "abc": not a number`.
@@ -58,6 +64,8 @@ class CurrentCsvParser {
   /// Axis names in order of first appearance.
   const std::vector<std::string>& axes() const { return axes_; }
   const std::string& source() const { return source_; }
+  /// Whether the header has the column rotor_angle_rad (known once the header is read).
+  bool has_rotor_angle() const { return index_[kAngleSlot] >= 0; }
   std::size_t good_rows() const { return good_; }
 
  private:
@@ -71,9 +79,10 @@ class CurrentCsvParser {
   std::size_t line_ = 0;
   bool header_done_ = false;
   std::size_t data_lines_ = 0, good_ = 0;
-  // Field index of time_s, axis, iu_a, iv_a, iw_a, speed_rad_s, extra; and the fields a line
-  // needs at least.
-  int index_[7] = {-1, -1, -1, -1, -1, -1, -1};
+  // Field index of time_s, axis, iu_a, iv_a, iw_a, speed_rad_s, extra, rotor_angle_rad; and
+  // the fields a line needs at least.
+  static constexpr int kAngleSlot = 7;
+  int index_[8] = {-1, -1, -1, -1, -1, -1, -1, -1};
   std::vector<int> slot_of_field_;  // per field of a line: its slot in index_, or -1
   int needed_fields_ = 0, header_fields_ = 0;
   std::vector<std::string> header_names_;

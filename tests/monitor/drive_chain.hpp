@@ -1,0 +1,106 @@
+// Current logs from the drive library for the monitor tests: a simulated milling cut (S1
+// simulation), the feed drive of one axis under it (PI speed loop), and the motor's phase
+// currents (motor_currents), with the electrical rotor angle the currents were made with.
+#pragma once
+
+#include <cmath>
+#include <vector>
+
+#include "cutdyn/core/units.hpp"
+#include "cutdyn/drive/feed_drive.hpp"
+#include "cutdyn/drive/motor_currents.hpp"
+#include "cutdyn/monitor/calibration.hpp"
+#include "cutdyn/simulate/milling_simulation.hpp"
+
+namespace cutdyn::testing {
+
+struct DriveAxisParameters {
+  double inertia_kg_m2 = 0.017, viscous = 0.2103, friction_nm = 15.60, force_gain_m = 0.00632,
+         torque_constant = 1.621;
+  CurrentMeasure measure = CurrentMeasure::kRms;
+  double loop_hz = 500.0;  // PI speed loop: Kp = 2π·loop_hz·J, Ki = Kp·2π·loop_hz/4
+  double noise_a = 0.0;    // per phase
+  unsigned seed = 1;
+};
+
+inline FeedAxis drive_axis(const DriveAxisParameters& p) {
+  FeedAxis a;
+  a.name = "x";
+  Transmission& t = a.drive.transmission;
+  t.kind = Transmission::Kind::kLeverArm;
+  t.output_diameter_m = 2 * p.force_gain_m / 0.1;
+  t.ratio = 0.1;
+  t.idle_torque_nm = p.friction_nm;
+  a.drive.model = FeedDrive::Model::kDynamic;
+  a.drive.inertia_kg_m2 = p.inertia_kg_m2;
+  a.drive.viscous_nm_s_per_rad = p.viscous;
+  a.drive.kp_nm_s_per_rad = units::kTwoPi * p.loop_hz * p.inertia_kg_m2;
+  a.drive.ki_nm_per_rad = a.drive.kp_nm_s_per_rad * units::kTwoPi * p.loop_hz / 4.0;
+  PmsmMotor m;
+  m.pole_pairs = 4;
+  m.torque_constant_nm_per_a = p.torque_constant;
+  m.measure = p.measure;
+  m.noise_a = p.noise_a;
+  m.seed = p.seed;
+  a.motor = m;
+  return a;
+}
+
+inline AxisModel drive_axis_model(const DriveAxisParameters& p) {
+  return {p.inertia_kg_m2, p.torque_constant, p.viscous, p.friction_nm, p.force_gain_m, p.measure};
+}
+
+/// 4 teeth, Ø50 mm, 30° helix, a/D = 0.5, 0.25 mm/tooth, B = 4 mm, Kt = 2000 N/mm², Kr = 600
+/// N/mm²; up-milling (entry 0, exit 90°) or down-milling (entry 90°, exit 180°).
+inline MillingSimulationResult milling_cut(double rpm, bool down, int revolutions,
+                                           double& feed_m_per_s) {
+  MillingCut cut;
+  cut.teeth = 4;
+  cut.diameter_m = 0.05;
+  cut.helix_rad = units::deg_to_rad(30.0);
+  cut.entry_rad = down ? 0.5 * units::kPi : 0.0;
+  cut.exit_rad = down ? units::kPi : 0.5 * units::kPi;
+  cut.spindle_rad_s = units::rpm_to_rad_per_s(rpm);
+  cut.feed_per_tooth_m = 0.25e-3;
+  cut.width_m = 4e-3;
+  cut.law = MechanisticForceLaw{2e9, 6e8, 0.0, 0.0};
+  cut.regenerative = false;
+  MillingSimulationOptions so;
+  so.revolutions = revolutions;
+  so.summary_revolutions = 1;
+  so.steps_per_tooth = 50;
+  so.max_recorded_samples = 1000000;
+  feed_m_per_s = cut.feed_per_tooth_m * cut.teeth * cut.spindle_rad_s / units::kTwoPi;
+  return simulate_milling(cut, so);
+}
+
+/// The log of the drive under the cut's x force: phase currents (with the motor's noise),
+/// the true speed, the axis force Fn (resistance to the +x feed) as force_n, and the
+/// electrical angle θe = p·θm, θm the trapezoidal integral of the speed from 0 (as
+/// motor_currents makes it).
+inline AxisRun drive_log(const DriveAxisParameters& p, const MillingSimulationResult& sim,
+                         double feed_m_per_s) {
+  const FeedAxis axis = drive_axis(p);
+  const std::vector<double> zero(sim.fx_n.size(), 0.0);
+  const FeedDriveResult d =
+      simulate_feed_drive(axis, sim.time_s, sim.fx_n, zero, zero, feed_m_per_s);
+  const PhaseCurrents c = motor_currents(*axis.motor, sim.time_s, d.motor_torque_nm, d.speed_rad_s);
+  AxisRun run;
+  double angle = 0.0;
+  for (std::size_t i = 0; i < sim.time_s.size(); ++i) {
+    if (i > 0) angle += 0.5 * (d.speed_rad_s[i] + d.speed_rad_s[i - 1]) * (sim.time_s[i] - sim.time_s[i - 1]);
+    AxisSample s;
+    s.time_s = sim.time_s[i];
+    s.iu_a = c.iu_a[i];
+    s.iv_a = c.iv_a[i];
+    s.iw_a = c.iw_a[i];
+    s.speed_rad_s = d.speed_rad_s[i];
+    s.force_n = -sim.fx_n[i];
+    s.has_rotor_angle = true;
+    s.rotor_angle_rad = std::fmod(4.0 * angle, units::kTwoPi);
+    run.push_back(s);
+  }
+  return run;
+}
+
+}  // namespace cutdyn::testing
