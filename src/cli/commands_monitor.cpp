@@ -110,9 +110,25 @@ class BadLines {
   std::size_t count_ = 0;
 };
 
-// A whole log, per axis: the runs of calibration and teach-in.
-std::map<std::string, AxisRun> read_log(const std::string& path, const std::string& force_column,
-                                        bool stop, std::ostream& err) {
+// The refusal of a log whose recorded current measure is not the calibration's (docs/models/
+// monitor.md §1, §6).
+InvalidInput measure_mismatch(const std::string& file, std::size_t line, const std::string& axis,
+                              CurrentMeasure logged, CurrentMeasure calibration) {
+  return InvalidInput({"line " + std::to_string(line) + ": axis " + axis +
+                       ": the currents were logged with measure = " +
+                       std::string(to_string(logged)) + ", the calibration's measure is " +
+                       std::string(to_string(calibration)) +
+                       ": KT holds for one measure only (they differ by √2); calibrate with "
+                       "--measure " + std::string(to_string(logged)) +
+                       " or log the calibration's measure"},
+                      file);
+}
+
+// A whole log, per axis: the runs of calibration and teach-in; `measures` gets the measure
+// its comments record per axis (and the line).
+std::map<std::string, AxisRun> read_log(
+    const std::string& path, const std::string& force_column, bool stop, std::ostream& err,
+    std::map<std::string, std::pair<CurrentMeasure, std::size_t>>* measures = nullptr) {
   Input in(path);
   CurrentCsvParser parser(in.name(), force_column);
   BadLines bad(in.name(), stop, err);
@@ -130,6 +146,9 @@ std::map<std::string, AxisRun> read_log(const std::string& path, const std::stri
   for (const CurrentRow& r : rows)
     runs[parser.axes()[static_cast<std::size_t>(r.axis)]].push_back(
         {r.time_s, r.iu_a, r.iv_a, r.iw_a, r.speed_rad_s, r.extra, angle, r.rotor_angle_rad});
+  if (measures)
+    for (const auto& [axis, run] : runs)
+      if (const auto m = parser.recorded_measure(axis)) (*measures)[axis] = *m;
   return runs;
 }
 
@@ -310,16 +329,23 @@ int run_monitor_calibrate(const MonitorCalibrateArgs& args, std::ostream& out, s
   if (!args.base.empty()) base = read_calibration(args.base);
   std::map<std::string, std::vector<AxisRun>> idle, loaded;
   std::set<std::string> axes;
-  for (const std::string& f : args.idle)
-    for (auto& [axis, run] : read_log(f, "", stop, err)) {
+  // Per file, the measures its comments record per axis.
+  std::vector<std::pair<std::string, std::map<std::string, std::pair<CurrentMeasure, std::size_t>>>>
+      recorded;
+  for (const std::string& f : args.idle) {
+    recorded.emplace_back(f, std::map<std::string, std::pair<CurrentMeasure, std::size_t>>{});
+    for (auto& [axis, run] : read_log(f, "", stop, err, &recorded.back().second)) {
       idle[axis].push_back(std::move(run));
       axes.insert(axis);
     }
-  for (const std::string& f : args.loaded)
-    for (auto& [axis, run] : read_log(f, args.force_column, stop, err)) {
+  }
+  for (const std::string& f : args.loaded) {
+    recorded.emplace_back(f, std::map<std::string, std::pair<CurrentMeasure, std::size_t>>{});
+    for (auto& [axis, run] : read_log(f, args.force_column, stop, err, &recorded.back().second)) {
       loaded[axis].push_back(std::move(run));
       axes.insert(axis);
     }
+  }
   if (axes.empty())
     for (const auto& [axis, c] : base) axes.insert(axis);
   if (axes.empty())
@@ -338,6 +364,11 @@ int run_monitor_calibrate(const MonitorCalibrateArgs& args, std::ostream& out, s
     if (measure) c.model.measure = *measure;
     result[axis] = c;
   }
+  // A log whose recorded measure is not the calibration's is refused (its KT would be off √2).
+  for (const auto& [file, m] : recorded)
+    for (const auto& [axis, logged] : m)
+      if (logged.first != result[axis].model.measure)
+        throw measure_mismatch(file, logged.second, axis, logged.first, result[axis].model.measure);
   const auto apply = [&](const std::vector<std::string>& values, const char* flag, bool kt) {
     for (const std::string& text : values) {
       const auto [axis, v] = axis_value(text, flag);
@@ -471,6 +502,14 @@ class Estimators {
     return "axis \"" + name + "\" is not in the calibration " + calib_name_ + " (it has " + have +
            ")";
   }
+  // True the first time it is asked for the parser's axis `index` (its first good row).
+  bool first_row(int index) {
+    const auto i = static_cast<std::size_t>(index);
+    if (seen_.size() <= i) seen_.resize(i + 1, false);
+    if (seen_[i]) return false;
+    seen_[i] = true;
+    return true;
+  }
   // Samples of an axis whose torque sign is in doubt (no rotor angle, §4.5 of
   // docs/models/monitor.md): how many, and the first.
   struct SignDoubt {
@@ -497,6 +536,7 @@ class Estimators {
   std::vector<std::unique_ptr<AxisForceEstimator>> owned_;
   std::vector<std::string> names_;
   std::map<std::string, SignDoubt> doubts_;
+  std::vector<bool> seen_;
 };
 
 // What the estimate is (docs/models/monitor.md §4.1, §4.3): the filter of each axis, for its
@@ -570,6 +610,11 @@ std::size_t estimate_stream(const std::string& input, Estimators& estimators, bo
         bad.take(errors);
         continue;
       }
+      if (estimators.first_row(r.axis))
+        if (const auto m = parser.recorded_measure(name);
+            m && m->first != e->calibration().model.measure)
+          throw measure_mismatch(in.name(), m->second, name, m->first,
+                                 e->calibration().model.measure);
       ForceEstimate estimate;
       try {
         estimate = e->update(r.time_s, r.iu_a, r.iv_a, r.iw_a, r.speed_rad_s,
@@ -881,7 +926,8 @@ std::function<int(std::ostream&, std::ostream&)> add_monitor_command(CLI::App& a
                  "calibration file or zheng2012: KT, J, measure and the values not fitted");
   c1->add_option("--kt", cal->kt, "torque constant [AXIS=]VALUE (N·m/A)");
   c1->add_option("--inertia", cal->inertia, "inertia at the motor [AXIS=]VALUE (kg·m²)");
-  c1->add_option("--measure", cal->measure, "equivalent current: rms (default) | space-vector");
+  c1->add_option("--measure", cal->measure,
+                 "equivalent current: space-vector (default; --base keeps its own) | rms");
   c1->add_option("--force-column", cal->force_column,
                  "reference force column of the loaded logs (default force_n)");
   c1->add_option("--window-s", cal->window_s, "averaging window (default 0.05 s)");

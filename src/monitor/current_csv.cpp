@@ -29,6 +29,62 @@ std::string quoted(std::string_view s) {
 
 }  // namespace
 
+const std::string* CsvComment::find(std::string_view key) const {
+  for (const auto& [k, v] : fields)
+    if (k == key) return &v;
+  return nullptr;
+}
+
+void CurrentCsvParser::parse_comment(std::string_view line) {
+  // `# key = value, key = value, ...`; a comment without any '=' is free text (ignored).
+  std::string_view body = trim(line);
+  body.remove_prefix(1);
+  body = trim(body);
+  if (body.find('=') == std::string_view::npos) return;
+  CsvComment c;
+  c.line = line_;
+  const auto malformed = [&](std::string_view item, const char* why) {
+    throw InvalidInput({"line " + std::to_string(line_) + ": comment item " + quoted(trim(item)) +
+                        ": " + why + " (a comment before the header is `# key = value, key = "
+                        "value, ...`)"},
+                       source_);
+  };
+  for (std::size_t at = 0;;) {
+    const std::size_t comma = body.find(',', at);
+    const std::string_view item =
+        body.substr(at, comma == std::string_view::npos ? body.npos : comma - at);
+    const std::size_t eq = item.find('=');
+    if (eq == std::string_view::npos) malformed(item, "no '='");
+    if (item.find('=', eq + 1) != std::string_view::npos) malformed(item, "more than one '='");
+    const std::string_view key = trim(item.substr(0, eq)), value = trim(item.substr(eq + 1));
+    if (key.empty()) malformed(item, "empty key");
+    if (value.empty()) malformed(item, "empty value");
+    if (c.find(key)) malformed(item, "the key appears twice");
+    c.fields.emplace_back(std::string(key), std::string(value));
+    if (comma == std::string_view::npos) break;
+    at = comma + 1;
+  }
+  if (const std::string* m = c.find("measure"); m && !parse_current_measure(*m))
+    throw InvalidInput({"line " + std::to_string(line_) + ": measure = " + quoted(*m) +
+                        ": must be rms or space-vector"},
+                       source_);
+  comments_.push_back(std::move(c));
+}
+
+std::optional<std::pair<CurrentMeasure, std::size_t>> CurrentCsvParser::recorded_measure(
+    const std::string& axis) const {
+  std::optional<std::pair<CurrentMeasure, std::size_t>> general;
+  for (const CsvComment& c : comments_) {
+    const std::string* m = c.find("measure");
+    if (!m) continue;
+    const std::string* a = c.find("axis");
+    const std::pair<CurrentMeasure, std::size_t> found{*parse_current_measure(*m), c.line};
+    if (a && *a == axis) return found;
+    if (!a && !general) general = found;
+  }
+  return general;
+}
+
 std::string CsvLineError::text() const { return "line " + std::to_string(line) + ": " + what; }
 
 CurrentCsvParser::CurrentCsvParser(std::string source, std::string extra_column)
@@ -99,7 +155,10 @@ bool CurrentCsvParser::parse_line(std::string_view line, std::vector<CurrentRow>
                                   std::vector<CsvLineError>& errors) {
   if (blank(line)) return true;
   if (!header_done_) {
-    parse_header(line);
+    if (trim(line).front() == '#')
+      parse_comment(line);
+    else
+      parse_header(line);
     return true;
   }
   ++data_lines_;

@@ -229,6 +229,49 @@ TEST_F(MonitorCli, AidingLoadWarnsWithoutTheAngle) {
             0.3 * std::abs(truth));
 }
 
+TEST_F(MonitorCli, RecordedMeasureMustMatchTheCalibration) {
+  // One default measure (space-vector, docs/models/monitor.md §1): a log that records another
+  // measure for an axis is refused by calibrate and estimate (exit 2, naming the file, the
+  // line, the axis and both measures); a matching one is accepted.
+  AxisModel x = zheng2012_axis('x');
+  x.measure = CurrentMeasure::kSpaceVector;
+  x.torque_constant_nm_per_a /= std::sqrt(2.0);
+  const std::string idle = testing::to_csv(synthetic_run(x, testing::idle_profile(0.3)), "x");
+  const std::string loaded =
+      testing::to_csv(synthetic_run(x, testing::loaded_profile(0.2)), "x", true);
+  const std::string sv = "# axis = x, measure = space-vector, pole_pairs = 4\n";
+  const std::string rms = "# axis = x, measure = rms, torque_constant_nm_per_a = 1.621\n";
+  write("idle_sv.csv", sv + idle);
+  write("loaded_sv.csv", sv + loaded);
+  write("idle_rms.csv", rms + idle);
+  const std::string kt = "x=" + std::to_string(x.torque_constant_nm_per_a);
+  const std::string j = "x=" + std::to_string(x.inertia_kg_m2);
+  // No --measure, no --base: space-vector, and the files agree.
+  const Result ok = cutdyn({"monitor", "calibrate", "--idle", path("idle_sv.csv"), "--loaded",
+                            path("loaded_sv.csv"), "--kt", kt, "--inertia", j, "--out",
+                            path("calib.json")});
+  ASSERT_EQ(ok.code, 0) << ok.err;
+  const auto doc = nlohmann::json::parse(testing::read_file(path("calib.json")));
+  EXPECT_EQ(doc["axes"]["x"]["measure"], "space-vector");
+  expect_rejected({"monitor", "calibrate", "--idle", path("idle_rms.csv"), "--loaded",
+                   path("loaded_sv.csv"), "--kt", kt, "--inertia", j, "--out", path("c2.json")},
+                  "idle_rms.csv: line 1: axis x: the currents were logged with measure = rms, "
+                  "the calibration's measure is space-vector");
+  // estimate: the calibration is space-vector; the rms log is refused before any output.
+  write("cut_rms.csv", rms + testing::to_csv(synthetic_run(x, {{60.0, 0.1, 500.0}}, 1e-3, {}, 1,
+                                                           true),
+                                             "x"));
+  expect_rejected({"monitor", "estimate", "--calib", path("calib.json"), path("cut_rms.csv"),
+                   "--out", path("est.csv")},
+                  "cut_rms.csv: line 1: axis x: the currents were logged with measure = rms, "
+                  "the calibration's measure is space-vector");
+  // The preset keeps the source's rms: a space-vector log is refused against it.
+  expect_rejected({"monitor", "estimate", "--calib", "zheng2012", path("idle_sv.csv"), "--out",
+                   path("est.csv")},
+                  "the currents were logged with measure = space-vector, the calibration's "
+                  "measure is rms");
+}
+
 TEST_F(MonitorCli, MalformedInputStopsWithTheLine) {
   const std::string h = "time_s,axis,iu_a,iv_a,iw_a,speed_rad_s\n";
   const std::string ok = "0,x,20,-10,-10,50\n0.001,x,20,-10,-10,50\n";

@@ -177,3 +177,49 @@ TEST(MonitorCsvAngle, OptionalRotorAngleColumn) {
 
 }  // namespace
 }  // namespace cutdyn
+
+namespace cutdyn {
+namespace {
+
+TEST(MonitorCsvComments, LeadingKeyValueCommentsAreReadAndExposed) {
+  // `cutdyn drive --currents` writes one line per axis before the header; unknown keys are
+  // kept (and ignored by the monitor), free text without '=' is skipped.
+  CurrentCsvParser p("d.csv");
+  std::vector<CurrentRow> rows;
+  std::vector<CsvLineError> errors;
+  p.feed("# written by a logger\n"
+         "# axis = x, measure = space-vector, torque_constant_nm_per_a = 1.25, pole_pairs = 4\n"
+         "#axis=y,measure=rms,colour = blue\n"
+         "time_s,axis,iu_a,iv_a,iw_a,speed_rad_s\n0,x,1,-0.5,-0.5,3\n",
+         rows, errors, true);
+  p.finish(rows, errors, true);
+  ASSERT_EQ(p.comments().size(), 2u);
+  EXPECT_EQ(p.comments()[0].line, 2u);
+  EXPECT_EQ(*p.comments()[0].find("pole_pairs"), "4");
+  EXPECT_EQ(*p.comments()[1].find("colour"), "blue");
+  EXPECT_EQ(p.recorded_measure("x")->first, CurrentMeasure::kSpaceVector);
+  EXPECT_EQ(p.recorded_measure("y")->first, CurrentMeasure::kRms);
+  EXPECT_EQ(p.recorded_measure("y")->second, 3u);
+  EXPECT_FALSE(p.recorded_measure("z"));
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].line, 5u);
+  // A comment without an axis key is for every axis.
+  CurrentCsvParser all("e.csv");
+  all.feed("# measure = rms\ntime_s,axis,iu_a,iv_a,iw_a,speed_rad_s\n0,z,1,-0.5,-0.5,3\n", rows,
+           errors, true);
+  EXPECT_EQ(all.recorded_measure("z")->first, CurrentMeasure::kRms);
+}
+
+TEST(MonitorCsvComments, MalformedCommentIsAnErrorNamingTheLine) {
+  EXPECT_EQ(problem_of("# axis = x\n# axis = y, measure\ntime_s\n"),
+            "line 2: comment item \"measure\": no '=' (a comment before the header is `# key = "
+            "value, key = value, ...`)");
+  EXPECT_EQ(problem_of("# axis = , measure = rms\n"),
+            "line 1: comment item \"axis =\": empty value (a comment before the header is `# key "
+            "= value, key = value, ...`)");
+  EXPECT_EQ(problem_of("# axis = x, measure = peak\ntime_s\n"),
+            "line 1: measure = \"peak\": must be rms or space-vector");
+}
+
+}  // namespace
+}  // namespace cutdyn

@@ -26,7 +26,7 @@ struct AxisModel {
   double viscous_nm_s_per_rad = 0.0;      // X, >= 0
   double friction_nm = 0.0;               // Tnzm, no-load (Coulomb) friction torque, >= 0
   double force_gain_m = 0.0;              // KBlf, motor torque per newton of cutting force, > 0
-  CurrentMeasure measure = CurrentMeasure::kRms;
+  CurrentMeasure measure = CurrentMeasure::kSpaceVector;  // the default everywhere (§1)
 
   /// Every problem as "field = value unit: must be ...".
   std::vector<std::string> validate() const;

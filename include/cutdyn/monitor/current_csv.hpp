@@ -9,7 +9,9 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
+#include <utility>
 #include <string_view>
 #include <vector>
 
@@ -25,6 +27,16 @@ inline constexpr const char* kCurrentColumns[] = {"time_s", "axis", "iu_a",
 /// line must give it and the monitor uses the signed torque current (Park transform,
 /// signed_equivalent_current) instead of the magnitude.
 inline constexpr const char* kRotorAngleColumn = "rotor_angle_rad";
+
+/// A comment line before the header, `# key = value, key = value, ...` (docs/models/monitor.md
+/// §6): e.g. `# axis = x, measure = space-vector, torque_constant_nm_per_a = 1.25, pole_pairs = 4`
+/// as `cutdyn drive --currents` writes one per axis. Keys and values are trimmed.
+struct CsvComment {
+  std::size_t line = 0;
+  std::vector<std::pair<std::string, std::string>> fields;
+  /// The value of `key`, or nullptr.
+  const std::string* find(std::string_view key) const;
+};
 
 /// One good data line.
 struct CurrentRow {
@@ -64,6 +76,13 @@ class CurrentCsvParser {
   /// Axis names in order of first appearance.
   const std::vector<std::string>& axes() const { return axes_; }
   const std::string& source() const { return source_; }
+  /// The `# key = value, ...` lines before the header, in order.
+  const std::vector<CsvComment>& comments() const { return comments_; }
+  /// The current measure the comments record for `axis` (a comment with `axis = <axis>`, or
+  /// one without an axis key, which is for every axis), and the line that says so; nullopt
+  /// if none does.
+  std::optional<std::pair<CurrentMeasure, std::size_t>> recorded_measure(
+      const std::string& axis) const;
   /// Whether the header has the column rotor_angle_rad (known once the header is read).
   bool has_rotor_angle() const { return index_[kAngleSlot] >= 0; }
   std::size_t good_rows() const { return good_; }
@@ -72,6 +91,7 @@ class CurrentCsvParser {
   bool parse_line(std::string_view line, std::vector<CurrentRow>& rows,
                   std::vector<CsvLineError>& errors);
   void parse_header(std::string_view line);
+  void parse_comment(std::string_view line);
   int axis_index(std::string_view name);
 
   std::string source_, extra_column_;
@@ -87,6 +107,7 @@ class CurrentCsvParser {
   int needed_fields_ = 0, header_fields_ = 0;
   std::vector<std::string> header_names_;
   std::vector<std::string> axes_;
+  std::vector<CsvComment> comments_;
   std::vector<double> last_time_;
   std::vector<std::size_t> last_line_;
 };
