@@ -40,9 +40,7 @@ int run_plan(const PlanArgs& args, std::ostream& out, std::ostream& err) {
     // [limits]: choose h, S0, n_u and n_o for the shortest main time.
     rethrow_as(c.source, "plan", [&] { plan = optimise_bore_milling(b, *c.bore_limits); });
     if (!plan->feasible) {
-      throw InvalidInput({"limits: no offset in [offset_min_mm, offset_max_mm] and axial feed "
-                          "meets every limit (accuracy, chip thickness, faceting, speeds)"},
-                         c.source);
+      throw InvalidInput({"limits: " + plan->reason}, c.source);
     }
     b = plan->chosen;
     r = plan->result;
@@ -51,7 +49,7 @@ int run_plan(const PlanArgs& args, std::ostream& out, std::ostream& err) {
   }
   const auto mm = [](double m) { return human(units::m_to_mm(m), 5); };
   const double diff =
-      100.0 * (r.max_axial_feed_closed_form_m - r.max_axial_feed_m) / r.max_axial_feed_m;
+      100.0 * (r.max_axial_feed_printed_form_m - r.max_axial_feed_m) / r.max_axial_feed_m;
 
   out << "cutdyn plan: " << c.source << "\n";
   out << fmt::format(
@@ -59,9 +57,12 @@ int run_plan(const PlanArgs& args, std::ostream& out, std::ostream& err) {
       mm(b.bore_diameter_m), mm(b.length_m), mm(b.allowance_m), mm(b.cutter_diameter_m), b.teeth,
       mm(b.offset_m), human(units::rad_to_deg(b.lead_angle_rad)));
   out << fmt::format(
-      "  largest axial feed (Δ1 = k·t = {} mm)   {} mm   (eq. 4: {} mm, {:+.2f} %)\n",
+      "  largest axial feed (Δ1 = k·t = {} mm)   {} mm   (eq. 4 corrected: {} mm; as printed, "
+      "with d²k²t²: {} mm, {:+.2f} %)\n",
       mm(b.accuracy_coefficient * b.allowance_m), mm(r.max_axial_feed_m),
-      mm(r.max_axial_feed_closed_form_m), diff);
+      mm(r.max_axial_feed_closed_form_m), mm(r.max_axial_feed_printed_form_m), diff);
+  out << fmt::format("  allowance split: inner edges {} mm, outer edges {} mm (even at h* = {} mm)\n",
+                     mm(r.inner_depth_m), mm(r.outer_depth_m), mm(r.balanced_offset_m));
   out << fmt::format("  axial feed S0                          {} mm{}\n", mm(r.axial_feed_m),
                      s0 > 0.0 ? " (given)" : "");
   out << fmt::format("  width of cut q / of milling bф         {} mm / {} mm\n", mm(r.q_m),
@@ -107,7 +108,11 @@ int run_plan(const PlanArgs& args, std::ostream& out, std::ostream& err) {
                        {"axial_feed_mm", m_to_mm(r.axial_feed_m)},
                        {"max_axial_feed_mm", m_to_mm(r.max_axial_feed_m)},
                        {"max_axial_feed_closed_form_mm", m_to_mm(r.max_axial_feed_closed_form_m)},
-                       {"closed_form_difference_percent", diff},
+                       {"max_axial_feed_printed_form_mm", m_to_mm(r.max_axial_feed_printed_form_m)},
+                       {"printed_form_difference_percent", diff},
+                       {"inner_depth_mm", m_to_mm(r.inner_depth_m)},
+                       {"outer_depth_mm", m_to_mm(r.outer_depth_m)},
+                       {"balanced_offset_mm", m_to_mm(r.balanced_offset_m)},
                        {"milling_width_mm", m_to_mm(r.milling_width_m)},
                        {"straightness_error_mm", m_to_mm(r.straightness_error_m)},
                        {"faceting_mm", m_to_mm(r.faceting_m)},

@@ -65,8 +65,16 @@ std::vector<std::string> BoreMillingCase::validate() const {
   v.require_positive("cutter_diameter_m", cutter_diameter_m, "m");
   v.require(cutter_diameter_m < bore_diameter_m, "cutter_diameter_m", cutter_diameter_m, "m",
             "must be less than the bore diameter d = " + format_value(bore_diameter_m) + " m");
-  v.require(teeth >= 1 && teeth <= 500, "teeth", teeth, "", "must be 1 to 500");
   v.require(std::isfinite(offset_m), "offset_m", offset_m, "m", "must be finite");
+  // The cutter must fit in the bore: its centre is at sqrt(d²/4 − (D/2 + |h|)²) from the
+  // plane through the bore's axis (docs/models/bore-milling.md, "Geometry").
+  v.require(!(cutter_diameter_m < bore_diameter_m) ||
+                0.5 * cutter_diameter_m + std::abs(offset_m) < 0.5 * bore_diameter_m,
+            "offset_m", offset_m, "m",
+            "the cutter does not fit: D/2 + |h| must be less than d/2 (D = " +
+                format_value(cutter_diameter_m * 1e3) + " mm, d = " +
+                format_value(bore_diameter_m * 1e3) + " mm)");
+  v.require(teeth >= 1 && teeth <= 500, "teeth", teeth, "", "must be 1 to 500");
   v.require(lead_angle_rad > 0.0 && lead_angle_rad <= 0.5 * kPi, "lead_angle_rad", lead_angle_rad,
             "rad", "must be greater than 0 and at most π/2");
   v.require(std::abs(inclination_rad) < 0.5 * kPi, "inclination_rad", inclination_rad, "rad",
@@ -80,22 +88,49 @@ std::vector<std::string> BoreMillingCase::validate() const {
   return v.problems();
 }
 
+BoreEdgeSplit bore_edge_split(const BoreMillingCase& c) {
+  const double D = c.cutter_diameter_m, d = c.bore_diameter_m, t = c.allowance_m;
+  const double h = std::abs(c.offset_m);
+  BoreEdgeSplit s;
+  s.balanced_offset_m = (2 * d * t - t * t) / (8 * D);
+  s.outer_limit_offset_m = (d * t - t * t) / (2 * D);
+  // The point of the edge circle opposite the one that finishes the bore (α = π) reaches
+  // R_π = sqrt(d²/4 − 2·D·|h|) (> 0 whenever the cutter fits, since D·(d − D) <= d²/4).
+  const double r_pi = checked_sqrt(d * d / 4 - 2 * D * h, "d²/4 − 2·D·|h|", c);
+  s.inner_entry_radius_m = std::max(r_pi, d / 2 - t);
+  s.inner_depth_m = d / 2 - s.inner_entry_radius_m;
+  s.outer_depth_m = t - s.inner_depth_m;
+  return s;
+}
+
 double bore_q(const BoreMillingCase& c) {
-  const double D = c.cutter_diameter_m, d = c.bore_diameter_m, t = c.allowance_m, h = c.offset_m;
-  // [Zenkin2012, eq. 1]
-  const double inner =
-      checked_sqrt((d - t) * (d - t) / 4.0 - d * d / 4.0 + (D / 2 + h) * (D / 2 + h),
-                   "eq. (1), ((d − t)/2)² − d²/4 + (D/2 + h)²", c);
-  const double e = D / 2 + h - inner;
-  return 2.0 * checked_sqrt(D * D / 4.0 - e * e, "eq. (1), D²/4 − (D/2 + h − √…)²", c);
+  const double D = c.cutter_diameter_m, d = c.bore_diameter_m, h = std::abs(c.offset_m);
+  const double r_e = bore_edge_split(c).inner_entry_radius_m;
+  // Corrected eq. (1) [Zenkin2012]: the axial distance between the points where the inner
+  // edges reach r_e ((d − t)/2 at the balanced offset), y_e from the cutter's plane.
+  const double y_e = checked_sqrt(r_e * r_e - d * d / 4 + (D / 2 + h) * (D / 2 + h),
+                                  "eq. (1), r_e² − d²/4 + (D/2 + |h|)²", c);
+  const double e = y_e - h;
+  // The equations take the inner edges' entry on the near half of the edge circle (the half
+  // that finishes the bore, which eq. (3) describes); with a small cutter, a large allowance
+  // and |h| > D/4 it lies on the far half and q of (1) is not the width of (3).
+  if (e < 0.0) {
+    throw InvalidInput({"eq. (1): the inner edges reach r_e = " + mm_text(r_e) +
+                        " on the far half of the edge circle for " + geometry_text(c) +
+                        " (|h| > D/4 with the outer edges cutting): outside the equations' "
+                        "domain; use a larger cutter or an offset nearer h* = " +
+                        mm_text(bore_edge_split(c).balanced_offset_m)},
+                       kWhere);
+  }
+  return 2.0 * checked_sqrt(D * D / 4.0 - e * e, "eq. (1), D²/4 − (y_e − |h|)²", c);
 }
 
 double straightness_error(const BoreMillingCase& c, double s0) {
-  const double D = c.cutter_diameter_m, d = c.bore_diameter_m, h = c.offset_m;
-  // [Zenkin2012, eq. 3]
+  const double D = c.cutter_diameter_m, d = c.bore_diameter_m, h = std::abs(c.offset_m);
+  // [Zenkin2012, eq. 3], with |h| (−h is the mirror image of the same cut)
   const double root = checked_sqrt(D * D - s0 * s0, "eq. (3), D² − S0²", c);
   return d / 2 - checked_sqrt(h * root + (d * d - s0 * s0) / 4.0 - D * h,
-                              "eq. (3), h·√(D² − S0²) + (d² − S0²)/4 − D·h", c);
+                              "eq. (3), |h|·√(D² − S0²) + (d² − S0²)/4 − D·|h|", c);
 }
 
 double max_axial_feed(const BoreMillingCase& c) {
@@ -128,16 +163,24 @@ double max_axial_feed(const BoreMillingCase& c) {
                      kWhere);
 }
 
-double max_axial_feed_closed_form(const BoreMillingCase& c) {
-  const double D = c.cutter_diameter_m, d = c.bore_diameter_m, h = c.offset_m;
+namespace {
+
+// Eq. (4) with or without the d²k²t² term under the inner root.
+double closed_form_feed(const BoreMillingCase& c, bool printed) {
+  const double D = c.cutter_diameter_m, d = c.bore_diameter_m, h = std::abs(c.offset_m);
   const double kt = c.accuracy_coefficient * c.allowance_m;
-  // [Zenkin2012, eq. 4]
   const double a = D * h - d * kt + kt * kt + 2 * h * h;
-  const double inner =
-      checked_sqrt(D * D * h * h + d * d * kt * kt + 4 * h * h * (D * h - d * kt + kt * kt + h * h),
-                   "eq. (4), inner root", c);
+  const double inner = checked_sqrt(D * D * h * h + (printed ? d * d * kt * kt : 0.0) +
+                                        4 * h * h * (D * h - d * kt + kt * kt + h * h),
+                                    "eq. (4), inner root", c);
   return 2.0 * checked_sqrt(inner - a, "eq. (4), outer root", c);
 }
+
+}  // namespace
+
+double max_axial_feed_closed_form(const BoreMillingCase& c) { return closed_form_feed(c, false); }
+
+double max_axial_feed_printed_form(const BoreMillingCase& c) { return closed_form_feed(c, true); }
 
 BoreMillingResult bore_milling(const BoreMillingCase& c, double s0, double n_o) {
   if (const auto p = c.validate(); !p.empty()) throw InvalidInput(p, kWhere);
@@ -150,6 +193,26 @@ BoreMillingResult bore_milling(const BoreMillingCase& c, double s0, double n_o) 
   r.q_m = bore_q(c);
   r.max_axial_feed_m = max_axial_feed(c);
   r.max_axial_feed_closed_form_m = max_axial_feed_closed_form(c);
+  r.max_axial_feed_printed_form_m = max_axial_feed_printed_form(c);
+  const BoreEdgeSplit split = bore_edge_split(c);
+  r.inner_depth_m = split.inner_depth_m;
+  r.outer_depth_m = split.outer_depth_m;
+  r.balanced_offset_m = split.balanced_offset_m;
+  // The source's equations share the allowance evenly between the edge sets; only the
+  // balanced offset h* does (docs/models/bore-milling.md, "The offset h").
+  const double h = std::abs(c.offset_m);
+  if (split.outer_depth_m <= 0.0) {
+    r.warnings.push_back("the offset |h| = " + mm_text(h) + " is at or beyond " +
+                         mm_text(split.outer_limit_offset_m) +
+                         ": the outer edges do not reach the blank and the inner edges take the "
+                         "whole allowance t = " + mm_text(t) + " (the balanced offset is h* = " +
+                         mm_text(split.balanced_offset_m) + ")");
+  } else if (std::abs(split.inner_depth_m - 0.5 * t) > 0.05 * t) {
+    r.warnings.push_back("the offset |h| = " + mm_text(h) + " splits the allowance unevenly: inner "
+                         "edges " + mm_text(split.inner_depth_m) + ", outer edges " +
+                         mm_text(split.outer_depth_m) + " (even at h* = " +
+                         mm_text(split.balanced_offset_m) + ")");
+  }
   r.axial_feed_m = s0 > 0.0 ? s0 : r.max_axial_feed_m;
   const double S0 = r.axial_feed_m;
   if (!(S0 < r.q_m)) {
@@ -186,7 +249,8 @@ BoreMillingResult bore_milling(const BoreMillingCase& c, double s0, double n_o) 
   r.max_chip_thickness_m = r.feed_per_tooth_m * std::sin(phi);
   // (6)
   r.contact_arc_m = D / 2 * arcs;
-  r.chip_width_m = t / (2 * std::sin(phi));
+  const double deeper = std::max(split.inner_depth_m, split.outer_depth_m);
+  r.chip_width_m = deeper / std::sin(phi);  // t/(2·sin φ) at h*
   // (7)
   r.mean_chip_thickness_m = 2 * d * r.workpiece_rev_per_s * kPi * S0 * std::sin(phi) /
                             (r.cutter_rev_per_s * c.teeth * D * arcs);
@@ -194,7 +258,7 @@ BoreMillingResult bore_milling(const BoreMillingCase& c, double s0, double n_o) 
   r.path_per_edge_m =
       r.contact_arc_m * r.cutter_rev_per_s * c.length_m / (r.workpiece_rev_per_s * S0);
   // (10)–(12)
-  r.edge_width_m = t / (2 * std::sin(phi) * std::cos(c.inclination_rad));
+  r.edge_width_m = deeper / (std::sin(phi) * std::cos(c.inclination_rad));  // t/(2 sin φ cos λ) at h*
   r.engaged_fraction = arcs / (2 * kPi);
   r.teeth_in_cut = static_cast<int>(std::floor(c.teeth * r.engaged_fraction));
   r.total_edge_width_m = r.edge_width_m * c.teeth * r.engaged_fraction;
@@ -216,8 +280,6 @@ std::vector<std::string> BoreMillingLimits::validate() const {
   v.require_positive("workpiece_rev_per_s_max", workpiece_rev_per_s_max, "rev/s");
   v.require_positive("faceting_max_m", faceting_max_m, "m");
   v.require_positive("max_chip_thickness_m", max_chip_thickness_m, "m");
-  v.require(offset_samples >= 2 && offset_samples <= 100000, "offset_samples", offset_samples, "",
-            "must be 2 to 100000");
   v.require(feed_samples >= 2 && feed_samples <= 100000, "feed_samples", feed_samples, "",
             "must be 2 to 100000");
   return v.problems();
@@ -241,6 +303,9 @@ PlanPoint plan_point(const BoreMillingCase& base, const BoreMillingLimits& lim, 
   const double sphi = std::sin(c.lead_angle_rad);
   double q = 0.0, delta1 = 0.0;
   try {
+    if (!c.validate().empty()) return p;  // e.g. the cutter does not fit at this h
+    // Both edge sets must cut (the plan's range of h).
+    if (!(bore_edge_split(c).outer_depth_m > 0.0)) return p;
     q = bore_q(c);
     if (!(s0 > 0.0 && s0 < q && s0 <= D)) return p;
     delta1 = straightness_error(c, s0);
@@ -288,6 +353,28 @@ BoreMillingPlan optimise_bore_milling(const BoreMillingCase& c, const BoreMillin
   v.throw_if_any(kWhere);
   BoreMillingPlan plan;
   const double D = c.cutter_diameter_m;
+  // The offset: h* = (2dt − t²)/(8D), the one offset at which the two edge sets share the
+  // allowance evenly as the equations assume (docs/models/bore-milling.md, "The offset h");
+  // it must lie in the box of |h| (−h is the mirror image of +h). (Left free, the main time
+  // falls as |h| grows towards the limit where the outer edges stop cutting: the optimum
+  // would sit on that degenerate edge.)
+  double h_lo = lim.offset_min_m, h_hi = lim.offset_max_m;
+  if (h_hi <= 0.0) {
+    h_lo = -lim.offset_max_m;
+    h_hi = -lim.offset_min_m;
+  } else if (h_lo < 0.0) {
+    h_hi = std::max(h_hi, -h_lo);
+    h_lo = 0.0;
+  }
+  BoreMillingCase probe = c;
+  probe.offset_m = 0.0;
+  const double h_star = bore_edge_split(probe).balanced_offset_m;
+  if (!(h_star >= h_lo * (1.0 - 1e-12) && h_star <= h_hi * (1.0 + 1e-12))) {
+    plan.reason = "the balanced offset h* = " + mm_text(h_star) +
+                  " (the edge sets share the allowance evenly only there) is outside the box of "
+                  "|h|, " + mm_text(h_lo) + " … " + mm_text(h_hi);
+    return plan;
+  }
   // For one h: the best S0 (scan, then Brent's minimiser around the best sample).
   const auto best_feed = [&](double h, double& t0) {
     const int n = lim.feed_samples;
@@ -318,36 +405,13 @@ BoreMillingPlan optimise_bore_milling(const BoreMillingCase& c, const BoreMillin
     }
     return best_s;
   };
-  double best_h = lim.offset_min_m, best_t = std::numeric_limits<double>::infinity();
-  const int m = lim.offset_samples;
-  for (int j = 0; j < m; ++j) {
-    const double h = lim.offset_min_m + (lim.offset_max_m - lim.offset_min_m) * j / (m - 1);
-    double t0;
-    best_feed(h, t0);
-    if (t0 < best_t) {
-      best_t = t0;
-      best_h = h;
-    }
-  }
-  if (!std::isfinite(best_t)) return plan;  // no feasible point in the box
-  if (lim.offset_max_m > lim.offset_min_m) {
-    const double step = (lim.offset_max_m - lim.offset_min_m) / (m - 1);
-    const double h =
-        brent_minimum(
-            [&](double x) {
-              double t0;
-              best_feed(x, t0);
-              return t0;
-            },
-            std::max(lim.offset_min_m, best_h - step), std::min(lim.offset_max_m, best_h + step),
-            1e-9 * std::max(1e-3, std::abs(best_h) + step))
-            .x;
-    double t0;
-    best_feed(h, t0);
-    if (t0 < best_t) {
-      best_t = t0;
-      best_h = h;
-    }
+  const double best_h = h_star;
+  double best_t;
+  best_feed(best_h, best_t);
+  if (!std::isfinite(best_t)) {
+    plan.reason = "no axial feed at h* = " + mm_text(h_star) +
+                  " meets every limit (accuracy, uncut ridges, chip thickness, faceting, speeds)";
+    return plan;
   }
   double t0;
   const double s0 = best_feed(best_h, t0);

@@ -726,7 +726,7 @@ TEST_F(Cli, PlanReportsTheBoreMillingQuantities) {
   // A given feed; feeds at or above q leave uncut ridges; an impossible offset; not a plan.
   EXPECT_FALSE(doc["optimised"].get<bool>());
   // The example itself has [limits]: the plan is optimised, within every limit, and no slower
-  // than the example's own h = 10 mm with the same limits.
+  // than the example's own h = h* with the same limits.
   const Result opt = cutdyn({"plan", "--json", path("o.json"), "--plot", path("o.png")});
   ASSERT_EQ(opt.code, 0) << opt.err;
   const auto o = nlohmann::json::parse(std::ifstream(path("o.json")));
@@ -739,8 +739,8 @@ TEST_F(Cli, PlanReportsTheBoreMillingQuantities) {
   EXPECT_LE(o["cutting_speed_m_per_min"].get<double>(), 150.0 * (1 + 1e-9));
   const io::Case with_limits = io::load_example("bore-plan");
   EXPECT_LE(o["main_time_min"].get<double>() * 60.0,
-            bore_milling_main_time(*with_limits.bore, *with_limits.bore_limits, 0.01,
-                                   max_axial_feed(*with_limits.bore)) *
+            bore_milling_main_time(*with_limits.bore, *with_limits.bore_limits,
+                                   with_limits.bore->offset_m, max_axial_feed(*with_limits.bore)) *
                 (1 + 1e-9));
   EXPECT_TRUE(fs::exists(path("o.png")));
   const Result given = cutdyn({"plan", "--axial-feed-mm", "10", "--json", path("g.json")});
@@ -750,9 +750,9 @@ TEST_F(Cli, PlanReportsTheBoreMillingQuantities) {
   expect_rejected({"plan", "--axial-feed-mm", "250", "--json", path("x.json")},
                   "uncut ridges (S0 < q)");
   std::string text = plain;
-  text.replace(text.find("offset_mm = 10"), 14, "offset_mm = -100");
+  text.replace(text.find("offset_mm = 3.109375"), 20, "offset_mm = -160");
   expect_rejected({"plan", write("bad.toml", text), "--json", path("x.json")},
-                  "eq. (1), ((d − t)/2)² − d²/4 + (D/2 + h)²");
+                  "the cutter does not fit: D/2 + |h| must be less than d/2");
   expect_rejected({"plan", "milling-insperger", "--json", path("x.json")},
                   "`cutdyn plan` takes a bore-milling case");
 }
@@ -921,7 +921,7 @@ TEST_F(Cli, PlanWarnsWhenTheFeedBreaksTheAccuracy) {
                   "(roughing)");
   // An error prints millimetres (4 significant digits), not metres.
   expect_rejected({"plan", file, "--axial-feed-mm", "250", "--json", path("x.json")},
-                  "axial feed S0 = 250 mm: must be less than q = 199.7 mm");
+                  "axial feed S0 = 250 mm: must be less than q = 69.43 mm");
 }
 
 // A fixed axial feed with [limits]: the optimiser does not run, and the plan says so.

@@ -36,12 +36,29 @@ struct BoreMillingCase {
   std::vector<std::string> validate() const;
 };
 
+/// How the two edge sets share the allowance at the case's offset (docs/models/bore-milling.md,
+/// "The offset h"). The point of the edge circle opposite the one that finishes the bore
+/// reaches R_π = sqrt(d²/4 − 2·D·|h|): the outer edges cut from d/2 − t to R_π, the inner
+/// edges from there to d/2. Even (t/2 each) only at h* = (2dt − t²)/(8D); for
+/// |h| >= (dt − t²)/(2D) the outer edges do not reach the blank.
+struct BoreEdgeSplit {
+  double inner_entry_radius_m = 0.0;  // r_e = max(R_π, d/2 − t)
+  double inner_depth_m = 0.0;         // d/2 − r_e
+  double outer_depth_m = 0.0;         // t − inner depth (0 when the outer edges do not cut)
+  double balanced_offset_m = 0.0;     // h*
+  double outer_limit_offset_m = 0.0;  // (dt − t²)/(2D)
+};
+BoreEdgeSplit bore_edge_split(const BoreMillingCase& c);
+
 /// Everything of S2 at the axial feed `S0` (SI; speeds in rev/s, times in s).
 struct BoreMillingResult {
-  double q_m = 0.0;                           // (1) width of the cut of one pass
+  double q_m = 0.0;                           // (1) corrected: width of the cut of one pass
   double axial_feed_m = 0.0;                  // S0 used
   double max_axial_feed_m = 0.0;              // S0 with Δ1 = k·t, exact inversion of (3)
-  double max_axial_feed_closed_form_m = 0.0;  // (4)
+  double max_axial_feed_closed_form_m = 0.0;  // (4) corrected (no d²k²t²): equals the above
+  double max_axial_feed_printed_form_m = 0.0;  // (4) as printed, for comparison
+  double inner_depth_m = 0.0, outer_depth_m = 0.0;  // the allowance's split (BoreEdgeSplit)
+  double balanced_offset_m = 0.0;                   // h*
   double milling_width_m = 0.0;               // (2) bф
   double straightness_error_m = 0.0;          // (3) Δ1
   double cutter_rev_per_s = 0.0;              // n_u = v/(π·D)
@@ -49,10 +66,10 @@ struct BoreMillingResult {
   double feed_per_tooth_m = 0.0;              // (5) S_z
   double max_chip_thickness_m = 0.0;          // (5) a_max = S_z·sin φ
   double contact_arc_m = 0.0;                 // (6) l
-  double chip_width_m = 0.0;                  // (6) m = t/(2 sin φ)
+  double chip_width_m = 0.0;                  // (6) m = t/(2 sin φ) at h*; the deeper set's
   double mean_chip_thickness_m = 0.0;         // (7) a_cp (= the case's, by (8))
   double path_per_edge_m = 0.0;               // (9) l_u
-  double edge_width_m = 0.0;                  // (10) b
+  double edge_width_m = 0.0;                  // (10) b at h*; the deeper set's
   double engaged_fraction = 0.0;              // (11) p
   int teeth_in_cut = 0;                       // (11) z' = floor(z·p)
   double total_edge_width_m = 0.0;            // (12) b0
@@ -65,14 +82,19 @@ struct BoreMillingResult {
   std::vector<std::string> warnings;  // in machinist units (mm, 4 significant digits)
 };
 
-/// (1): q. Throws if a square root's argument is negative.
+/// (1) corrected: q = 2·sqrt(D²/4 − (y_e − |h|)²), y_e = sqrt(r_e² − d²/4 + (D/2 + |h|)²), r_e
+/// the inner edges' entry radius ((d − t)/2 at h*; the printed form has D/2 + |h| − y_e in
+/// place of y_e − |h|, which fails Δ1(S0 = q) = t/2). Throws if a root's argument is negative.
 double bore_q(const BoreMillingCase& c);
-/// (3): Δ1 at the axial feed S0.
+/// (3): Δ1 at the axial feed S0 (with |h|: −h is the mirror image of the same cut).
 double straightness_error(const BoreMillingCase& c, double axial_feed_m);
 /// The largest S0 with Δ1(S0) <= k·t, by Brent's method on (3) to 1e-12 relative.
 double max_axial_feed(const BoreMillingCase& c);
-/// (4), the source's closed form of the same.
+/// (4) corrected: the exact inversion of (3) at Δ1 = k·t (the printed form's d²k²t² under
+/// the inner root removed).
 double max_axial_feed_closed_form(const BoreMillingCase& c);
+/// (4) as printed, with the d²k²t² term (too large: +0.05 … +41 %, √2 at h = 0).
+double max_axial_feed_printed_form(const BoreMillingCase& c);
 
 /// All of S2 at S0 = `axial_feed_m` (0: the largest, max_axial_feed). Checks S0 < q (an
 /// error); a given S0 that breaks Δ1 <= k·t is computed and warned about. The
@@ -83,13 +105,12 @@ BoreMillingResult bore_milling(const BoreMillingCase& c, double axial_feed_m = 0
 
 /// The box and the limits of the plan optimiser.
 struct BoreMillingLimits {
-  double offset_min_m = 0.0, offset_max_m = 0.0;  // h
+  double offset_min_m = 0.0, offset_max_m = 0.0;  // the box of |h|, which must hold h*
   double cutting_speed_max_m_per_s = 0.0;         // v of the tool
   double cutter_rev_per_s_max = 0.0;              // n_u of the spindle
   double workpiece_rev_per_s_max = 0.0;           // n_o of the blank drive
   double faceting_max_m = 0.0;                    // Δ2
   double max_chip_thickness_m = 0.0;              // a_max of the tool
-  int offset_samples = 41;                        // scan of h before refinement
   int feed_samples = 101;                         // scan of S0 before refinement
 
   std::vector<std::string> validate() const;
@@ -104,12 +125,14 @@ struct BoreMillingPlan {
   /// (n_o max); n_u is always at its limit (t0 falls with it).
   std::vector<std::string> binding;
   int evaluations = 0;
+  std::string reason;  // why no plan is feasible (empty when feasible)
 };
 
-/// Chooses h, S0, n_u and n_o to minimise the main time t0 = (L/S0 + 1)/n_o subject to
+/// At h = h* (the balanced offset, which must lie in the box of |h|), chooses S0, n_u and n_o
+/// to minimise the main time t0 = (L/S0 + 1)/n_o subject to
 /// Δ1 <= k·t, S0 < q, a_cp <= the case's a_cp, a_max and Δ2 within `limits`, n_o and n_u
 /// within the machine's. The speed constraints depend on n_o/n_u only, so n_u takes its limit
-/// and n_o the largest allowed ratio; (h, S0) are scanned and refined by Brent's minimiser.
+/// and n_o the largest allowed ratio; S0 is scanned and refined by Brent's minimiser.
 BoreMillingPlan optimise_bore_milling(const BoreMillingCase& c, const BoreMillingLimits& limits);
 
 /// The same objective and constraints at one point (h, S0): t0, or +∞ if infeasible. For the
