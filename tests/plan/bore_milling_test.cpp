@@ -80,7 +80,9 @@ TEST(BoreMilling, WidthOfCutPassesThePapersOwnConsistencyCheck) {
             const double q = bore_q(c);
             EXPECT_NEAR(straightness_error(c, q), split.inner_depth_m, 1e-9 * t)
                 << "d " << d << " D " << D << " t " << t << " h " << c.offset_m;
-            if (h == h_star) EXPECT_NEAR(split.inner_depth_m, t / 2, 1e-12);
+            if (h == h_star) {
+              EXPECT_NEAR(split.inner_depth_m, t / 2, 1e-12);
+            }
             ++checked;
           }
         }
@@ -187,7 +189,9 @@ TEST(BoreMilling, CorrectedClosedFormIsTheExactInversion) {
       const double printed = max_axial_feed_printed_form(c);
       EXPECT_GT(printed, s0 * 1.0004) << "k " << k << " h " << h_mm;
       EXPECT_GT(straightness_error(c, std::min(printed, 0.999 * c.cutter_diameter_m)), kt);
-      if (h_mm == 0.0) EXPECT_NEAR(printed / s0, std::sqrt(2.0), 0.01) << k;
+      if (h_mm == 0.0) {
+        EXPECT_NEAR(printed / s0, std::sqrt(2.0), 0.01) << k;
+      }
       if (s0 < bore_q(c)) {
         const BoreMillingResult r = bore_milling(c);
         EXPECT_DOUBLE_EQ(r.max_axial_feed_printed_form_m, printed);

@@ -1,0 +1,46 @@
+# Installs the configured build tree BUILD_DIR to a fresh prefix under WORK_DIR, configures the
+# consumer in SOURCE_DIR/examples/cpp against it in one fresh configure, builds it and runs it:
+# find_package(cutdyn) must give a usable cutdyn::cutdyn target.
+foreach(var BUILD_DIR SOURCE_DIR WORK_DIR)
+  if(NOT DEFINED ${var})
+    message(FATAL_ERROR "consumer_test: ${var} not set")
+  endif()
+endforeach()
+file(REMOVE_RECURSE "${WORK_DIR}")
+set(prefix "${WORK_DIR}/prefix")
+set(consumer "${WORK_DIR}/consumer")
+function(run)
+  execute_process(COMMAND ${ARGV} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "consumer_test: `${ARGV}` failed (${rc}):\n${out}\n${err}")
+  endif()
+  set(last_output "${out}" PARENT_SCOPE)
+endfunction()
+run(${CMAKE_COMMAND} --install "${BUILD_DIR}" --prefix "${prefix}")
+run(${CMAKE_COMMAND} -S "${SOURCE_DIR}/examples/cpp" -B "${consumer}" -G Ninja
+    -DCMAKE_BUILD_TYPE=Release "-DCMAKE_PREFIX_PATH=${prefix}")
+run(${CMAKE_COMMAND} --build "${consumer}")
+run("${consumer}/milling_lobes")
+# The Insperger–Stépán slotting limit at 5000 rpm is 0.048 mm (the lobes' lowest at 5000 rpm).
+string(REGEX MATCH "\n5000\\.0,([0-9.]+)," line "${last_output}")
+if(NOT CMAKE_MATCH_1 OR CMAKE_MATCH_1 LESS 0.045 OR CMAKE_MATCH_1 GREATER 0.051)
+  message(FATAL_ERROR "consumer_test: unexpected output:\n${last_output}")
+endif()
+# One fresh configure of cutdyn itself must export the include directory (GNUInstallDirs was
+# once included after CMAKE_INSTALL_INCLUDEDIR was used: empty on a first configure).
+run(${CMAKE_COMMAND} -S "${SOURCE_DIR}" -B "${WORK_DIR}/fresh" -G Ninja
+    -DCUTDYN_BUILD_TESTS=OFF -DCUTDYN_BUILD_BENCHMARKS=OFF)
+file(GLOB_RECURSE exports "${WORK_DIR}/fresh/CMakeFiles/Export/*/cutdynTargets.cmake")
+if(NOT exports)
+  message(FATAL_ERROR "consumer_test: no exported cutdynTargets.cmake after a fresh configure")
+endif()
+list(GET exports 0 export_file)
+file(READ "${export_file}" export_text)
+if(NOT export_text MATCHES "INTERFACE_INCLUDE_DIRECTORIES \"\\\${_IMPORT_PREFIX}/include\"")
+  message(FATAL_ERROR "consumer_test: a fresh configure exports no include directory (${export_file})")
+endif()
+# The internal headers are not installed.
+if(EXISTS "${prefix}/include/cutdyn/io")
+  message(FATAL_ERROR "consumer_test: include/cutdyn/io was installed")
+endif()
+message(STATUS "consumer_test: the installed cutdyn builds and runs a consumer")
