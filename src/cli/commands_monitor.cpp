@@ -410,6 +410,8 @@ int run_monitor_calibrate(const MonitorCalibrateArgs& args, std::ostream& out, s
       const IdleFit f = fit_idle(c.model, idle[axis], options);
       if (f.report.status != CalibrationStatus::kSuccess)
         throw InvalidInput({"axis " + axis + ": " + f.report.message}, "calibration");
+      for (const std::string& w : f.report.warnings)
+        err << "cutdyn: warning: calibration: axis " << axis << ": " << w << "\n";
       c.model.friction_nm = f.friction_nm;
       c.model.viscous_nm_s_per_rad = f.viscous_nm_s_per_rad;
       c.sigma.friction_nm = f.friction_sigma_nm;
@@ -418,6 +420,7 @@ int run_monitor_calibrate(const MonitorCalibrateArgs& args, std::ostream& out, s
       c.current_noise_a = f.current_noise_a;
       c.speed_noise_rad_s = f.speed_noise_rad_s;
       extra["idle_fit"] = fit_json(f.report);
+      if (!f.report.warnings.empty()) extra["idle_fit"]["warnings"] = f.report.warnings;
       out << "    step 1: Tnzm = " << pm(f.friction_nm, f.friction_sigma_nm)
           << " N·m, X = " << pm(f.viscous_nm_s_per_rad, f.viscous_sigma) << " N·m·s/rad\n"
           << "            " << f.report.windows << " steady windows at " << f.report.distinct_speeds

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "cutdyn/core/error.hpp"
+#include "cutdyn/core/units.hpp"
 
 namespace cutdyn {
 
@@ -79,7 +80,28 @@ struct Window {
   double current_ss = 0.0;   // Σ(Id − mean)²
   double speed_ss = 0.0;     // Σ of squared residuals of ω about its line
   bool steady = false;
+  // What the fits use: means with the weight w(t) = sin²(π(t − t_first)/(t_last − t_first)),
+  // which is zero at both ends, so that the weighted mean of J·ε is exactly −J·∫w'ω/∫w (by
+  // parts) for any load, periodic ripple included; the acceleration of each sample is the
+  // central difference of its neighbours.
+  double fit_speed = 0.0, fit_torque = 0.0, fit_force = 0.0, fit_accel = 0.0;
+  double fit_current_abs = 0.0;  // weighted mean of |Id| where the current is a magnitude
+  bool magnitude = false;        // no rotor angle: Id is a magnitude, biased up by noise
 };
+
+// The noise bias of a magnitude (docs/models/monitor.md §1): E[Id] ≈ Id_true + σ²/Id_true, σ
+// the scatter of Id (first order). The correction of a mean magnitude I: I − sqrt(max(I² − 2σ²,
+// 0)) (≈ σ²/I).
+double magnitude_bias(double current_abs, double sigma) {
+  return current_abs - std::sqrt(std::max(current_abs * current_abs - 2.0 * sigma * sigma, 0.0));
+}
+
+// Removes the noise bias from the windows' torque means (signed like the motion).
+void correct_magnitude_bias(std::vector<Window>& rows, const AxisModel& m, double sigma) {
+  for (Window& w : rows)
+    if (w.magnitude)
+      w.fit_torque -= w.sign * m.torque_constant_nm_per_a * magnitude_bias(w.fit_current_abs, sigma);
+}
 
 // Robust standard deviation of the white noise on the measured speed of one run, from the
 // second differences of the samples (zero for any straight piece of the speed, so ramps,
@@ -158,6 +180,31 @@ std::vector<Window> windows_of(const AxisModel& m, const AxisRun& run,
         const double r = run[k].speed_rad_s - w.speed - w.accel * (run[k].time_s - t_mean);
         w.speed_ss += r * r;
       }
+      if (w.n >= 3) {
+        const double t0 = run[i].time_s, span = run[j - 1].time_s - t0;
+        double sw = 0.0;
+        for (std::size_t k = i + 1; k + 1 < j; ++k) {
+          const double sn = std::sin(units::kPi * (run[k].time_s - t0) / span);
+          const double wk = sn * sn;
+          const AxisSample& s = run[k];
+          sw += wk;
+          w.fit_speed += wk * s.speed_rad_s;
+          const double ic = torque_current_a(s, m.measure);
+          w.fit_torque += wk * m.torque_constant_nm_per_a * ic;
+          w.fit_current_abs += wk * std::abs(ic);
+          w.magnitude = !s.has_rotor_angle;
+          w.fit_force += wk * s.force_n;
+          w.fit_accel += wk * (run[k + 1].speed_rad_s - run[k - 1].speed_rad_s) /
+                         (run[k + 1].time_s - run[k - 1].time_s);
+        }
+        if (sw > 0.0) {
+          w.fit_speed /= sw;
+          w.fit_torque /= sw;
+          w.fit_force /= sw;
+          w.fit_accel /= sw;
+          w.fit_current_abs /= sw;
+        }
+      }
       // The standard error of the slope for the run's white speed noise (not this window's
       // scatter, which a transient inflates).
       w.accel_sigma = stt > 0.0 ? noise / std::sqrt(stt) : 0.0;
@@ -232,6 +279,7 @@ IdleFit fit_idle(const AxisModel& m, const std::vector<AxisRun>& runs,
   r.distinct_speeds = distinct_speeds(magnitudes);
   if (current_dof > 0.0) fit.current_noise_a = std::sqrt(current_ss / current_dof);
   if (speed_dof > 0.0) fit.speed_noise_rad_s = std::sqrt(speed_ss / speed_dof);
+  correct_magnitude_bias(rows, m, fit.current_noise_a);
   if (r.windows < 3) {
     r.status = CalibrationStatus::kTooFewWindows;
     r.message = "step 1 needs at least 3 steady windows; found " + std::to_string(r.windows) +
@@ -253,8 +301,8 @@ IdleFit fit_idle(const AxisModel& m, const std::vector<AxisRun>& runs,
   for (Eigen::Index k = 0; k < n; ++k) {
     const Window& w = rows[static_cast<std::size_t>(k)];
     a(k, 0) = w.sign;
-    a(k, 1) = w.speed;
-    y(k) = w.torque - m.inertia_kg_m2 * w.accel;
+    a(k, 1) = w.fit_speed;
+    y(k) = w.fit_torque - m.inertia_kg_m2 * w.fit_accel;
   }
   const Eigen::Matrix2d ata = a.transpose() * a;
   const Eigen::Matrix2d inv = ata.inverse();
@@ -271,6 +319,29 @@ IdleFit fit_idle(const AxisModel& m, const std::vector<AxisRun>& runs,
   fit.friction_sigma_nm = std::sqrt(var * inv(0, 0));
   fit.viscous_sigma = std::sqrt(var * inv(1, 1));
   fit.covariance = var * inv(0, 1);
+  // X slightly below 0 (within 3σ, or rounding of an X that is 0): the axis has no measurable
+  // viscous loss. Clamp X to 0 and refit Tnzm alone (y = Tnzm·sign ω); X keeps its σ (the
+  // truth may be up to that), the covariance is 0. Further below 0 the fit is left as it is
+  // (and the calibration refuses a negative X: the logs contradict the model).
+  const double x_floor = -3.0 * fit.viscous_sigma - 1e-9 * std::abs(theta(0));
+  if (fit.viscous_nm_s_per_rad < 0.0 && fit.viscous_nm_s_per_rad >= x_floor) {
+    double sy = 0.0;
+    for (Eigen::Index k = 0; k < n; ++k) sy += a(k, 0) * y(k);
+    const double tf = sy / static_cast<double>(n);
+    double ss1 = 0.0;
+    for (Eigen::Index k = 0; k < n; ++k) ss1 += (y(k) - tf * a(k, 0)) * (y(k) - tf * a(k, 0));
+    const double var1 = ss1 / static_cast<double>(n - 1);
+    r.warnings.push_back("the fitted viscous coefficient X = " + format_value(theta(1)) +
+                         " N·m·s/rad is below 0 by at most 3σ (σ = " +
+                         format_value(fit.viscous_sigma) +
+                         "): clamped to 0, Tnzm refitted alone");
+    fit.friction_nm = tf;
+    fit.viscous_nm_s_per_rad = 0.0;
+    fit.friction_sigma_nm = std::sqrt(var1 / static_cast<double>(n));
+    fit.covariance = 0.0;
+    r.residual_sigma_nm = std::sqrt(var1);
+    r.residual_rms_nm = std::sqrt(ss1 / static_cast<double>(n));
+  }
   r.message = "step 1: " + std::to_string(r.windows) + " steady windows at " +
               std::to_string(r.distinct_speeds) + " speeds";
   return fit;
@@ -302,6 +373,7 @@ LoadFit fit_load(const AxisCalibration& c, const std::vector<AxisRun>& runs,
     }
   }
   r.windows = static_cast<int>(rows.size());
+  correct_magnitude_bias(rows, m, c.current_noise_a);
   if (r.windows < 2) {
     r.status = CalibrationStatus::kTooFewWindows;
     r.message = "step 2 needs at least 2 steady windows; found " + std::to_string(r.windows);
@@ -312,14 +384,14 @@ LoadFit fit_load(const AxisCalibration& c, const std::vector<AxisRun>& runs,
   std::vector<double> y(rows.size());
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const Window& w = rows[k];
-    y[k] = w.torque - m.viscous_nm_s_per_rad * w.speed - m.friction_nm * w.sign -
-           m.inertia_kg_m2 * w.accel;
-    sxx += w.force * w.force;
-    sxy += w.force * y[k];
-    sxw += w.force * w.speed;
-    sxs += w.force * w.sign;
-    sxt += w.force * w.torque;
-    sxa += w.force * w.accel;
+    y[k] = w.fit_torque - m.viscous_nm_s_per_rad * w.fit_speed - m.friction_nm * w.sign -
+           m.inertia_kg_m2 * w.fit_accel;
+    sxx += w.fit_force * w.fit_force;
+    sxy += w.fit_force * y[k];
+    sxw += w.fit_force * w.fit_speed;
+    sxs += w.fit_force * w.sign;
+    sxt += w.fit_force * w.fit_torque;
+    sxa += w.fit_force * w.fit_accel;
     ymean += y[k];
   }
   ymean /= static_cast<double>(rows.size());
@@ -331,7 +403,7 @@ LoadFit fit_load(const AxisCalibration& c, const std::vector<AxisRun>& runs,
   const double k = sxy / sxx;
   double ss_res = 0.0, ss_tot = 0.0;
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    ss_res += (y[i] - k * rows[i].force) * (y[i] - k * rows[i].force);
+    ss_res += (y[i] - k * rows[i].fit_force) * (y[i] - k * rows[i].fit_force);
     ss_tot += (y[i] - ymean) * (y[i] - ymean);
   }
   const double n = static_cast<double>(rows.size());

@@ -195,9 +195,15 @@ ForceEstimate AxisForceEstimator::update(double t, double iu, double iv, double 
   const double friction = e.standstill ? 0.0 : tf_ * sign_;
   // The torque balance without its inertia term, at this sample [Zheng2012, eq. 4]: the signed
   // torque current where the rotor angle is known, else the magnitude with the sign of motion.
+  // The magnitude is biased up by noise: E[Id] ≈ Id_true + σ_Id²/Id_true (second order,
+  // docs/models/monitor.md §1), so it is corrected to sqrt(max(Id² − 2σ_Id², 0)), whose mean is
+  // Id_true to that order; the size of the correction enters σ (below), since near Id ≈ σ_Id
+  // the correction itself is uncertain.
+  const double bias =
+      rotor_angle ? 0.0 : id - std::sqrt(std::max(id * id - 2.0 * id_noise_ * id_noise_, 0.0));
   const double torque_current =
       rotor_angle ? signed_equivalent_current(iu, iv, iw, *rotor_angle, cal_.model.measure)
-                  : sign_ * id;
+                  : sign_ * (id - bias);
   const double u = kt_ * torque_current - x_ * w - friction;
   if (!started_) {
     // The first sample: taken as steady (no acceleration), the filter at rest there.
@@ -240,7 +246,9 @@ ForceEstimate AxisForceEstimator::update(double t, double iu, double iv, double 
 
   const AxisUncertainty& un = cal_.sigma;
   const double kt_noise = kt_ * id_noise_, kt_u = c2_ * un.torque_constant_nm_per_a;
-  double var = kt_noise * kt_noise * var_current_gain_ + kt_u * kt_u + var_obs_nm2_;
+  const double kt_bias = kt_ * bias;
+  double var = kt_noise * kt_noise * var_current_gain_ + kt_u * kt_u + var_obs_nm2_ +
+               kt_bias * kt_bias;
   var += ws * ws * un.viscous_nm_s_per_rad * un.viscous_nm_s_per_rad;
   if (e.standstill) {
     var += tf_ * tf_ / 3.0;  // static friction anywhere in ±Tnzm

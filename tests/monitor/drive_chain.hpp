@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "cutdyn/core/units.hpp"
@@ -98,6 +99,55 @@ inline AxisRun drive_log(const DriveAxisParameters& p, const MillingSimulationRe
     s.force_n = -sim.fx_n[i];
     s.has_rotor_angle = true;
     s.rotor_angle_rad = std::fmod(4.0 * angle, units::kTwoPi);
+    run.push_back(s);
+  }
+  return run;
+}
+
+/// The drive's traces under an axis force trace Fn(t) (resistance to the motion) at motor
+/// speed `omega` (either sign: a negative speed runs the mirror image of the axis, as
+/// tests/drive/end_to_end_test.cpp does), before noise.
+struct DriveTraces {
+  std::vector<double> time_s, torque_nm, speed_rad_s, force_n;
+};
+inline DriveTraces drive_traces(const DriveAxisParameters& p, const std::vector<double>& t,
+                                const std::vector<double>& fn, double omega) {
+  FeedAxis axis = drive_axis(p);
+  double v = omega * p.force_gain_m;
+  if (omega < 0) {
+    for (double& d : axis.direction) d = -d;
+    v = -v;
+  }
+  std::vector<double> fx(fn.size()), zero(fn.size(), 0.0);
+  for (std::size_t i = 0; i < fn.size(); ++i) fx[i] = omega < 0 ? fn[i] : -fn[i];
+  const FeedDriveResult d = simulate_feed_drive(axis, t, fx, zero, zero, v);
+  DriveTraces out{t, d.motor_torque_nm, d.speed_rad_s, fn};
+  if (omega < 0)
+    for (double& w : out.speed_rad_s) w = -w;
+  return out;
+}
+
+/// A noisy log of the traces: phase currents (noise σ per phase, `seed`) with the magnitude
+/// of the torque (no rotor angle in the log), the speed with white noise σ_ω.
+inline AxisRun noisy_log(const DriveAxisParameters& p, const DriveTraces& d, double speed_noise,
+                         unsigned seed) {
+  FeedAxis axis = drive_axis(p);
+  PmsmMotor m = *axis.motor;
+  m.seed = seed;
+  std::vector<double> speed_abs(d.speed_rad_s.size());
+  for (std::size_t i = 0; i < speed_abs.size(); ++i) speed_abs[i] = std::abs(d.speed_rad_s[i]);
+  const PhaseCurrents c = motor_currents(m, d.time_s, d.torque_nm, speed_abs);
+  std::mt19937_64 rng(seed * 7919u + 13u);
+  std::normal_distribution<double> g(0.0, 1.0);
+  AxisRun run;
+  for (std::size_t i = 0; i < d.time_s.size(); ++i) {
+    AxisSample s;
+    s.time_s = d.time_s[i];
+    s.iu_a = c.iu_a[i];
+    s.iv_a = c.iv_a[i];
+    s.iw_a = c.iw_a[i];
+    s.speed_rad_s = d.speed_rad_s[i] + speed_noise * g(rng);
+    s.force_n = d.force_n[i];
     run.push_back(s);
   }
   return run;

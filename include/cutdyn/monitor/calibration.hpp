@@ -99,6 +99,7 @@ struct FitReport {
   double r_squared = 0.0;          // 1 − SS_res/SS_tot
   double residual_rms_nm = 0.0;    // sqrt(SS_res/n), torque of the window means
   double residual_sigma_nm = 0.0;  // sqrt(SS_res/(n − p)), what the uncertainties use
+  std::vector<std::string> warnings;  // e.g. X clamped to 0
 };
 
 struct IdleFit {
