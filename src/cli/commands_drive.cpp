@@ -25,9 +25,6 @@ using units::m_to_mm;
 using units::m_to_um;
 
 constexpr const char* kDefaultDriveCase = "ermolaev2020";
-// The currents file starts with one `# axis = …` line per axis (measure, KT, pole pairs) once
-// the monitor's reader takes comment lines.
-constexpr bool kCurrentsHeaderComments = false;
 
 struct AxisRun {
   FeedAxis axis;
@@ -304,14 +301,13 @@ int run_drive(const DriveArgs& args, std::ostream& out, std::ostream& err) {
   }
   if (!args.currents.empty()) {
     std::ostream& file = outputs.open(args.currents);
-    if (kCurrentsHeaderComments) {
-      // Before the header, each axis' motor as used to make its currents (the monitor reads it).
-      for (const AxisRun& a : run.axes)
-        file << "# axis = " << a.axis.name << ", measure = " << to_string(a.axis.motor->measure)
-             << ", torque_constant_nm_per_a = "
-             << io::format_number(a.axis.motor->torque_constant_nm_per_a)
-             << ", pole_pairs = " << a.axis.motor->pole_pairs << "\n";
-    }
+    // Before the header, each axis' motor as used to make its currents: the monitor checks the
+    // measure against its calibration's.
+    for (const AxisRun& a : run.axes)
+      file << "# axis = " << a.axis.name << ", measure = " << to_string(a.axis.motor->measure)
+           << ", torque_constant_nm_per_a = "
+           << io::format_number(a.axis.motor->torque_constant_nm_per_a)
+           << ", pole_pairs = " << a.axis.motor->pole_pairs << "\n";
     io::CsvWriter csv(file,
                       {"time_s", "axis", "iu_a", "iv_a", "iw_a", "speed_rad_s", "rotor_angle_rad"});
     for (const AxisRun& a : run.axes) {

@@ -567,8 +567,14 @@ TEST_F(Cli, DriveCurrentsAndSweepAndBadDrives) {
   const auto file = write("drive.toml", text);
   const Result r = cutdyn({"drive", file, "--currents", path("i.csv"), "--out", path("d.csv")});
   ASSERT_EQ(r.code, 0) << r.err;
-  const auto currents = csv_lines(path("i.csv"));
+  auto currents = csv_lines(path("i.csv"));
   ASSERT_GT(currents.size(), 100u);
+  // Before the header, one line per axis with the motor the currents were made with.
+  EXPECT_EQ(currents[0],
+            "# axis = x, measure = space-vector, torque_constant_nm_per_a = 1.621, pole_pairs = 4");
+  EXPECT_EQ(currents[1],
+            "# axis = y, measure = space-vector, torque_constant_nm_per_a = 1.627, pole_pairs = 4");
+  currents.erase(currents.begin(), currents.begin() + 2);
   EXPECT_EQ(currents[0], "time_s,axis,iu_a,iv_a,iw_a,speed_rad_s,rotor_angle_rad");
   const auto traces = csv_lines(path("d.csv"));
   // Row 1 of both: axis x at the first instant.
@@ -593,6 +599,21 @@ TEST_F(Cli, DriveCurrentsAndSweepAndBadDrives) {
     turned += 4 * 0.5 * (std::stod(a[5]) + std::stod(b[5])) * (std::stod(b[0]) - std::stod(a[0]));
   }
   EXPECT_NEAR(std::fmod(std::stod(i1[6]) + turned, 2 * units::kPi), std::stod(i11[6]), 1e-6);
+  // The monitor reads the recorded measure: against the zheng2012 calibration (the source's RMS
+  // measure) the space-vector log is refused, naming the line and both measures; an RMS motor in
+  // the case records rms and passes that check.
+  const Result mismatch = cutdyn(
+      {"monitor", "estimate", "--calib", "zheng2012", path("i.csv"), "--out", path("e.csv")});
+  EXPECT_EQ(mismatch.code, 2) << mismatch.err;
+  EXPECT_NE(mismatch.err.find("line 1: axis x: the currents were logged with measure = "
+                              "space-vector, the calibration's measure is rms"),
+            std::string::npos)
+      << mismatch.err;
+  std::string rms = text;
+  rms.insert(rms.find("pole_pairs = 4"), "current_measure = \"rms\"\n");
+  ASSERT_EQ(cutdyn({"drive", write("rms.toml", rms), "--currents", path("r.csv")}).code, 0);
+  EXPECT_EQ(csv_lines(path("r.csv"))[0],
+            "# axis = x, measure = rms, torque_constant_nm_per_a = 1.621, pole_pairs = 4");
   // A sweep of the spindle speed tabulates ε per axis.
   const Result sweep =
       cutdyn({"drive", file, "--sweep", "simulate.rpm=60:60:180", "--json", path("s.json")});
@@ -682,7 +703,8 @@ TEST_F(Cli, DriveCurrentNoiseSeed) {
   // Within a run, the noise of x and y is uncorrelated: the difference of the runs with seeds 5
   // and 6 is pure noise (variance 2σ²) on each axis.
   std::vector<double> dx, dy;
-  for (std::size_t i = 1; i < a.size(); ++i) {
+  ASSERT_EQ(a[2].rfind("time_s,", 0), 0u);  // two comment lines, then the header
+  for (std::size_t i = 3; i < a.size(); ++i) {
     std::stringstream sa(a[i]), sc(c[i]);
     std::string fa, fc, axis;
     std::vector<std::string> va, vc;
