@@ -7,16 +7,34 @@
 #include "cli/commands.hpp"
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/io/case_file.hpp"
+#include "cutdyn/io/output.hpp"
 
 namespace cutdyn::cli {
 namespace {
 
 void add_outputs(CLI::App* cmd, Outputs& o, const char* csv_help) {
   cmd->add_option("--out", o.csv, csv_help);
-  cmd->add_option("--json", o.json, "write the results and the effective case as JSON");
+  cmd->add_option("--json", o.json,
+                  "write the results and the effective case as JSON (- for standard output, as "
+                  "for --out; the report then goes to stderr)");
   cmd->add_option("--plot", o.plot,
                   "draw a figure (.svg, .png or .pdf); its data (.dat) and gnuplot script (.gp) "
                   "are written beside it");
+}
+
+}  // namespace
+
+namespace {
+
+// Whether one of the command's output files is "-" (standard output).
+bool writes_to_standard_output(const CLI::App& command) {
+  for (const char* name : {"--out", "--json", "--currents", "--plot"}) {
+    const CLI::Option* option = command.get_option_no_throw(name);
+    if (!option || option->count() == 0) continue;
+    for (const std::string& value : option->results())
+      if (value == "-") return true;
+  }
+  return false;
 }
 
 }  // namespace
@@ -177,12 +195,20 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       out << *text;
       return 0;
     }
-    if (lobes_cmd->parsed()) return run_lobes(lobes, out, err);
-    if (check_cmd->parsed()) return run_check(check, out, err);
-    if (sim_cmd->parsed()) return run_simulate(sim, out, err);
-    if (drive_cmd->parsed()) return run_drive(drive, out, err);
-    if (plan_cmd->parsed()) return run_plan(plan, out, err);
-    if (force_cmd->parsed()) return run_force(force, out, err);
+    // An output file given as "-" goes to standard output; the report then goes to stderr.
+    io::OutputTransaction::set_standard_output(&out);
+    struct ResetStandardOutput {
+      ~ResetStandardOutput() { io::OutputTransaction::set_standard_output(nullptr); }
+    } reset_standard_output;
+    std::ostream* report = &out;
+    for (const CLI::App* sub : {lobes_cmd, check_cmd, sim_cmd, drive_cmd, plan_cmd, force_cmd})
+      if (sub->parsed() && writes_to_standard_output(*sub)) report = &err;
+    if (lobes_cmd->parsed()) return run_lobes(lobes, *report, err);
+    if (check_cmd->parsed()) return run_check(check, *report, err);
+    if (sim_cmd->parsed()) return run_simulate(sim, *report, err);
+    if (drive_cmd->parsed()) return run_drive(drive, *report, err);
+    if (plan_cmd->parsed()) return run_plan(plan, *report, err);
+    if (force_cmd->parsed()) return run_force(force, *report, err);
     if (const int code = run_monitor(out, err); code >= 0) return code;
     err << app.help();
     return 2;

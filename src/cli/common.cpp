@@ -330,7 +330,7 @@ void report_lobes(const io::Case& c, const LobesReport& report, const LobesView&
 void commit_outputs(io::OutputTransaction& outputs, const Outputs& o, std::ostream& out) {
   outputs.commit();
   for (const std::string* f : {&o.csv, &o.json, &o.plot})
-    if (!f->empty()) out << "  wrote " << *f << "\n";
+    if (!f->empty()) out << "  wrote " << (*f == "-" ? "standard output" : *f) << "\n";
 }
 
 void report_check(const io::Case& c, const CheckArgs& args, const CriticalDepth& b,

@@ -143,6 +143,27 @@ void write_text(std::ostream& out, const std::string& text) {
   out << '"';
 }
 
+thread_local std::ostream* standard_output = nullptr;
+
+// An existing target that is neither a regular file nor a folder (after following links): a
+// FIFO, a device or a socket, written through rather than replaced.
+bool is_special(const fs::path& target) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(target, ec);
+  return !ec && fs::exists(status) && !fs::is_regular_file(status) && !fs::is_directory(status);
+}
+
+// The file a chain of symbolic links ends at (itself if not a link; a dangling link's target).
+fs::path resolve_links(fs::path path) {
+  std::error_code ec;
+  for (int hop = 0; hop < 40 && fs::is_symlink(fs::symlink_status(path, ec)); ++hop) {
+    const fs::path next = fs::read_symlink(path, ec);
+    if (ec) break;
+    path = (next.is_absolute() ? next : path.parent_path() / next).lexically_normal();
+  }
+  return path;
+}
+
 }  // namespace
 
 // ---- OutputTransaction ----------------------------------------------------------------
@@ -151,15 +172,28 @@ OutputTransaction::~OutputTransaction() {
   if (!committed_) rollback();
 }
 
-std::ostream& OutputTransaction::open(const fs::path& target) {
+void OutputTransaction::set_standard_output(std::ostream* out) { standard_output = out; }
+
+std::ostream& OutputTransaction::open(const fs::path& requested) {
   if (committed_) throw std::logic_error("OutputTransaction: open after commit");
-  const fs::path folder = folder_of(target);
-  const fs::path id = identity(target);
+  // "-": standard output; a symbolic link: the file it points to.
+  const bool to_standard_output = requested == "-";
+  if (to_standard_output && !standard_output)
+    throw_cannot_write(requested, "standard output is not available here");
+  const fs::path target = to_standard_output ? requested : resolve_links(requested);
+  const fs::path id = to_standard_output ? fs::path("-") : identity(target);
   for (const Entry& entry : entries_) {
     if (entry.target == id) {
-      throw std::logic_error("OutputTransaction: " + target.string() + " is opened twice");
+      throw std::logic_error("OutputTransaction: " + requested.string() + " is opened twice");
     }
   }
+  if (to_standard_output || is_special(target)) {
+    auto held = std::make_unique<std::ostringstream>();
+    std::ostream& out = *held;
+    entries_.push_back(Entry{{}, id, nullptr, std::move(held)});
+    return out;
+  }
+  const fs::path folder = folder_of(target);
 
   // O_EXCL reserves a name nobody else holds; 0666 lets the umask set the permissions an
   // ordinary output file would get (mkstemp would make it private).
@@ -183,7 +217,7 @@ std::ostream& OutputTransaction::open(const fs::path& target) {
     throw_cannot_write(target, error != 0 ? errno_text(error) : "cannot open a temporary file");
   }
   std::ostream& out = *stream;
-  entries_.push_back(Entry{temporary, id, std::move(stream)});
+  entries_.push_back(Entry{temporary, id, std::move(stream), nullptr});
   return out;
 }
 
@@ -195,7 +229,7 @@ void OutputTransaction::adopt(const fs::path& temporary, const fs::path& target)
       throw std::logic_error("OutputTransaction: " + target.string() + " is opened twice");
     }
   }
-  entries_.push_back(Entry{temporary, id, nullptr});
+  entries_.push_back(Entry{temporary, id, nullptr, nullptr});
 }
 
 fs::path OutputTransaction::scratch_dir(const fs::path& target) {
@@ -217,6 +251,10 @@ void OutputTransaction::commit() {
 
   // 1. Finish every file; any failure so far means nothing is renamed.
   for (Entry& entry : entries_) {
+    if (entry.held) {
+      if (entry.held->fail()) throw_cannot_write(entry.target, "write failed");
+      continue;
+    }
     if (entry.temporary.empty()) continue;  // renamed by an earlier, failed commit
     if (entry.stream) {
       if (entry.stream->is_open()) {
@@ -236,8 +274,23 @@ void OutputTransaction::commit() {
     if (!entry.temporary.empty()) sync_file(entry.temporary);
   }
 
-  // 2. Rename each into place (atomic per file: same folder).
+  // 2. Rename each into place (atomic per file: same folder); write the held ones through.
   for (Entry& entry : entries_) {
+    if (entry.held) {
+      const std::string content = entry.held->str();
+      entry.held.reset();
+      if (entry.target == "-") {
+        standard_output->write(content.data(), static_cast<std::streamsize>(content.size()));
+        standard_output->flush();
+        if (!*standard_output) throw_cannot_write(entry.target, "write to standard output failed");
+      } else {
+        std::ofstream through(entry.target, std::ios::out | std::ios::binary);
+        through.write(content.data(), static_cast<std::streamsize>(content.size()));
+        through.close();
+        if (!through) throw_cannot_write(entry.target, "write failed");
+      }
+      continue;
+    }
     if (entry.temporary.empty()) continue;
     std::error_code ec;
     fs::rename(entry.temporary, entry.target, ec);

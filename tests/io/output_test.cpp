@@ -1,6 +1,10 @@
 #include "cutdyn/io/output.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <sstream>
+#include <thread>
 #include <unistd.h>
 
 #include <algorithm>
@@ -286,6 +290,88 @@ TEST_F(OutputTransactionTest, CsvThroughATransactionLeavesNoFileWhenARowIsBad) {
     EXPECT_THROW(csv.row({600.0, std::nan("")}), std::logic_error);
   }
   EXPECT_TRUE(listing(dir_).empty());
+}
+
+}  // namespace
+}  // namespace cutdyn::io
+
+namespace cutdyn::io {
+namespace {
+
+// "-", symbolic links, FIFOs and devices are written through, not replaced (the atomic
+// rename would have turned a link into a file and, run as root, /dev/null into one).
+class WriteThroughTest : public testing::TempDirTest {
+ protected:
+  void TearDown() override {
+    OutputTransaction::set_standard_output(nullptr);
+    testing::TempDirTest::TearDown();
+  }
+};
+
+TEST_F(WriteThroughTest, DashIsStandardOutputAfterCommitOnly) {
+  std::ostringstream standard_output;
+  OutputTransaction::set_standard_output(&standard_output);
+  {
+    OutputTransaction t;
+    t.open("-") << "a,b\n1,2\n";
+    EXPECT_EQ(standard_output.str(), "");  // nothing before commit
+  }  // rolled back: still nothing
+  EXPECT_EQ(standard_output.str(), "");
+  OutputTransaction t;
+  t.open("-") << "a,b\n1,2\n";
+  t.open(dir_ / "x.csv") << "x\n";
+  EXPECT_THROW(t.open("-"), std::logic_error);  // one "-" per transaction
+  t.commit();
+  EXPECT_EQ(standard_output.str(), "a,b\n1,2\n");
+  EXPECT_EQ(read_file(dir_ / "x.csv"), "x\n");
+  EXPECT_EQ(listing(dir_), (std::vector<std::string>{"x.csv"}));
+  // Without a standard output (a library caller), "-" is refused by name.
+  OutputTransaction::set_standard_output(nullptr);
+  OutputTransaction u;
+  try {
+    u.open("-");
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "cannot write -: standard output is not available here");
+  }
+}
+
+TEST_F(WriteThroughTest, ASymbolicLinkStaysALinkAndItsFileGetsTheContent) {
+  std::ofstream(dir_ / "real.csv") << "old\n";
+  fs::create_symlink(dir_ / "real.csv", dir_ / "link.csv");
+  OutputTransaction t;
+  t.open(dir_ / "link.csv") << "new\n";
+  t.commit();
+  EXPECT_TRUE(fs::is_symlink(fs::symlink_status(dir_ / "link.csv")));
+  EXPECT_EQ(read_file(dir_ / "real.csv"), "new\n");
+  EXPECT_EQ(listing(dir_), (std::vector<std::string>{"link.csv", "real.csv"}));
+  // A link to a file that does not exist yet: the file is created, the link kept.
+  fs::create_symlink(dir_ / "later.csv", dir_ / "dangling.csv");
+  OutputTransaction u;
+  u.open(dir_ / "dangling.csv") << "made\n";
+  u.commit();
+  EXPECT_TRUE(fs::is_symlink(fs::symlink_status(dir_ / "dangling.csv")));
+  EXPECT_EQ(read_file(dir_ / "later.csv"), "made\n");
+}
+
+TEST_F(WriteThroughTest, AFifoIsWrittenAndADeviceIsNotReplaced) {
+  const fs::path fifo = dir_ / "pipe";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::string received;
+  std::thread reader([&] { received = read_file(fifo); });
+  {
+    OutputTransaction t;
+    t.open(fifo) << "through the pipe\n";
+    t.commit();
+  }
+  reader.join();
+  EXPECT_EQ(received, "through the pipe\n");
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_EQ(listing(dir_), (std::vector<std::string>{"pipe"}));
+  OutputTransaction t;
+  t.open("/dev/null") << "discarded\n";
+  t.commit();
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
 }
 
 }  // namespace

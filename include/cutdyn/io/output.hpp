@@ -1,9 +1,14 @@
 // Output files that appear whole or not at all.
 //
-// A command opens every output through one OutputTransaction. Each file is written to a
-// temporary name in the target's folder; `commit()` renames them all into place. If the
+// A command opens every output through one OutputTransaction. Each regular file is written to
+// a temporary name in the target's folder; `commit()` renames them all into place. If the
 // transaction is destroyed without commit (an error was thrown), the temporaries are
 // removed and no output file is left behind, partial or stale.
+//
+// Other targets are written through, not replaced: "-" is standard output (the stream set by
+// `set_standard_output`), a symbolic link is followed (its target file gets the atomic
+// rename, the link stays), and an existing FIFO, device or socket is opened and written at
+// commit. Their content is held in memory until then, so an error still writes nothing.
 #pragma once
 
 #include <filesystem>
@@ -11,6 +16,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <ostream>
+#include <sstream>
 #include <string>
 #include <variant>
 #include <vector>
@@ -25,8 +31,13 @@ class OutputTransaction {
   ~OutputTransaction();
 
   /// Opens `target` for writing (truncating). Throws std::runtime_error naming the path
-  /// if its folder does not exist or is not writable.
+  /// if its folder does not exist or is not writable, or for "-" when no standard output is
+  /// set.
   std::ostream& open(const std::filesystem::path& target);
+
+  /// Where "-" goes (the command line sets its standard output; nullptr: "-" is refused).
+  /// For the calling thread.
+  static void set_standard_output(std::ostream* out);
 
   /// Adds a file that was written by someone else (e.g. gnuplot) at `temporary`, to be
   /// renamed to `target` on commit and deleted on rollback.
@@ -43,7 +54,9 @@ class OutputTransaction {
   struct Entry {
     std::filesystem::path temporary;
     std::filesystem::path target;
-    std::unique_ptr<std::ofstream> stream;  // null for adopted files
+    std::unique_ptr<std::ofstream> stream;  // null for adopted files and written-through ones
+    /// Written through at commit: "-" (standard output) or a FIFO, device or socket.
+    std::unique_ptr<std::ostringstream> held;
   };
   void rollback() noexcept;
   std::vector<Entry> entries_;
