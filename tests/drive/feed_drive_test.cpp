@@ -271,8 +271,8 @@ Trace cosine(double f0, double f1, double omega, int periods, int per_period) {
 TEST(FeedDrive, PonlyLoopSummariesAreOfTheDetectedSteadyState) {
   // P-only loop (Ki = 0): J·dΩ/dt = Kp·(Ω0 − Ω) − Mc − b·Ω, Mc = 0.01·F + 0.3 = 1.3 + 0.5 cos ωt.
   // Periodic steady state: Ω̄ = (Kp·Ω0 − 1.3)/(Kp + b) = 0.7/1.01 = 0.693069 (65 % below
-  // Ω0 = 2: δ = 0.653465), ripple amplitude 0.5/|Kp + b + iJω| = 0.078598 at 20 Hz,
-  // kδ = 2·2A/(2Ω̄) = 0.226811. Started at the equilibrium of the first sample's load (1.8 N·m),
+  // Ω0 = 2: δ = 0.653465), ripple amplitude 0.5/|Kp + b + iJω| = 0.078569 at 20 Hz,
+  // kδ = 2·2A/(2Ω̄) = 0.226727. Started at the equilibrium of the first sample's load (1.8 N·m),
   // the speed falls from 0.198 with the time constant J/(Kp + b) = 49.5 ms, one forcing period.
   const PiDrive p{0.05, 1.0, 0.0, 0.01};
   const FeedAxis axis = dynamic_axis(p);
@@ -320,8 +320,8 @@ TEST(FeedDrive, PonlyLoopSummariesAreOfTheDetectedSteadyState) {
 
 TEST(FeedDrive, SoftPiLoopSummariesAreOfTheDetectedSteadyStateOrWarn) {
   // A soft PI loop (loop frequency √(Ki/J) = 7.1 Hz, decay σ = Kp/(2J) = 5 /s) under a 20 Hz
-  // load ripple M1 = 0.05 N·m: speed ripple ω·M1/|Ki − Jω² + i·Kp·ω| = 0.226887 rad/s about
-  // Ω0 = 2 (the integrator removes the mean error): kδ = 2·2A/(2·Ω0) = 0.226887. The start at
+  // load ripple M1 = 0.05 N·m: speed ripple ω·M1/|Ki − Jω² + i·Kp·ω| = 0.226854 rad/s about
+  // Ω0 = 2 (the integrator removes the mean error): kδ = 2·2A/(2·Ω0) = 0.226854. The start at
   // the first sample's load, 0.05 N·m above the mean, rings with 0.56 rad/s decaying at 5 /s.
   const PiDrive p{2e-3, 0.02, 4.0, 0.0};
   const FeedAxis axis = dynamic_axis(p);
