@@ -141,6 +141,8 @@ struct MonitorTeachArgs {
   double absolute_margin_n = 0.0;
   double peak_margin = 0.05;
   double cutting_fraction = 0.2;
+  double phase_tolerance_s = 0.1;
+  double average_s = 0.0;
 };
 int run_monitor_teach(const MonitorTeachArgs& args, std::ostream& out, std::ostream& err);
 

@@ -667,6 +667,7 @@ ForceBand band_of_json(const json& a, const json& doc, const std::string& path,
   ForceBand b;
   b.options.bin_s = number_at(doc, "bin_s", path, "", true);
   b.options.smoothing_s = number_at(doc, "smoothing_s", path, "", true);
+  b.options.average_s = number_at(doc, "average_s", path, "", false, 0.0);
   b.cycle_s = number_at(a, "cycle_s", path, at, true);
   const auto vec = [&](const char* key, std::vector<double>& v) {
     if (!a.contains(key) || !a[key].is_array())
@@ -839,6 +840,8 @@ int run_monitor_teach(const MonitorTeachArgs& args, std::ostream& out, std::ostr
   band_options.absolute_margin_n = args.absolute_margin_n;
   band_options.peak_margin = args.peak_margin;
   band_options.cutting_fraction = args.cutting_fraction;
+  band_options.phase_tolerance_s = args.phase_tolerance_s;
+  band_options.average_s = args.average_s;
   if (const auto p = band_options.validate(); !p.empty()) throw InvalidInput(p, "command line");
   if (args.inputs.empty())
     throw InvalidInput({"REFERENCE: give at least one reference run"}, "command line");
@@ -866,6 +869,8 @@ int run_monitor_teach(const MonitorTeachArgs& args, std::ostream& out, std::ostr
            {"absolute_margin_n", band_options.absolute_margin_n},
            {"peak_margin", band_options.peak_margin},
            {"cutting_fraction", band_options.cutting_fraction},
+           {"phase_tolerance_s", band_options.phase_tolerance_s},
+           {"average_s", band_options.average_s},
            {"bandwidth_hz", options.bandwidth_hz},
            {"calibration", args.estimator.calib}};
   json axes = json::object();
@@ -976,6 +981,13 @@ std::function<int(std::ostream&, std::ostream&)> add_monitor_command(CLI::App& a
   c3->add_option("--absolute-margin-n", teach->absolute_margin_n, "... + this (default 0 N) ...");
   c3->add_option("--peak-margin", teach->peak_margin,
                  "... + this·the peak mean level (default 0.05)");
+  c3->add_option("--phase-tolerance-s", teach->phase_tolerance_s,
+                 "each bin takes the widest limits within ± this much cycle time, so that the "
+                 "band does not depend on the spindle phase at cycle start: at least one spindle "
+                 "revolution, 60/rpm (default 0.1 s)");
+  c3->add_option("--average-s", teach->average_s,
+                 "moving average of |F| over this window before the smoothing: the tooth period "
+                 "60/(teeth·rpm) removes the tooth pattern (default 0: none)");
   c3->add_option("--cutting-fraction", teach->cutting_fraction,
                  "bins whose mean is at least this fraction of the peak are cutting (default "
                  "0.2); breakage is watched there");

@@ -16,6 +16,10 @@ std::vector<std::string> BandOptions::validate() const {
   v.require(absolute_margin_n >= 0.0, "absolute_margin_n", absolute_margin_n, "N", "must be >= 0");
   v.require(peak_margin >= 0.0, "peak_margin", peak_margin, "", "must be >= 0");
   v.require_in_open("cutting_fraction", cutting_fraction, "", 0.0, 1.0);
+  v.require(average_s >= 0.0 && std::isfinite(average_s), "average_s", average_s, "s",
+            "must be a finite number >= 0");
+  v.require(phase_tolerance_s >= 0.0 && std::isfinite(phase_tolerance_s), "phase_tolerance_s",
+            phase_tolerance_s, "s", "must be a finite number >= 0");
   return v.problems();
 }
 
@@ -43,7 +47,16 @@ std::vector<std::string> ForceBand::validate() const {
 }
 
 double LoadSmoother::update(double t, double f) {
-  const double x = std::abs(f);
+  double x = std::abs(f);
+  if (average_s_ > 0.0) {
+    window_.emplace_back(t, x);
+    window_sum_ += x;
+    while (window_.front().first <= t - average_s_) {
+      window_sum_ -= window_.front().second;
+      window_.pop_front();
+    }
+    x = window_sum_ / static_cast<double>(window_.size());
+  }
   if (!started_) {
     started_ = true;
     level_ = x;
@@ -87,7 +100,7 @@ ForceBand teach_band(const std::vector<ForceRun>& runs, const BandOptions& o) {
   band.cycle_s = static_cast<double>(bins) * o.bin_s;
   std::vector<double> sum(bins, 0.0), sum2(bins, 0.0), count(bins, 0.0);
   for (const ForceRun& run : runs) {
-    LoadSmoother smoother(o.smoothing_s);
+    LoadSmoother smoother(o.smoothing_s, o.average_s);
     for (std::size_t i = 0; i < run.time_s.size(); ++i) {
       const double level = smoother.update(run.time_s[i], run.force_n[i]);
       const std::size_t b = std::min(
@@ -120,6 +133,22 @@ ForceBand teach_band(const std::vector<ForceRun>& runs, const BandOptions& o) {
     band.upper_n.push_back(m + half);
     band.lower_n.push_back(std::max(0.0, m - half));
     band.cutting.push_back(peak > 0.0 && m >= o.cutting_fraction * peak ? 1 : 0);
+  }
+  // Independent of where the force pattern falls in time (the spindle phase at cycle start,
+  // docs/models/monitor.md §5): each bin takes the widest limits of the bins within
+  // ±phase_tolerance_s, and is cutting only if all of them are.
+  const auto reach = static_cast<std::size_t>(std::ceil(o.phase_tolerance_s / o.bin_s - 1e-9));
+  if (reach > 0) {
+    const std::vector<double> up = band.upper_n, low = band.lower_n;
+    const std::vector<std::uint8_t> cut = band.cutting;
+    for (std::size_t b = 0; b < bins; ++b) {
+      const std::size_t first = b >= reach ? b - reach : 0, last = std::min(bins - 1, b + reach);
+      for (std::size_t j = first; j <= last; ++j) {
+        band.upper_n[b] = std::max(band.upper_n[b], up[j]);
+        band.lower_n[b] = std::min(band.lower_n[b], low[j]);
+        band.cutting[b] = band.cutting[b] && cut[j];
+      }
+    }
   }
   return band;
 }
@@ -158,7 +187,7 @@ std::vector<std::string> AlarmOptions::validate() const {
 }
 
 AlarmMonitor::AlarmMonitor(ForceBand band, const AlarmOptions& o)
-    : band_(std::move(band)), options_(o), smoother_(band_.options.smoothing_s) {
+    : band_(std::move(band)), options_(o), smoother_(band_.options.smoothing_s, band_.options.average_s) {
   Validator v;
   v.merge(band_.validate());
   v.merge(o.validate());

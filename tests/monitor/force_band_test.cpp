@@ -81,7 +81,8 @@ TEST(MonitorBand, OverloadAtKnownTime) {
   const double expected = crossing(1000, 1500, 1.235, 0.01, 1150);
   EXPECT_NEAR(events[0].time_s, expected, kDt);
   EXPECT_NEAR(events[0].detected_s - events[0].time_s, 0.005, kDt);
-  EXPECT_NEAR(events[0].limit_n, 1150.0, 1e-9);
+  // (The widest limit within the phase tolerance: a neighbour's σ is rounding, ~1e-5 N.)
+  EXPECT_NEAR(events[0].limit_n, 1150.0, 1e-3);
 }
 
 TEST(MonitorBand, BreakageAtKnownTime) {
@@ -113,6 +114,110 @@ TEST(MonitorBand, WearAtKnownTimeAcrossCycles) {
   for (int i = 0; i < 20; ++i)
     s -= (0.05 * (s - 0.5 * (1 - std::exp(-2 * s))) - 0.15) / (0.05 * (1 - std::exp(-2 * s)));
   EXPECT_NEAR(events[0].time_s, 1.5 + 0.01 + s, 0.01);
+}
+
+}  // namespace
+}  // namespace cutdyn
+
+namespace cutdyn {
+namespace {
+
+// A milling cycle at 1 kHz: 0.1 s in the air, then 0.8 s of cutting by 4 teeth at 600 rpm
+// (tooth period 25 ms, revolution 100 ms) with the tooth pattern 2·F0·sin²(π·x), x the
+// fraction of the tooth period (mean F0 = 1000 N, peaks 2000 N), the spindle at phase
+// `phase_s` (time shift of the pattern), white noise of 20 N; then the air again. From
+// `event_s`: `broken` — tooth 0 cuts nothing and tooth 1 a double chip; `overload` — ×1.5.
+ForceRun milling_cycle(double phase_s, unsigned seed, double event_s = 10.0, bool broken = false,
+                       bool overload = false) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, 20.0);
+  return run_of(1.0, [&](double t) {
+    if (t < 0.1 || t >= 0.9) return std::abs(noise(rng));
+    const double u = (t + phase_s) / 0.025;  // tooth periods since the spindle's zero
+    const long tooth = static_cast<long>(std::floor(u)) % 4;
+    const double x = u - std::floor(u);
+    double chip = 1.0;
+    if (t >= event_s && broken) chip = tooth == 0 ? 0.0 : (tooth == 1 ? 2.0 : 1.0);
+    if (t >= event_s && overload) chip = 1.5;
+    const double s = std::sin(3.14159265358979323846 * x);
+    return std::abs(2000.0 * chip * s * s + noise(rng));
+  });
+}
+
+TEST(MonitorBand, IndependentOfTheSpindlePhase) {
+  // Taught from 3 runs that all start at spindle phase 0 (the worst case: the mean locks onto
+  // the tooth pattern), the default band (phase tolerance 0.1 s, one revolution) raises no
+  // alarm on 20 fresh runs at random spindle phases (uniform over a revolution); with no
+  // tolerance the same runs raise alarms (the failure this guards against).
+  std::vector<ForceRun> refs;
+  for (unsigned s = 1; s <= 3; ++s) refs.push_back(milling_cycle(0.0, s));
+  const ForceBand band = teach_band(refs);
+  BandOptions locked_options;
+  locked_options.phase_tolerance_s = 0.0;
+  const ForceBand locked = teach_band(refs, locked_options);
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<double> phase(0.0, 0.1);
+  int false_alarms = 0, locked_alarms = 0;
+  for (unsigned k = 0; k < 20; ++k) {
+    const ForceRun fresh = milling_cycle(phase(rng), 100 + k);
+    false_alarms += static_cast<int>(monitor(band, fresh).size());
+    locked_alarms += static_cast<int>(monitor(locked, fresh).size());
+  }
+  EXPECT_EQ(false_alarms, 0);
+  EXPECT_GT(locked_alarms, 5);
+  // The same with the level averaged over the tooth period (the milling setting below).
+  BandOptions o;
+  o.average_s = 0.025;
+  o.smoothing_s = 0.003;
+  const ForceBand averaged = teach_band(refs, o);
+  std::mt19937_64 rng2(43);
+  int averaged_alarms = 0;
+  for (unsigned k = 0; k < 20; ++k)
+    averaged_alarms += static_cast<int>(monitor(averaged, milling_cycle(phase(rng2), 400 + k)).size());
+  EXPECT_EQ(averaged_alarms, 0);
+  std::printf("20 fresh runs at random spindle phase: %d alarms with the default band, %d with "
+              "a phase-locked one\n",
+              false_alarms, locked_alarms);
+}
+
+TEST(MonitorBand, BrokenToothAndOverloadCaughtWithin25Ms) {
+  // At random spindle phases, a broken tooth from 0.5 s (its first missing pulse starts at
+  // the first tooth-0 period after 0.5 s) and an overload (×1.5 from 0.5 s) are each caught
+  // (breakage or overload) within 25 ms of the event, and nothing is raised before it.
+  std::vector<ForceRun> refs;
+  for (unsigned s = 1; s <= 3; ++s) refs.push_back(milling_cycle(0.0, s));
+  // The level averaged over the tooth period (25 ms) and smoothed with 3 ms, as the docs
+  // advise for milling; the default phase tolerance.
+  BandOptions o;
+  o.average_s = 0.025;
+  o.smoothing_s = 0.003;
+  const ForceBand band = teach_band(refs, o);
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> phase(0.0, 0.1);
+  double worst_broken = 0.0, worst_overload = 0.0;
+  for (unsigned k = 0; k < 10; ++k) {
+    const double ph = phase(rng);
+    // The start of the first missing pulse: the first t >= 0.5 with tooth 0 starting.
+    double start = 0.5;
+    while (true) {
+      const double u = (start + ph) / 0.025;
+      if (static_cast<long>(std::floor(u + 1e-9)) % 4 == 0) break;
+      start = (std::floor(u + 1e-9) + 1.0) * 0.025 - ph;
+    }
+    const auto broken = monitor(band, milling_cycle(ph, 200 + k, 0.5, true));
+    ASSERT_FALSE(broken.empty()) << "phase " << ph;
+    EXPECT_GE(broken.front().time_s, 0.5 - 1e-9);
+    worst_broken = std::max(worst_broken, broken.front().detected_s - start);
+    EXPECT_LE(broken.front().detected_s - start, 0.025) << "phase " << ph;
+    const auto over = monitor(band, milling_cycle(ph, 300 + k, 0.5, false, true));
+    ASSERT_FALSE(over.empty());
+    EXPECT_EQ(over.front().kind, AlarmKind::kOverload);
+    EXPECT_GE(over.front().time_s, 0.5 - 1e-9);
+    worst_overload = std::max(worst_overload, over.front().detected_s - 0.5);
+    EXPECT_LE(over.front().detected_s - 0.5, 0.025);
+  }
+  std::printf("worst detection delay: broken tooth %.1f ms, overload %.1f ms\n",
+              1e3 * worst_broken, 1e3 * worst_overload);
 }
 
 }  // namespace

@@ -16,6 +16,8 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -29,6 +31,13 @@ struct BandOptions {
   double absolute_margin_n = 0.0;  // plus abs, >= 0
   double peak_margin = 0.05;       // plus this·max(m), the least width, >= 0
   double cutting_fraction = 0.2;   // bins with m >= this·max(m) are cutting, in (0, 1)
+  // Each bin takes the widest limits within ±this of cycle time (and is cutting only if all
+  // those bins are), so that the band holds wherever the tooth pattern falls: the spindle
+  // phase at cycle start is free. At least one spindle revolution (60/rpm), >= 0.
+  double phase_tolerance_s = 0.1;
+  // Moving average of |F| over this window before the low-pass (0: none); set it to the tooth
+  // period 60/(z·rpm) to remove the tooth pattern from the level, >= 0.
+  double average_s = 0.0;
 
   std::vector<std::string> validate() const;
 };
@@ -47,15 +56,21 @@ struct ForceBand {
 
 /// First-order low-pass of |F|, exact for any step: L += (1 − exp(−Δt/τ))·(|F| − L); the first
 /// sample sets L = |F|.
+/// With `average_s` > 0, |F| is first averaged over the samples of the last `average_s`
+/// (a moving average: over one tooth period it removes the tooth pattern, so the level no
+/// longer depends on the spindle phase).
 class LoadSmoother {
  public:
-  explicit LoadSmoother(double time_constant_s) : tau_(time_constant_s) {}
+  explicit LoadSmoother(double time_constant_s, double average_s = 0.0)
+      : tau_(time_constant_s), average_s_(average_s) {}
   double update(double time_s, double force_n);
   double level() const { return level_; }
 
  private:
-  double tau_, level_ = 0.0, last_time_ = 0.0, last_dt_ = -1.0, gain_ = 1.0;
+  double tau_, average_s_, level_ = 0.0, last_time_ = 0.0, last_dt_ = -1.0, gain_ = 1.0;
   bool started_ = false;
+  std::deque<std::pair<double, double>> window_;  // (t, |F|) of the moving average
+  double window_sum_ = 0.0;
 };
 
 /// One reference run of one axis: times (increasing) and estimated forces.
