@@ -65,8 +65,10 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   add_outputs(lobes_cmd, lobes.outputs,
               "write the lobes as CSV: spindle_rpm,critical_depth_mm,chatter_hz,lobe,...");
   lobes_cmd->add_option("--method", lobes.method,
-                        "auto | closed-form | multi-frequency | full-discretization | "
-                        "full-discretization-dense (overrides [lobes].method)");
+                        std::string(kStabilityMethodNames) +
+                            " (overrides [lobes].method; zero-order and closed-form are one "
+                            "method: in turning the closed form, in milling the averaged "
+                            "solution)");
   lobes_cmd->add_option("--threads", lobes.threads, "threads (default: all cores)")
       ->check(CLI::Range(0, 1024));
   lobes_cmd->add_option("--target-depth-mm", lobes.target_depth_mm,

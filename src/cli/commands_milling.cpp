@@ -15,39 +15,8 @@ namespace {
 using units::m_to_mm;
 using units::mm_to_m;
 
-const char* to_string(MillingMethod m) {
-  switch (m) {
-    case MillingMethod::kZeroOrder:
-      return "zero-order";
-    case MillingMethod::kMultiFrequency:
-      return "multi-frequency";
-    case MillingMethod::kFullDiscretization:
-      return "full-discretization";
-    case MillingMethod::kFullDiscretizationDense:
-      return "full-discretization-dense";
-  }
-  return "?";
-}
-
 MillingMethod resolve(const io::Case& c, const std::string& flag) {
-  if (flag.empty()) {
-    switch (c.lobes.method) {
-      case io::StabilityMethod::kClosedForm:
-        return MillingMethod::kZeroOrder;
-      case io::StabilityMethod::kMultiFrequency:
-        return MillingMethod::kMultiFrequency;
-      default:
-        return MillingMethod::kFullDiscretization;
-    }
-  }
-  if (flag == "zero-order" || flag == "closed-form") return MillingMethod::kZeroOrder;
-  if (flag == "multi-frequency") return MillingMethod::kMultiFrequency;
-  if (flag == "auto" || flag == "full-discretization") return MillingMethod::kFullDiscretization;
-  if (flag == "full-discretization-dense") return MillingMethod::kFullDiscretizationDense;
-  throw InvalidInput({"--method = \"" + flag +
-                      "\": must be auto, zero-order, closed-form, multi-frequency, "
-                      "full-discretization or full-discretization-dense"},
-                     "command line");
+  return milling_method(asked_method(c, flag));
 }
 
 // The full discretization's work grows with the structural periods in one tooth period.

@@ -27,38 +27,9 @@ using units::mm_to_m;
 constexpr std::string_view kDefaultTurningCase = "turning-ultrasonic";
 constexpr std::string_view kDefaultForceCase = "ultrasonic-force";
 
-// The method: --method, else the case's [lobes].method; "auto" picks the exact closed form
-// for conventional turning and the full discretization with vibration.
+// The method: --method, else the case's [lobes].method (library rule: turning_method).
 TurningMethod resolve_method(const io::Case& c, const TurningModel& m, const std::string& flag) {
-  io::StabilityMethod method = c.lobes.method;
-  if (!flag.empty()) {
-    if (flag == "auto")
-      method = io::StabilityMethod::kAuto;
-    else if (flag == "closed-form")
-      method = io::StabilityMethod::kClosedForm;
-    else if (flag == "multi-frequency")
-      method = io::StabilityMethod::kMultiFrequency;
-    else if (flag == "full-discretization")
-      method = io::StabilityMethod::kFullDiscretization;
-    else if (flag == "full-discretization-dense")
-      return TurningMethod::kFullDiscretizationDense;
-    else
-      throw InvalidInput({"--method = \"" + flag +
-                          "\": must be auto, closed-form, multi-frequency, full-discretization or "
-                          "full-discretization-dense"},
-                         "command line");
-  }
-  switch (method) {
-    case io::StabilityMethod::kClosedForm:
-      return TurningMethod::kClosedForm;
-    case io::StabilityMethod::kMultiFrequency:
-      return TurningMethod::kMultiFrequency;
-    case io::StabilityMethod::kFullDiscretization:
-      return TurningMethod::kFullDiscretization;
-    case io::StabilityMethod::kAuto:
-      break;
-  }
-  return m.vibration ? TurningMethod::kFullDiscretization : TurningMethod::kClosedForm;
+  return turning_method(asked_method(c, flag), m.vibration.has_value());
 }
 
 TurningStabilityOptions stability_options(const io::Case& c, TurningMethod method) {

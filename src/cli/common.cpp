@@ -151,6 +151,13 @@ void check_output_folder(Validator& v, const char* flag, const std::string& path
     v.add(std::string(flag) + " = " + path + ": the folder " + parent.string() + " does not exist");
 }
 
+StabilityMethod asked_method(const io::Case& c, const std::string& flag) {
+  if (flag.empty()) return c.lobes.method;
+  if (const auto m = parse_stability_method(flag)) return *m;
+  throw InvalidInput({"--method = \"" + flag + "\": must be one of " + kStabilityMethodNames},
+                     "command line");
+}
+
 void check_outputs(const Outputs& o) {
   if (!o.plot.empty()) io::check_figure_path(o.plot);
   Validator v;

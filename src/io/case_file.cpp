@@ -728,12 +728,11 @@ void read_lobes(TableReader& t, Case& c) {
   if (auto v = t.number("depth_max_mm", Range{0.0, true, 10000.0, false}, Need::kOptional)) {
     s.depth_max_m = mm_to_m(*v);
   }
-  if (auto v = t.choice("method", {"auto", "closed-form", "multi-frequency", "full-discretization"},
+  if (auto v = t.choice("method",
+                        {"auto", "zero-order", "closed-form", "multi-frequency",
+                         "full-discretization", "full-discretization-dense"},
                         Need::kOptional)) {
-    s.method = *v == "auto"              ? StabilityMethod::kAuto
-               : *v == "closed-form"     ? StabilityMethod::kClosedForm
-               : *v == "multi-frequency" ? StabilityMethod::kMultiFrequency
-                                         : StabilityMethod::kFullDiscretization;
+    s.method = *parse_stability_method(*v);
   }
   if (auto v = t.integer("harmonics", 0, 50, Need::kOptional)) s.harmonics = *v;
   if (auto v = t.integer("steps_per_period", 0, 100000, Need::kOptional)) s.steps_per_period = *v;
@@ -903,20 +902,6 @@ const char* to_string(Process process) {
       return "bore-milling";
   }
   return "?";
-}
-
-const char* to_string(StabilityMethod method) {
-  switch (method) {
-    case StabilityMethod::kAuto:
-      return "auto";
-    case StabilityMethod::kClosedForm:
-      return "closed-form";
-    case StabilityMethod::kMultiFrequency:
-      return "multi-frequency";
-    case StabilityMethod::kFullDiscretization:
-      return "full-discretization";
-  }
-  return "auto";
 }
 
 // A `cutdyn plan` case: [bore], [cutter] and the [process] table (models.md S2; product.md).

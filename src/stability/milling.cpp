@@ -351,4 +351,34 @@ std::optional<std::string> milling_method_caveat(const MillingModel& model, Mill
          "screening method only; full-discretization (the default) decides";
 }
 
+const char* to_string(MillingMethod method) {
+  switch (method) {
+    case MillingMethod::kZeroOrder:
+      return "zero-order";
+    case MillingMethod::kMultiFrequency:
+      return "multi-frequency";
+    case MillingMethod::kFullDiscretization:
+      return "full-discretization";
+    case MillingMethod::kFullDiscretizationDense:
+      return "full-discretization-dense";
+  }
+  return "?";
+}
+
+MillingMethod milling_method(StabilityMethod asked) {
+  switch (asked) {
+    case StabilityMethod::kZeroOrder:
+    case StabilityMethod::kClosedForm:
+      return MillingMethod::kZeroOrder;
+    case StabilityMethod::kMultiFrequency:
+      return MillingMethod::kMultiFrequency;
+    case StabilityMethod::kFullDiscretizationDense:
+      return MillingMethod::kFullDiscretizationDense;
+    case StabilityMethod::kFullDiscretization:
+    case StabilityMethod::kAuto:
+      break;
+  }
+  return MillingMethod::kFullDiscretization;
+}
+
 }  // namespace cutdyn

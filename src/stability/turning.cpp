@@ -68,6 +68,23 @@ DelayedSystem turning_system(const TurningModel& model, double rpm) {
   return s;
 }
 
+TurningMethod turning_method(StabilityMethod asked, bool vibration) {
+  switch (asked) {
+    case StabilityMethod::kZeroOrder:
+    case StabilityMethod::kClosedForm:
+      return TurningMethod::kClosedForm;
+    case StabilityMethod::kMultiFrequency:
+      return TurningMethod::kMultiFrequency;
+    case StabilityMethod::kFullDiscretization:
+      return TurningMethod::kFullDiscretization;
+    case StabilityMethod::kFullDiscretizationDense:
+      return TurningMethod::kFullDiscretizationDense;
+    case StabilityMethod::kAuto:
+      break;
+  }
+  return vibration ? TurningMethod::kFullDiscretization : TurningMethod::kClosedForm;
+}
+
 const char* to_string(TurningMethod method) {
   switch (method) {
     case TurningMethod::kClosedForm:

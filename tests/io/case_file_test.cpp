@@ -274,7 +274,10 @@ TEST(CaseFileParse, EnumNames) {
   EXPECT_STREQ(to_string(StabilityMethod::kClosedForm), "closed-form");
   EXPECT_STREQ(to_string(StabilityMethod::kMultiFrequency), "multi-frequency");
   EXPECT_STREQ(to_string(StabilityMethod::kFullDiscretization), "full-discretization");
-  for (const char* method : {"auto", "closed-form", "multi-frequency", "full-discretization"}) {
+  EXPECT_STREQ(to_string(StabilityMethod::kZeroOrder), "zero-order");
+  EXPECT_STREQ(to_string(StabilityMethod::kFullDiscretizationDense), "full-discretization-dense");
+  for (const char* method : {"auto", "zero-order", "closed-form", "multi-frequency",
+                             "full-discretization", "full-discretization-dense"}) {
     const Case c = parse_case(with(std::string("[lobes]\nmethod = \"") + method + "\"\n"), "t");
     EXPECT_STREQ(to_string(c.lobes.method), method);
   }
@@ -357,8 +360,8 @@ TEST(CaseFileErrors, ValuesOutOfRange) {
                                "depth_max_mm = 1e5\nmethod = \"fast\"\n")),
               ElementsAre("lobes.rpm_steps = 1: must be an integer from 2 to 100000",
                           "lobes.depth_max_mm = 1e5: must be greater than 0 and at most 10000",
-                          "lobes.method = \"fast\": must be one of \"auto\", \"closed-form\", "
-                          "\"multi-frequency\", \"full-discretization\"",
+                          "lobes.method = \"fast\": must be one of \"auto\", \"zero-order\", \"closed-form\", "
+                          "\"multi-frequency\", \"full-discretization\", \"full-discretization-dense\"",
                           "lobes.harmonics = 51: must be an integer from 0 to 50",
                           "lobes.steps_per_period = -1: must be an integer from 0 to 100000"));
   EXPECT_THAT(problems_of(milling_with("[tool]\nteeth = 0\ndiameter_mm = 20\nhelix_deg = 90\n")),
@@ -496,8 +499,8 @@ TEST(CaseFileErrors, ValuesAreQuotedAsWritten) {
               ElementsAre("lobes.rpm_steps = 0x186A1: must be an integer from 2 to 100000",
                           "lobes.depth_max_mm = 1_000_0.5: must be greater than 0 and at most "
                           "10000",
-                          "lobes.method = 'Auto': must be one of \"auto\", \"closed-form\", "
-                          "\"multi-frequency\", \"full-discretization\""));
+                          "lobes.method = 'Auto': must be one of \"auto\", \"zero-order\", \"closed-form\", "
+                          "\"multi-frequency\", \"full-discretization\", \"full-discretization-dense\""));
   EXPECT_THAT(problems_of(milling_with("[operation]\ndirection = \"é-down\"\n")),
               ElementsAre("operation.direction = \"é-down\": must be one of \"down\", \"up\""));
 }

@@ -22,6 +22,7 @@
 #include "cutdyn/drive/feed_drive.hpp"
 #include "cutdyn/forces/oxley.hpp"
 #include "cutdyn/forces/work_material.hpp"
+#include "cutdyn/stability/method.hpp"
 #include "cutdyn/modal/modal_model.hpp"
 #include "cutdyn/plan/bore_milling.hpp"
 
@@ -31,10 +32,9 @@ namespace cutdyn::io {
 enum class Process { kTurning, kMilling, kBoreMilling };
 
 /// Stability method requested in [lobes].method.
-enum class StabilityMethod { kAuto, kClosedForm, kMultiFrequency, kFullDiscretization };
+using cutdyn::StabilityMethod;  // the library's: one name set everywhere
 
 const char* to_string(Process process);
-const char* to_string(StabilityMethod method);  // "auto", "closed-form", ...
 
 /// [cutting]. Which keys a command needs is checked by that command.
 struct CuttingSection {

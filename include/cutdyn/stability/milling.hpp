@@ -17,6 +17,7 @@
 #include "cutdyn/stability/critical_depth.hpp"
 #include "cutdyn/stability/delayed_system.hpp"
 #include "cutdyn/stability/full_discretization.hpp"
+#include "cutdyn/stability/method.hpp"
 
 namespace cutdyn {
 
@@ -67,6 +68,13 @@ enum class MillingMethod {
   kFullDiscretization,       // spectral radius by Arnoldi on the matrix-free period map
   kFullDiscretizationDense,  // spectral radius of the dense transition matrix
 };
+
+/// "zero-order", "multi-frequency", "full-discretization", "full-discretization-dense".
+const char* to_string(MillingMethod method);
+
+/// The milling method for the one asked: auto → the full discretization; zero-order and
+/// closed-form → the zero-order solution.
+MillingMethod milling_method(StabilityMethod asked);
 
 struct MillingStabilityOptions {
   MillingMethod method = MillingMethod::kFullDiscretization;

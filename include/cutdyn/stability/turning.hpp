@@ -16,6 +16,7 @@
 #include "cutdyn/stability/critical_depth.hpp"
 #include "cutdyn/stability/delayed_system.hpp"
 #include "cutdyn/stability/full_discretization.hpp"
+#include "cutdyn/stability/method.hpp"
 
 namespace cutdyn {
 
@@ -52,6 +53,10 @@ enum class TurningMethod {
 };
 
 const char* to_string(TurningMethod method);
+
+/// The turning method for the one asked: auto → the closed form without vibration, else the
+/// full discretization; zero-order and closed-form → the closed form.
+TurningMethod turning_method(StabilityMethod asked, bool vibration);
 
 struct TurningStabilityOptions {
   TurningMethod method = TurningMethod::kFullDiscretization;
