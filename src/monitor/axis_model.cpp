@@ -38,27 +38,33 @@ double AxisModel::equivalent_current_a(double fc, double w, double eps) const {
 }
 
 AxisModel zheng2012_axis(char axis) {
-  // [Zheng2012, table 2 and the final equations], read as SI (models.md S3 decision).
-  AxisModel m;
-  m.measure = CurrentMeasure::kRms;
+  // [Zheng2012, final equations] as printed, read in kgf·cm throughout (models.md S3, decision
+  // of 2026-11-23; docs/models/monitor.md §2 has the arithmetic): J kgf·cm·s², KT kgf·cm/A,
+  // X kgf·cm·s/rad, Tnzm kgf·cm, KBlf kgf·cm per newton of force; 1 kgf·cm = 0.0980665 N·m.
+  constexpr double kgf_cm = 0.0980665;
+  double printed[5];
   switch (axis) {
     case 'x':
     case 'X':
-      m = {0.017, 1.621, 0.2103, 15.60, 0.00632, CurrentMeasure::kRms};
+      printed[0] = 0.017, printed[1] = 1.621, printed[2] = 0.2103, printed[3] = 15.60,
+      printed[4] = 0.00632;
       break;
     case 'y':
     case 'Y':
-      m = {0.0141, 1.627, 0.1569, 14.58, 0.00592, CurrentMeasure::kRms};
+      printed[0] = 0.0141, printed[1] = 1.627, printed[2] = 0.1569, printed[3] = 14.58,
+      printed[4] = 0.00592;
       break;
     case 'z':
     case 'Z':
-      m = {0.019, 1.629, 0.2481, 17.91, 0.00391, CurrentMeasure::kRms};
+      printed[0] = 0.019, printed[1] = 1.629, printed[2] = 0.2481, printed[3] = 17.91,
+      printed[4] = 0.00391;
       break;
     default:
       throw InvalidInput({"axis = \"" + std::string(1, axis) +
                           "\": the zheng2012 preset has the axes x, y and z"});
   }
-  return m;
+  return {printed[0] * kgf_cm, printed[1] * kgf_cm, printed[2] * kgf_cm, printed[3] * kgf_cm,
+          printed[4] * kgf_cm, CurrentMeasure::kRms};
 }
 
 }  // namespace cutdyn

@@ -122,9 +122,12 @@ TEST(MonitorEstimator, StandstillAddsStaticFrictionUncertainty) {
   AxisForceEstimator est(zheng2012_calibration('x'));
   const ForceEstimate e = est.update(0.0, 1.0, -0.5, -0.5, 0.0);
   EXPECT_TRUE(e.standstill);
-  // Friction unknown in ±Tnzm: σ = Tnzm/√3/KBlf; the force from the current alone.
+  // Friction unknown in ±Tnzm: σ = Tnzm/√3/KBlf (1425 N: the kgf·cm factor cancels); the
+  // force from the current alone.
+  const AxisModel m = zheng2012_axis('x');
+  EXPECT_NEAR(e.force_sigma_n, m.friction_nm / std::sqrt(3.0) / m.force_gain_m, 1e-9);
   EXPECT_NEAR(e.force_sigma_n, 15.6 / std::sqrt(3.0) / 0.00632, 1e-9);
-  EXPECT_NEAR(e.force_n, 1.621 * std::sqrt(1.5 / 3.0) / 0.00632, 1e-9);
+  EXPECT_NEAR(e.force_n, m.torque_constant_nm_per_a * std::sqrt(1.5 / 3.0) / m.force_gain_m, 1e-9);
   AxisCalibration bad = zheng2012_calibration('x');
   bad.model.force_gain_m = 0.0;
   EXPECT_THROW(AxisForceEstimator{bad}, InvalidInput);

@@ -45,10 +45,12 @@ struct AxisModel {
                               double accel_rad_s2) const;
 };
 
-/// The source's preset for axis 'x', 'y' or 'z' (either case) [Zheng2012, table 2], read as SI
-/// (the decision of models.md S3): J = 0.017 / 0.0141 / 0.019 kg·m², KT = 1.621 / 1.627 /
-/// 1.629 N·m/A, X = 0.2103 / 0.1569 / 0.2481 N·m·s/rad, Tnzm = 15.60 / 14.58 / 17.91 N·m,
-/// KBlf = 0.00632 / 0.00592 / 0.00391 m; measure kRms. Throws InvalidInput for another axis.
+/// The source's preset for axis 'x', 'y' or 'z' (either case) [Zheng2012, final equations],
+/// its printed numbers read in kgf·cm throughout (models.md S3, 2026-11-23; the SI reading
+/// gave a friction torque above the motor's rated torque): J = 1.667e-3 / 1.383e-3 / 1.863e-3
+/// kg·m², KT = 0.1590 / 0.1596 / 0.1598 N·m/A, X = 0.02062 / 0.01539 / 0.02433 N·m·s/rad,
+/// Tnzm = 1.530 / 1.430 / 1.756 N·m, KBlf = 6.198e-4 / 5.806e-4 / 3.834e-4 m (the printed
+/// value × 0.0980665); measure kRms. Throws InvalidInput for another axis.
 AxisModel zheng2012_axis(char axis);
 
 /// sign(x) as used by the balance: +1, −1, or 0 at 0.
