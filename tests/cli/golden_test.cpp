@@ -52,6 +52,7 @@ const std::vector<Golden>& goldens() {
       {"force-ultrasonic", {"force", "ultrasonic-force"}, {}},
       {"force-aa5083", {"force", "ultrasonic-force-aa5083"}, {}},
       {"force-oxley", {"force", "oxley-aisi1045"}, {}},
+      {"drive-ermolaev", {"drive", "ermolaev2020", "--json", "{dir}/d.json"}, {"d.json"}},
   };
   return all;
 }
