@@ -157,6 +157,7 @@ double filtered_white_gain(double r, double a, double b) {
 
 void AxisForceEstimator::set_step(double dt) {
   dt_ = dt;
+  inv_dt_ = 1.0 / dt;
   r_ = std::exp(-units::kTwoPi * options_.bandwidth_hz * dt);
   // White noise on Id through ½(1 + z⁻¹)·Q; on ω through Q·(−X/2 − J/Δt + (−X/2 + J/Δt)·z⁻¹).
   var_current_gain_ = filtered_white_gain(r_, 0.5, 0.5);
@@ -199,8 +200,14 @@ ForceEstimate AxisForceEstimator::update(double t, double iu, double iv, double 
   // docs/models/monitor.md §1), so it is corrected to sqrt(max(Id² − 2σ_Id², 0)), whose mean is
   // Id_true to that order; the size of the correction enters σ (below), since near Id ≈ σ_Id
   // the correction itself is uncertain.
-  const double bias =
-      rotor_angle ? 0.0 : id - std::sqrt(std::max(id * id - 2.0 * id_noise_ * id_noise_, 0.0));
+  double bias = 0.0;
+  if (!rotor_angle && id_noise_ > 0.0) {
+    const double x = 2.0 * id_noise_ * id_noise_ / (id * id);  // inf at id = 0: the sqrt branch
+    // id·(1 − sqrt(1 − x)) = id·(x/2 + x²/8 + x³/16 + …): the series to 1e-7 relative for x <
+    // 0.01, without the square root.
+    bias = x < 0.01 ? id * x * (0.5 + x * (0.125 + 0.0625 * x))
+                    : id - std::sqrt(std::max(id * id - 2.0 * id_noise_ * id_noise_, 0.0));
+  }
   const double torque_current =
       rotor_angle ? signed_equivalent_current(iu, iv, iw, *rotor_angle, cal_.model.measure)
                   : sign_ * (id - bias);
@@ -215,7 +222,7 @@ ForceEstimate AxisForceEstimator::update(double t, double iu, double iv, double 
   } else {
     // The mean load torque over the step: the current term by the trapezoid rule, the
     // inertia term exactly (J times the mean acceleration), then Q.
-    const double accel = (w - prev_w_) / dt;
+    const double accel = (w - prev_w_) * inv_dt_;
     const double load = 0.5 * (u + prev_u_) - j_ * accel;
     const double g = 1.0 - r_;
     y1_ += g * (load - y1_);
@@ -234,10 +241,9 @@ ForceEstimate AxisForceEstimator::update(double t, double iu, double iv, double 
     // than three noise σ, or less than its own change over the last step (it may pass through
     // zero within a step): a load aiding the motion takes part of the friction; or (b) the
     // axis decelerates faster than friction alone can brake it (beyond three noise σ).
-    const double friction_torque = tf_ + x_ * std::abs(ws);
-    const double floor = std::max({0.5 * friction_torque, 3.0 * kt_ * id_noise_,
-                                   kt_ * std::abs(id - prev_id_)});
-    e.torque_sign_doubtful = kt_ * id <= floor ||
+    const double friction_torque = tf_ + x_ * std::abs(ws), torque = kt_ * id;
+    e.torque_sign_doubtful = torque <= 0.5 * friction_torque || torque <= 3.0 * kt_ * id_noise_ ||
+                             torque <= kt_ * std::abs(id - prev_id_) ||
                              sign_ * j_ * eps < -friction_torque - 3.0 * sigma_accel_torque_;
   }
   prev_u_ = u;

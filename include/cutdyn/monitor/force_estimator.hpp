@@ -135,7 +135,7 @@ class AxisForceEstimator {
   bool step_checked_ = false;
   double sign_ = 1.0;
   // Per-step constants, recomputed when the step changes.
-  double dt_ = -1.0, first_dt_ = 0.0;
+  double dt_ = -1.0, inv_dt_ = 0.0, first_dt_ = 0.0;
   double r_ = 0.0;                 // pole of Q for the step
   double var_current_gain_ = 1.0;  // variance of the filtered current term per unit white noise
   double var_obs_nm2_ = 0.0;       // variance of the filtered X·ω + J·Δω/Δt from speed noise
