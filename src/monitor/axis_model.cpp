@@ -38,7 +38,7 @@ double AxisModel::equivalent_current_a(double fc, double w, double eps) const {
 }
 
 AxisModel zheng2012_axis(char axis) {
-  // [Zheng2012, final equations] as printed, read in kgf·cm throughout (models.md S3, decision
+  // [Zheng2012, final equations] as printed, read in kgf·cm throughout (the decision
   // of 2026-11-23; docs/models/monitor.md §2 has the arithmetic): J kgf·cm·s², KT kgf·cm/A,
   // X kgf·cm·s/rad, Tnzm kgf·cm, KBlf kgf·cm per newton of force; 1 kgf·cm = 0.0980665 N·m.
   constexpr double kgf_cm = 0.0980665;

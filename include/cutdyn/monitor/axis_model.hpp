@@ -46,7 +46,7 @@ struct AxisModel {
 };
 
 /// The source's preset for axis 'x', 'y' or 'z' (either case) [Zheng2012, final equations],
-/// its printed numbers read in kgf·cm throughout (models.md S3, 2026-11-23; the SI reading
+/// its printed numbers read in kgf·cm throughout (docs/models/monitor.md §2; the SI reading
 /// gave a friction torque above the motor's rated torque): J = 1.667e-3 / 1.383e-3 / 1.863e-3
 /// kg·m², KT = 0.1590 / 0.1596 / 0.1598 N·m/A, X = 0.02062 / 0.01539 / 0.02433 N·m·s/rad,
 /// Tnzm = 1.530 / 1.430 / 1.756 N·m, KBlf = 6.198e-4 / 5.806e-4 / 3.834e-4 m (the printed
