@@ -45,7 +45,7 @@ TEST(MonitorEquivalentCurrent, NoiseSigmaMatchesMonteCarlo) {
 }
 
 TEST(MonitorAxisModel, PresetAndBalance) {
-  // The printed numbers in kgf·cm (× 0.0980665 N·m per kgf·cm), models.md S3.
+  // The printed numbers in kgf·cm (× 0.0980665 N·m per kgf·cm), docs/models/monitor.md §2.
   const double k = 0.0980665;
   const AxisModel x = zheng2012_axis('x');
   EXPECT_DOUBLE_EQ(x.friction_nm, 15.60 * k);  // 1.5298 N·m

@@ -15,7 +15,7 @@ namespace {
 
 using units::kPi;
 
-// product.md's example: d = 500 mm, L = 300 mm, t = 5 mm, D = 200 mm, z = 8, φ = 60°, λ = 0,
+// The example case (examples/bore-plan.toml): d = 500 mm, L = 300 mm, t = 5 mm, D = 200 mm, z = 8, φ = 60°, λ = 0,
 // v = 120 m/min, a_cp = 0.2 mm, k = 0.05; the offset at h* = (2dt − t²)/(8D) = 3.109 mm, where
 // the two edge sets share the allowance evenly (the example's former 10 mm is beyond
 // (dt − t²)/(2D) = 6.188 mm, where the outer edges no longer cut).
