@@ -181,7 +181,8 @@ TEST(MonitorCalibrationCoverage, ViscousSlightlyBelowZeroIsClampedWithAWarning) 
     testing::DriveAxisParameters q = p;
     q.noise_a = 0.1;
     std::vector<AxisRun> runs;
-    for (const auto& d : idle) runs.push_back(testing::noisy_log(q, d, 0.005, 100 * seed + runs.size()));
+    for (const auto& d : idle)
+      runs.push_back(testing::noisy_log(q, d, 0.005, 100 * seed + static_cast<unsigned>(runs.size())));
     AxisModel m = testing::drive_axis_model(p);
     const IdleFit f = fit_idle(m, runs);
     ASSERT_EQ(f.report.status, CalibrationStatus::kSuccess);

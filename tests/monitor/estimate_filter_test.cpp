@@ -13,6 +13,7 @@
 #include "cutdyn/drive/motor_currents.hpp"
 #include "cutdyn/monitor/force_estimator.hpp"
 #include "cutdyn/simulate/milling_simulation.hpp"
+#include "monitor/drive_chain.hpp"
 
 namespace cutdyn {
 namespace {
@@ -90,32 +91,6 @@ TEST(MonitorEstimateFilter, NoiseSigmaMatchesSimulation) {
   EXPECT_NEAR(sd / sig, 1.0, 0.03) << sd << " vs " << sig;
 }
 
-// The drive of an axis (J, X, Tnzm, KBlf, KT as the x preset of docs/models/monitor.md §2
-// test cases) under a PI speed loop of about `loop_hz` (Kp = 2π·loop_hz·J, Ki = Kp·2π·loop_hz/4).
-constexpr double kJ = 0.017, kX = 0.2103, kTnzm = 15.60, kKblf = 0.00632, kKt = 1.621;
-
-FeedAxis axis_with_loop(double loop_hz) {
-  FeedAxis a;
-  a.name = "x";
-  Transmission& t = a.drive.transmission;
-  t.kind = Transmission::Kind::kLeverArm;
-  t.output_diameter_m = 2 * kKblf / 0.1;
-  t.ratio = 0.1;
-  t.idle_torque_nm = kTnzm;
-  a.drive.model = FeedDrive::Model::kDynamic;
-  a.drive.inertia_kg_m2 = kJ;
-  a.drive.viscous_nm_s_per_rad = kX;
-  a.drive.kp_nm_s_per_rad = kTwoPi * loop_hz * kJ;
-  a.drive.ki_nm_per_rad = a.drive.kp_nm_s_per_rad * kTwoPi * loop_hz / 4.0;
-  PmsmMotor m;
-  m.pole_pairs = 4;
-  m.torque_constant_nm_per_a = kKt;
-  m.measure = CurrentMeasure::kRms;
-  m.noise_a = 0.0;
-  a.motor = m;
-  return a;
-}
-
 struct FilterCase {
   double loop_hz, rpm, bandwidth_hz;
 };
@@ -129,39 +104,26 @@ TEST_P(MonitorEstimateFilterChain, EstimateIsTheForceThroughTheStatedFilter) {
   // mean, here by the trapezoid rule, then Q) within 2 % RMS, and its tooth harmonic must
   // have H's gain (5 %) and lag (5°) relative to the true force's.
   const FilterCase c = GetParam();
-  MillingCut cut;
-  cut.teeth = 4;
-  cut.diameter_m = 0.05;
-  cut.helix_rad = units::deg_to_rad(30.0);
-  cut.entry_rad = 0.0;
-  cut.exit_rad = 0.5 * kPi;
-  cut.spindle_rad_s = units::rpm_to_rad_per_s(c.rpm);
-  cut.feed_per_tooth_m = 0.25e-3;
-  cut.width_m = 4e-3;
-  cut.law = MechanisticForceLaw{2e9, 6e8, 0.0, 0.0};
-  cut.regenerative = false;
-  MillingSimulationOptions so;
-  so.revolutions = c.rpm > 1000 ? 60 : 8;
-  so.summary_revolutions = 1;
-  so.steps_per_tooth = 50;
-  so.max_recorded_samples = 1000000;
-  const MillingSimulationResult sim = simulate_milling(cut, so);
+  double feed = 0.0;
+  const MillingSimulationResult sim =
+      testing::milling_cut(c.rpm, false, c.rpm > 1000 ? 60 : 8, feed);
   std::vector<double> fn, zero(sim.fx_n.size(), 0.0);
   for (double f : sim.fx_n) fn.push_back(-f);  // resistance to the +x feed
-  const double feed = cut.feed_per_tooth_m * cut.teeth * cut.spindle_rad_s / kTwoPi;
-  const FeedAxis axis = axis_with_loop(c.loop_hz);
+  testing::DriveAxisParameters drive;  // the x axis of the tests, no noise
+  drive.loop_hz = c.loop_hz;
+  const FeedAxis axis = testing::drive_axis(drive);
   const FeedDriveResult d = simulate_feed_drive(axis, sim.time_s, sim.fx_n, zero, zero, feed);
   const PhaseCurrents p = motor_currents(*axis.motor, sim.time_s, d.motor_torque_nm, d.speed_rad_s);
 
   AxisCalibration cal;
-  cal.model = {kJ, kKt, kX, kTnzm, kKblf, CurrentMeasure::kRms};
+  cal.model = testing::drive_axis_model(drive);
   EstimatorOptions eo;
   eo.bandwidth_hz = c.bandwidth_hz;
   AxisForceEstimator est(cal, eo);
   const double dt = sim.time_s[1] - sim.time_s[0];
   const EstimateFilter h{c.bandwidth_hz, dt};
   const double r = std::exp(-kTwoPi * c.bandwidth_hz * dt);
-  const double f_tooth = cut.teeth * c.rpm / 60.0;
+  const double f_tooth = 4 * c.rpm / 60.0;  // 4 teeth
   const double settle = 0.5 * sim.time_s.back();
   double y1 = fn[0], y2 = fn[0], se = 0, sf = 0;
   std::complex<double> he = 0, hf = 0;
