@@ -405,20 +405,17 @@ BoreMillingPlan optimise_bore_milling(const BoreMillingCase& c, const BoreMillin
     }
     return best_s;
   };
-  const double best_h = h_star;
   double best_t;
-  best_feed(best_h, best_t);
+  const double s0 = best_feed(h_star, best_t);
   if (!std::isfinite(best_t)) {
     plan.reason = "no axial feed at h* = " + mm_text(h_star) +
                   " meets every limit (accuracy, uncut ridges, chip thickness, faceting, speeds)";
     return plan;
   }
-  double t0;
-  const double s0 = best_feed(best_h, t0);
-  const PlanPoint p = plan_point(c, lim, best_h, s0);
+  const PlanPoint p = plan_point(c, lim, h_star, s0);
   plan.feasible = true;
   plan.chosen = c;
-  plan.chosen.offset_m = best_h;
+  plan.chosen.offset_m = h_star;
   plan.chosen.cutting_speed_m_per_s = kPi * D * p.n_u;
   plan.result = bore_milling(plan.chosen, s0, p.n_o);
   plan.binding = p.binding;

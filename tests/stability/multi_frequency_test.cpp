@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <utility>
+
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/stability/milling.hpp"
 #include "cutdyn/stability/tlusty.hpp"
@@ -59,6 +61,19 @@ TEST(MultiFrequency, ConvergesWithTheNumberOfHarmonics) {
   EXPECT_LT(previous_change, 2e-3);
 }
 
+// The full discretization (steps 1/128 of the shortest period, depth to 1e-5) and the
+// multi-frequency method at one speed, both searched up to `depth_max_m`.
+std::pair<MillingBoundary, MillingBoundary> reference_and_multi_frequency(const MillingModel& m,
+                                                                          double rpm,
+                                                                          double depth_max_m) {
+  MillingStabilityOptions fd, mf;
+  fd.depth_max_m = mf.depth_max_m = depth_max_m;
+  fd.rel_tol = 1e-5;
+  fd.fd.max_step_fraction = 1.0 / 128.0;
+  mf.method = MillingMethod::kMultiFrequency;
+  return {milling_critical_depth(m, rpm, fd), milling_critical_depth(m, rpm, mf)};
+}
+
 // The multi-frequency window must reach every mode: with a fixed 5 harmonics of a 67–233 Hz
 // tooth frequency the 1420/1500 Hz modes were outside it, and the method called speeds
 // "stable to 20 mm" where the full discretization finds 1.1 mm. Now its depth agrees with the
@@ -67,13 +82,7 @@ TEST(MultiFrequency, ConvergesWithTheNumberOfHarmonics) {
 TEST(MultiFrequency, WindowCoversEveryModeOfAFourModeStructure) {
   const MillingModel m = testing::four_mode_milling();
   for (double rpm : {2000.0, 3000.0, 5000.0, 7000.0, 9000.0, 12800.0, 16000.0}) {
-    MillingStabilityOptions fd, mf;
-    fd.depth_max_m = mf.depth_max_m = 0.02;
-    fd.rel_tol = 1e-5;
-    fd.fd.max_step_fraction = 1.0 / 128.0;
-    mf.method = MillingMethod::kMultiFrequency;
-    const MillingBoundary a = milling_critical_depth(m, rpm, fd);
-    const MillingBoundary b = milling_critical_depth(m, rpm, mf);
+    const auto [a, b] = reference_and_multi_frequency(m, rpm, 0.02);
     ASSERT_TRUE(a.boundary.found) << rpm;
     ASSERT_TRUE(b.boundary.found) << rpm;
     EXPECT_FALSE(b.boundary.truncated);
@@ -138,13 +147,7 @@ TEST(MultiFrequency, FlipBoundaryAtTheEndOfTheScan) {
   // finds them as real eigenvalues at ω = Ω/2 and says "flip".
   const MillingModel m = testing::insperger_benchmark(0.05, false);
   for (double rpm : {10000.0, 15000.0}) {
-    MillingStabilityOptions fd, mf;
-    fd.depth_max_m = mf.depth_max_m = 0.01;
-    fd.rel_tol = 1e-5;
-    fd.fd.max_step_fraction = 1.0 / 128.0;
-    mf.method = MillingMethod::kMultiFrequency;
-    const MillingBoundary a = milling_critical_depth(m, rpm, fd);
-    const MillingBoundary b = milling_critical_depth(m, rpm, mf);
+    const auto [a, b] = reference_and_multi_frequency(m, rpm, 0.01);
     ASSERT_TRUE(a.boundary.found && b.boundary.found) << rpm;
     EXPECT_EQ(a.boundary.bifurcation, Bifurcation::kFlip) << rpm;
     EXPECT_EQ(b.boundary.bifurcation, Bifurcation::kFlip) << rpm;
