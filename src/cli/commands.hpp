@@ -134,15 +134,19 @@ struct MonitorTeachArgs {
   MonitorEstimatorArgs estimator;
   std::vector<std::string> inputs;  // reference runs (one cycle each)
   std::string out;                  // --out band.json (required)
+  // A milling cut's spindle speed and teeth (both or neither): the level is then averaged
+  // over the tooth period (BandOptions::for_milling); the options below, where given, win.
+  std::optional<double> rpm;
+  std::optional<int> teeth;
   double bin_s = 0.01;
-  double smoothing_s = 0.01;
+  std::optional<double> smoothing_s;
   double k_sigma = 3.0;
   double relative_margin = 0.1;
   double absolute_margin_n = 0.0;
   double peak_margin = 0.05;
   double cutting_fraction = 0.2;
-  double phase_tolerance_s = 0.1;
-  double average_s = 0.0;
+  std::optional<double> phase_tolerance_s;
+  std::optional<double> average_s;
 };
 int run_monitor_teach(const MonitorTeachArgs& args, std::ostream& out, std::ostream& err);
 

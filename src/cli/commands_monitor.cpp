@@ -832,16 +832,21 @@ int run_monitor_teach(const MonitorTeachArgs& args, std::ostream& out, std::ostr
   const bool stop = stop_at_bad_line(args.estimator.on_bad_line);
   check_out_flag(args.out, "--out");
   const EstimatorOptions options = estimator_options(args.estimator);
-  BandOptions band_options;
+  if (args.rpm.has_value() != args.teeth.has_value())
+    throw InvalidInput({args.rpm ? "--rpm needs --teeth (the tooth period is 60/(teeth·rpm))"
+                                 : "--teeth needs --rpm (the tooth period is 60/(teeth·rpm))"},
+                       "command line");
+  BandOptions band_options =
+      args.rpm ? BandOptions::for_milling(*args.rpm, *args.teeth) : BandOptions{};
   band_options.bin_s = args.bin_s;
-  band_options.smoothing_s = args.smoothing_s;
+  if (args.smoothing_s) band_options.smoothing_s = *args.smoothing_s;
   band_options.k_sigma = args.k_sigma;
   band_options.relative_margin = args.relative_margin;
   band_options.absolute_margin_n = args.absolute_margin_n;
   band_options.peak_margin = args.peak_margin;
   band_options.cutting_fraction = args.cutting_fraction;
-  band_options.phase_tolerance_s = args.phase_tolerance_s;
-  band_options.average_s = args.average_s;
+  if (args.phase_tolerance_s) band_options.phase_tolerance_s = *args.phase_tolerance_s;
+  if (args.average_s) band_options.average_s = *args.average_s;
   if (const auto p = band_options.validate(); !p.empty()) throw InvalidInput(p, "command line");
   if (args.inputs.empty())
     throw InvalidInput({"REFERENCE: give at least one reference run"}, "command line");
@@ -896,6 +901,10 @@ int run_monitor_teach(const MonitorTeachArgs& args, std::ostream& out, std::ostr
   io::write_json(outputs.open(args.out), doc);
   outputs.commit();
   out << "  wrote " << args.out << "\n";
+  if (!args.rpm && !args.average_s)
+    err << "cutdyn: warning: monitor teach: no --rpm and --teeth: the monitored level keeps the "
+           "tooth pattern (no averaging over the tooth period), so the band is wide and a broken "
+           "tooth may take several tooth periods to be caught; give the cut's --rpm and --teeth\n";
   return 0;
 }
 
@@ -974,8 +983,14 @@ std::function<int(std::ostream&, std::ostream&)> add_monitor_command(CLI::App& a
   estimator(c3, teach->estimator);
   c3->add_option("--out", teach->out, "write the band (JSON)")->required();
   c3->add_option("--bin-s", teach->bin_s, "band bin width (default 0.01 s)");
+  c3->add_option("--rpm", teach->rpm,
+                 "spindle speed of the cut (with --teeth): the level is averaged over the tooth "
+                 "period T = 60/(teeth·rpm) and smoothed with 0.12·T, the phase tolerance is one "
+                 "revolution; a broken tooth is then caught within about one tooth period");
+  c3->add_option("--teeth", teach->teeth, "number of teeth of the cutter (with --rpm)");
   c3->add_option("--smoothing-s", teach->smoothing_s,
-                 "time constant of the monitored level (default 0.01 s)");
+                 "time constant of the monitored level (default 0.01 s; with --rpm and --teeth "
+                 "0.12 tooth periods)");
   c3->add_option("--k-sigma", teach->k_sigma, "half-width: k·sigma (default 3) ...");
   c3->add_option("--relative-margin", teach->relative_margin, "... + this·mean (default 0.1) ...");
   c3->add_option("--absolute-margin-n", teach->absolute_margin_n, "... + this (default 0 N) ...");
@@ -984,10 +999,11 @@ std::function<int(std::ostream&, std::ostream&)> add_monitor_command(CLI::App& a
   c3->add_option("--phase-tolerance-s", teach->phase_tolerance_s,
                  "each bin takes the widest limits within ± this much cycle time, so that the "
                  "band does not depend on the spindle phase at cycle start: at least one spindle "
-                 "revolution, 60/rpm (default 0.1 s)");
+                 "revolution, 60/rpm (default 0.1 s; with --rpm: 60/rpm)");
   c3->add_option("--average-s", teach->average_s,
                  "moving average of |F| over this window before the smoothing: the tooth period "
-                 "60/(teeth·rpm) removes the tooth pattern (default 0: none)");
+                 "60/(teeth·rpm) removes the tooth pattern (default 0: none; with --rpm and "
+                 "--teeth: the tooth period)");
   c3->add_option("--cutting-fraction", teach->cutting_fraction,
                  "bins whose mean is at least this fraction of the peak are cutting (default "
                  "0.2); breakage is watched there");

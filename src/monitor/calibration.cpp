@@ -3,6 +3,8 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <map>
 
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
@@ -78,6 +80,8 @@ struct Window {
   double torque = 0.0;       // mean s·KT·Id
   double force = 0.0;        // mean reference force
   double current_ss = 0.0;   // Σ(Id − mean)²
+  double zero_ss = 0.0;      // Σ(i0 − mean)², i0 = (iu + iv + iw)/3 the zero-sequence current
+  int stretch = 0;           // which run of consecutive used windows (one level) it belongs to
   double speed_ss = 0.0;     // Σ of squared residuals of ω about its line
   bool steady = false;
   // What the fits use: means with the weight w(t) = sin²(π(t − t_first)/(t_last − t_first)),
@@ -89,18 +93,139 @@ struct Window {
   bool magnitude = false;        // no rotor angle: Id is a magnitude, biased up by noise
 };
 
-// The noise bias of a magnitude (docs/models/monitor.md §1): E[Id] ≈ Id_true + σ²/Id_true, σ
-// the scatter of Id (first order). The correction of a mean magnitude I: I − sqrt(max(I² − 2σ²,
-// 0)) (≈ σ²/I).
-double magnitude_bias(double current_abs, double sigma) {
-  return current_abs - std::sqrt(std::max(current_abs * current_abs - 2.0 * sigma * sigma, 0.0));
+// Removes the noise bias from the windows' torque means (signed like the motion). The mean of
+// a noisy magnitude is σ·M(a/σ) for a true current a (docs/models/monitor.md §1, at any
+// signal-to-noise ratio), so its bias is b = m̄ − g(m̄), g = magnitude_from_mean. The bias
+// depends on the level a only, which is the same in every window of a stretch (consecutive
+// steady windows of one run: one speed, one load): b is evaluated once per stretch at its
+// pooled mean magnitude m̄ and subtracted from each window. (Inverting each window's own mean
+// would be biased itself where ν = a/σ is small: M is flat there, so a window's scatter moves
+// the inverse a lot, and not symmetrically.)
+//
+// The correction is common to the windows of a stretch, so the scatter of the windows about
+// the fit does not show its error: where ν is small g' = 1/M'(ν) is large (≈ 3 at ν = 0.6) and
+// the stretch's level carries g'²·var(m̄) (var(m̄) = magnitude_variance·1.5/N for N samples
+// under the sin² weights), and every stretch shares the error of σ. Both are returned and
+// added to the fits' covariance (correction_covariance).
+struct BiasCorrection {
+  std::map<int, double> level_var_nm2;  // per stretch: var of KT·b from its pooled mean
+  std::map<int, double> dtorque_dsigma;  // per stretch: ∂(KT·b)/∂σ, N·m/A
+};
+
+BiasCorrection correct_magnitude_bias(std::vector<Window>& rows, const AxisModel& m,
+                                      double sigma) {
+  BiasCorrection out;
+  const double kt = m.torque_constant_nm_per_a;
+  std::size_t first = 0;
+  while (first < rows.size()) {
+    std::size_t last = first;
+    double sum = 0.0, count = 0.0;
+    while (last < rows.size() && rows[last].stretch == rows[first].stretch) {
+      if (rows[last].magnitude) {
+        sum += rows[last].fit_current_abs * rows[last].n;
+        count += rows[last].n;
+      }
+      ++last;
+    }
+    if (count > 0.0 && sigma > 0.0) {
+      const double mean = sum / count;
+      const MagnitudeBias b = magnitude_bias(mean, sigma);
+      for (std::size_t k = first; k < last; ++k)
+        if (rows[k].magnitude) rows[k].fit_torque -= rows[k].sign * kt * b.bias_a;
+      const double var_mean = 1.5 * magnitude_variance(mean - b.bias_a, sigma) / count;
+      const int id = rows[first].stretch;
+      out.level_var_nm2[id] = kt * kt * b.d_mean * b.d_mean * var_mean;
+      out.dtorque_dsigma[id] = kt * b.d_sigma;
+    }
+    first = last;
+  }
+  return out;
 }
 
-// Removes the noise bias from the windows' torque means (signed like the motion).
-void correct_magnitude_bias(std::vector<Window>& rows, const AxisModel& m, double sigma) {
-  for (Window& w : rows)
-    if (w.magnitude)
-      w.fit_torque -= w.sign * m.torque_constant_nm_per_a * magnitude_bias(w.fit_current_abs, sigma);
+// The covariance the bias correction adds to a linear least-squares fit θ = inv·Aᵀy of the
+// windows (A: one row per window), y_w carrying −sign_w·KT·b_s of its stretch s:
+// inv·(Σ_s var_s·u_s·u_sᵀ + var(σ)·d·dᵀ)·inv, u_s = Σ_{w∈s} sign_w·A_w, d = Σ_s ∂(KT·b_s)/∂σ·u_s.
+Eigen::MatrixXd correction_covariance(const std::vector<Window>& rows, const Eigen::MatrixXd& a,
+                                      const Eigen::MatrixXd& inv, const BiasCorrection& c,
+                                      double sigma_var) {
+  const Eigen::Index p = a.cols();
+  Eigen::MatrixXd middle = Eigen::MatrixXd::Zero(p, p);
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(p);
+  std::map<int, Eigen::VectorXd> u;
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    if (!rows[k].magnitude || !c.level_var_nm2.count(rows[k].stretch)) continue;
+    auto [it, fresh] = u.try_emplace(rows[k].stretch, Eigen::VectorXd::Zero(p));
+    it->second += rows[k].sign * a.row(static_cast<Eigen::Index>(k)).transpose();
+  }
+  for (const auto& [id, us] : u) {
+    middle += c.level_var_nm2.at(id) * us * us.transpose();
+    d += c.dtorque_dsigma.at(id) * us;
+  }
+  middle += sigma_var * d * d.transpose();
+  return inv * middle * inv;
+}
+
+// σ of the equivalent current from the pooled scatter of |Id| in steady windows. Where the
+// current is a magnitude, its scatter is σ²·V(ν) with V = 3 + ν² − M(ν)², which falls to 3 −
+// 8/π ≈ 0.45 as ν = a/σ → 0: σ² = Σ SS_w / Σ (n_w − 1)·V(ν_w), ν_w from each window's mean
+// magnitude, iterated from V = 1 (a fixed point; at a high signal-to-noise ratio V = 1 and
+// the scatter is σ² itself).
+double current_noise_from_scatter(const std::vector<Window>& rows, double current_ss,
+                                  double dof) {
+  if (!(dof > 0.0)) return 0.0;
+  double sigma = std::sqrt(current_ss / dof);
+  for (int iteration = 0; iteration < 50 && sigma > 0.0; ++iteration) {
+    double expected = 0.0;  // Σ (n_w − 1)·V(ν_w)
+    for (const Window& w : rows) {
+      const double mean = std::abs(w.current);
+      const double a = w.magnitude ? magnitude_from_mean(mean, sigma) : mean;
+      const double v = w.magnitude ? magnitude_variance(a, sigma) / (sigma * sigma) : 1.0;
+      expected += (w.n - 1.0) * v;
+    }
+    const double next = std::sqrt(current_ss / expected);
+    const bool done = std::abs(next - sigma) <= 1e-10 * sigma;
+    sigma = next;
+    if (done) break;
+  }
+  return sigma;
+}
+
+// σ of the equivalent current. The true phase currents of a three-phase motor sum to zero, so
+// where the three are measured with independent noise σ_ph the zero-sequence current i0 =
+// (iu + iv + iw)/3 is noise alone, of variance σ_ph²/3 whatever the load: σ_ph² = 3·(pooled
+// scatter of i0) is then exact at any signal-to-noise ratio, which the noise-bias correction
+// needs (at ν = a/σ ≈ 0.5 a 3 % error in σ moves a by a third). Where the phases sum to zero
+// (one computed from the other two) the scatter of |Id| stands in, and a warning says so if
+// the current is then within three noise σ somewhere.
+double current_noise_of(const std::vector<Window>& rows, const AxisModel& m,
+                        std::vector<std::string>& warnings, double& variance) {
+  double current_ss = 0.0, zero_ss = 0.0, dof = 0.0;
+  for (const Window& w : rows) {
+    current_ss += w.current_ss;
+    zero_ss += w.zero_ss;
+    dof += w.n - 1.0;
+  }
+  variance = 0.0;
+  if (!(dof > 0.0)) return 0.0;
+  const double scatter = current_noise_from_scatter(rows, current_ss, dof);
+  // Either estimate is a pooled variance of dof degrees of freedom: var(σ̂) = σ²/(2·dof).
+  const auto with_variance = [&](double sigma) {
+    variance = sigma * sigma / (2.0 * dof);
+    return sigma;
+  };
+  const double zero_sequence = equivalent_current_sigma(std::sqrt(3.0 * zero_ss / dof), m.measure);
+  if (zero_sequence > 0.01 * scatter) return with_variance(zero_sequence);
+  double weakest = std::numeric_limits<double>::infinity();
+  for (const Window& w : rows)
+    if (w.magnitude) weakest = std::min(weakest, std::abs(w.current));
+  if (weakest < 3.0 * scatter)
+    warnings.push_back(
+        "the phase currents sum to zero (one of them computed?), so the current noise (" +
+        format_value(scatter) + " A) is estimated from the scatter of |Id|; the smallest mean "
+        "current, " + format_value(weakest) + " A, is within three noise sigma of zero, where the "
+        "correction of the magnitude's noise bias depends on that estimate: log the rotor angle "
+        "for a signed current without that bias");
+  return with_variance(scatter);
 }
 
 // Robust standard deviation of the white noise on the measured speed of one run, from the
@@ -167,14 +292,18 @@ std::vector<Window> windows_of(const AxisModel& m, const AxisRun& run,
       w.torque /= n;
       w.force /= n;
       w.sign = standstill ? 0.0 : moving_sign;
-      double stt = 0.0, stw = 0.0;
+      double stt = 0.0, stw = 0.0, zero_sum = 0.0, zero_sq = 0.0;
       for (std::size_t k = i; k < j; ++k) {
         const double dt = run[k].time_s - t_mean;
         stt += dt * dt;
         stw += dt * (run[k].speed_rad_s - w.speed);
         const double id = torque_current_a(run[k], m.measure);
         w.current_ss += (id - w.current) * (id - w.current);
+        const double i0 = (run[k].iu_a + run[k].iv_a + run[k].iw_a) / 3.0;
+        zero_sum += i0;
+        zero_sq += i0 * i0;
       }
+      w.zero_ss = std::max(zero_sq - zero_sum * zero_sum / n, 0.0);
       w.accel = stt > 0.0 ? stw / stt : 0.0;
       for (std::size_t k = i; k < j; ++k) {
         const double r = run[k].speed_rad_s - w.speed - w.accel * (run[k].time_s - t_mean);
@@ -231,6 +360,32 @@ std::vector<Window> windows_of(const AxisModel& m, const AxisRun& run,
   return out;
 }
 
+// The steady windows of the runs, each marked with its stretch (a new one at each run and
+// after each window left out), and the count of those left out. A window is used if it is
+// steady and so are its neighbours: the edges of a speed change are left out (J·ε of a window
+// that holds a corner of the speed profile is not its speed line's slope).
+std::vector<Window> used_windows(const AxisModel& m, const std::vector<AxisRun>& runs,
+                                 const CalibrationOptions& o, int& rejected) {
+  std::vector<Window> rows;
+  int stretch = 0;
+  for (const AxisRun& run : runs) {
+    const std::vector<Window> ws = windows_of(m, run, o);
+    ++stretch;
+    for (std::size_t k = 0; k < ws.size(); ++k) {
+      const bool use =
+          ws[k].steady && (k == 0 || ws[k - 1].steady) && (k + 1 == ws.size() || ws[k + 1].steady);
+      if (!use) {
+        ++rejected;
+        ++stretch;
+        continue;
+      }
+      rows.push_back(ws[k]);
+      rows.back().stretch = stretch;
+    }
+  }
+  return rows;
+}
+
 int distinct_speeds(std::vector<double> speeds) {
   std::sort(speeds.begin(), speeds.end());
   int groups = 0;
@@ -253,33 +408,21 @@ IdleFit fit_idle(const AxisModel& m, const std::vector<AxisRun>& runs,
   v.throw_if_any();
 
   IdleFit fit;
-  std::vector<Window> rows;
-  double current_ss = 0.0, speed_ss = 0.0, current_dof = 0.0, speed_dof = 0.0;
-  for (const AxisRun& run : runs) {
-    const std::vector<Window> ws = windows_of(m, run, o);
-    for (std::size_t k = 0; k < ws.size(); ++k) {
-      // Steady, and so are its neighbours: the edges of a speed change are left out.
-      const bool use =
-          ws[k].steady && (k == 0 || ws[k - 1].steady) && (k + 1 == ws.size() || ws[k + 1].steady);
-      if (!use) {
-        ++fit.report.windows_rejected;
-        continue;
-      }
-      rows.push_back(ws[k]);
-      current_ss += ws[k].current_ss;
-      current_dof += ws[k].n - 1.0;
-      speed_ss += ws[k].speed_ss;
-      speed_dof += ws[k].n - 2.0;
-    }
+  std::vector<Window> rows = used_windows(m, runs, o, fit.report.windows_rejected);
+  double speed_ss = 0.0, speed_dof = 0.0;
+  for (const Window& w : rows) {
+    speed_ss += w.speed_ss;
+    speed_dof += w.n - 2.0;
   }
   FitReport& r = fit.report;
   r.windows = static_cast<int>(rows.size());
   std::vector<double> magnitudes;
   for (const Window& w : rows) magnitudes.push_back(std::abs(w.speed));
   r.distinct_speeds = distinct_speeds(magnitudes);
-  if (current_dof > 0.0) fit.current_noise_a = std::sqrt(current_ss / current_dof);
+  double noise_var = 0.0;
+  fit.current_noise_a = current_noise_of(rows, m, fit.report.warnings, noise_var);
   if (speed_dof > 0.0) fit.speed_noise_rad_s = std::sqrt(speed_ss / speed_dof);
-  correct_magnitude_bias(rows, m, fit.current_noise_a);
+  const BiasCorrection bias = correct_magnitude_bias(rows, m, fit.current_noise_a);
   if (r.windows < 3) {
     r.status = CalibrationStatus::kTooFewWindows;
     r.message = "step 1 needs at least 3 steady windows; found " + std::to_string(r.windows) +
@@ -316,9 +459,10 @@ IdleFit fit_idle(const AxisModel& m, const std::vector<AxisRun>& runs,
   r.residual_sigma_nm = std::sqrt(var);
   fit.friction_nm = theta(0);
   fit.viscous_nm_s_per_rad = theta(1);
-  fit.friction_sigma_nm = std::sqrt(var * inv(0, 0));
-  fit.viscous_sigma = std::sqrt(var * inv(1, 1));
-  fit.covariance = var * inv(0, 1);
+  const Eigen::MatrixXd extra = correction_covariance(rows, a, inv, bias, noise_var);
+  fit.friction_sigma_nm = std::sqrt(var * inv(0, 0) + extra(0, 0));
+  fit.viscous_sigma = std::sqrt(var * inv(1, 1) + extra(1, 1));
+  fit.covariance = var * inv(0, 1) + extra(0, 1);
   // X slightly below 0 (within 3σ, or rounding of an X that is 0): the axis has no measurable
   // viscous loss. Clamp X to 0 and refit Tnzm alone (y = Tnzm·sign ω); X keeps its σ (the
   // truth may be up to that), the covariance is 0. Further below 0 the fit is left as it is
@@ -337,7 +481,9 @@ IdleFit fit_idle(const AxisModel& m, const std::vector<AxisRun>& runs,
                          "): clamped to 0, Tnzm refitted alone");
     fit.friction_nm = tf;
     fit.viscous_nm_s_per_rad = 0.0;
-    fit.friction_sigma_nm = std::sqrt(var1 / static_cast<double>(n));
+    const Eigen::MatrixXd inv1 = Eigen::MatrixXd::Constant(1, 1, 1.0 / static_cast<double>(n));
+    const Eigen::MatrixXd extra1 = correction_covariance(rows, a.leftCols(1), inv1, bias, noise_var);
+    fit.friction_sigma_nm = std::sqrt(var1 / static_cast<double>(n) + extra1(0, 0));
     fit.covariance = 0.0;
     r.residual_sigma_nm = std::sqrt(var1);
     r.residual_rms_nm = std::sqrt(ss1 / static_cast<double>(n));
@@ -357,23 +503,9 @@ LoadFit fit_load(const AxisCalibration& c, const std::vector<AxisRun>& runs,
 
   LoadFit fit;
   FitReport& r = fit.report;
-  std::vector<Window> rows;
-  for (const AxisRun& run : runs) {
-    const std::vector<Window> ws = windows_of(m, run, o);
-    for (std::size_t k = 0; k < ws.size(); ++k) {
-      // As in step 1: steady windows with steady neighbours (J·ε of a window that holds a
-      // corner of the speed profile is not its speed line's slope).
-      const bool use =
-          ws[k].steady && (k == 0 || ws[k - 1].steady) && (k + 1 == ws.size() || ws[k + 1].steady);
-      if (!use) {
-        ++r.windows_rejected;
-        continue;
-      }
-      rows.push_back(ws[k]);
-    }
-  }
+  std::vector<Window> rows = used_windows(m, runs, o, r.windows_rejected);
   r.windows = static_cast<int>(rows.size());
-  correct_magnitude_bias(rows, m, c.current_noise_a);
+  const BiasCorrection bias = correct_magnitude_bias(rows, m, c.current_noise_a);
   if (r.windows < 2) {
     r.status = CalibrationStatus::kTooFewWindows;
     r.message = "step 2 needs at least 2 steady windows; found " + std::to_string(r.windows);
@@ -410,7 +542,16 @@ LoadFit fit_load(const AxisCalibration& c, const std::vector<AxisRun>& runs,
   r.r_squared = ss_tot > 0.0 ? 1.0 - ss_res / ss_tot : 1.0;
   r.residual_rms_nm = std::sqrt(ss_res / n);
   r.residual_sigma_nm = std::sqrt(ss_res / (n - 1.0));
-  const double var_fit = ss_res / (n - 1.0) / sxx;
+  // The scatter about the fit, and the error of the noise-bias correction common to each
+  // stretch (the calibration's σ of the current noise is taken as exact here: its own error
+  // matters where the current is within a few σ of zero, which loaded runs are not).
+  Eigen::MatrixXd forces(static_cast<Eigen::Index>(rows.size()), 1);
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    forces(static_cast<Eigen::Index>(i), 0) = rows[i].fit_force;
+  const double var_bias = correction_covariance(rows, forces,
+                                                Eigen::MatrixXd::Constant(1, 1, 1.0 / sxx), bias,
+                                                0.0)(0, 0);
+  const double var_fit = ss_res / (n - 1.0) / sxx + var_bias;
   // Propagated from step 1 and the given constants: K = Σ F·y / Σ F², y linear in them.
   const double g_x = -sxw / sxx, g_t = -sxs / sxx;
   const double g_kt = sxt / m.torque_constant_nm_per_a / sxx, g_j = -sxa / sxx;

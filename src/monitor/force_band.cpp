@@ -23,6 +23,19 @@ std::vector<std::string> BandOptions::validate() const {
   return v.problems();
 }
 
+BandOptions BandOptions::for_milling(double rpm, int teeth) {
+  Validator v("band");
+  v.require_positive("rpm", rpm, "rpm");
+  v.require(teeth >= 1, "teeth", teeth, "", "must be at least 1");
+  v.throw_if_any();
+  BandOptions o;
+  const double revolution_s = 60.0 / rpm;
+  o.average_s = revolution_s / teeth;
+  o.smoothing_s = 0.12 * o.average_s;
+  o.phase_tolerance_s = revolution_s;
+  return o;
+}
+
 std::size_t ForceBand::bin(double cycle_time_s) const {
   if (!(cycle_time_s > 0.0)) return 0;
   const auto b = static_cast<std::size_t>(cycle_time_s / options.bin_s);

@@ -17,8 +17,6 @@ void gains(double bandwidth_hz, double dt, double& alpha, double& beta) {
   beta = (1.0 - r) * (1.0 - r);
 }
 
-bool same_step(double a, double b) { return std::abs(a - b) <= 1e-6 * b; }
-
 }  // namespace
 
 AccelerationObserver::AccelerationObserver(double bandwidth_hz) : bandwidth_hz_(bandwidth_hz) {}
@@ -28,20 +26,6 @@ void AccelerationObserver::set_step(double dt) {
   gains(bandwidth_hz_, dt, alpha_, beta);
   beta_over_dt_ = beta / dt;
   dt_ = dt;
-}
-
-void AccelerationObserver::update(double w, double dt) {
-  if (!started_) {
-    w_ = w;
-    e_ = 0.0;
-    started_ = true;
-    return;
-  }
-  if (!same_step(dt, dt_)) set_step(dt);
-  const double predicted = w_ + e_ * dt;
-  const double residual = w - predicted;
-  w_ = predicted + alpha_ * residual;
-  e_ += beta_over_dt_ * residual;
 }
 
 AccelerationObserver::NoiseGain AccelerationObserver::noise_gain(double bandwidth_hz, double dt) {
@@ -141,6 +125,7 @@ void AxisForceEstimator::reset() {
   // through X·ω only.
   var_current_gain_ = 1.0;
   var_obs_nm2_ = x_ * x_ * cal_.speed_noise_rad_s * cal_.speed_noise_rad_s;
+  set_fixed_variance();
 }
 
 namespace {
@@ -164,6 +149,14 @@ void AxisForceEstimator::set_step(double dt) {
   const double sw = cal_.speed_noise_rad_s;
   var_obs_nm2_ = sw * sw * filtered_white_gain(r_, -0.5 * x_ - j_ / dt, -0.5 * x_ + j_ / dt);
   sigma_accel_torque_ = j_ * sw * std::sqrt(filtered_white_gain(r_, 1.0 / dt, -1.0 / dt));
+  set_fixed_variance();
+}
+
+void AxisForceEstimator::set_fixed_variance() {
+  const double kt_noise = kt_ * id_noise_, friction_sigma = cal_.sigma.friction_nm;
+  const double noise = kt_noise * kt_noise * var_current_gain_ + var_obs_nm2_;
+  var_fixed_nm2_[0] = noise + friction_sigma * friction_sigma;
+  var_fixed_nm2_[1] = noise + tf_ * tf_ / 3.0;  // static friction anywhere in ±Tnzm
 }
 
 ForceEstimate AxisForceEstimator::update(double t, double iu, double iv, double iw, double w,
@@ -182,7 +175,7 @@ ForceEstimate AxisForceEstimator::update(double t, double iu, double iv, double 
                             format_value(nyquist_hz) + " Hz (half the rate of the first step, " +
                             format_value(dt) + " s)"});
     }
-    if (!same_step(dt, dt_)) set_step(dt);
+    if (!detail::same_step(dt, dt_)) set_step(dt);
     observer_.update(w, dt);
   } else {
     observer_.update(w, 0.0);
@@ -238,11 +231,13 @@ ForceEstimate AxisForceEstimator::update(double t, double iu, double iv, double 
   if (!rotor_angle && !e.standstill) {
     // The magnitude cannot show a torque against the motion (§4.5 of docs/models/monitor.md).
     // It may be there where (a) the motor gives less than half the friction torque, or less
-    // than three noise σ, or less than its own change over the last step (it may pass through
-    // zero within a step): a load aiding the motion takes part of the friction; or (b) the
-    // axis decelerates faster than friction alone can brake it (beyond three noise σ).
+    // than three noise σ (this sample's, or the filtered magnitude's: a current below the
+    // noise has samples above 3σ), or less than its own change over the last step (it may pass
+    // through zero within a step): a load aiding the motion takes part of the friction; or (b)
+    // the axis decelerates faster than friction alone can brake it (beyond three noise σ).
     const double friction_torque = tf_ + x_ * std::abs(ws), torque = kt_ * id;
-    e.torque_sign_doubtful = torque <= 0.5 * friction_torque || torque <= 3.0 * kt_ * id_noise_ ||
+    e.torque_sign_doubtful = torque <= 0.5 * friction_torque ||
+                             std::min(id, c2_) <= 3.0 * id_noise_ ||
                              torque <= kt_ * std::abs(id - prev_id_) ||
                              sign_ * j_ * eps < -friction_torque - 3.0 * sigma_accel_torque_;
   }
@@ -250,20 +245,16 @@ ForceEstimate AxisForceEstimator::update(double t, double iu, double iv, double 
   prev_w_ = w;
   prev_id_ = id;
 
+  // The variance: the step's constant part (var_fixed_nm2_: the filtered noise, and static
+  // friction anywhere in ±Tnzm at a standstill or the friction's uncertainty in motion), then
+  // the terms that scale with the current, the speed, the acceleration and the force.
   const AxisUncertainty& un = cal_.sigma;
-  const double kt_noise = kt_ * id_noise_, kt_u = c2_ * un.torque_constant_nm_per_a;
-  const double kt_bias = kt_ * bias;
-  double var = kt_noise * kt_noise * var_current_gain_ + kt_u * kt_u + var_obs_nm2_ +
-               kt_bias * kt_bias;
-  var += ws * ws * un.viscous_nm_s_per_rad * un.viscous_nm_s_per_rad;
-  if (e.standstill) {
-    var += tf_ * tf_ / 3.0;  // static friction anywhere in ±Tnzm
-  } else {
-    var += un.friction_nm * un.friction_nm + 2.0 * ws * sign_ * un.friction_viscous_covariance;
-  }
-  var += eps * eps * un.inertia_kg_m2 * un.inertia_kg_m2;
+  const double kt_u = c2_ * un.torque_constant_nm_per_a, kt_bias = kt_ * bias;
   const double fk = e.force_n * un.force_gain_m;
-  var += fk * fk;
+  double var = var_fixed_nm2_[e.standstill] + kt_u * kt_u + kt_bias * kt_bias + fk * fk;
+  var += ws * ws * un.viscous_nm_s_per_rad * un.viscous_nm_s_per_rad;
+  if (!e.standstill) var += 2.0 * ws * sign_ * un.friction_viscous_covariance;
+  var += eps * eps * un.inertia_kg_m2 * un.inertia_kg_m2;
   e.force_sigma_n = std::sqrt(std::max(0.0, var)) * inv_k_;
   e.sigma_known = cal_.uncertainty_known;
   return e;

@@ -319,6 +319,36 @@ TEST_F(MonitorCli, SkipBadLinesReportsTheCount) {
   EXPECT_NE(none.err.find("no valid data line (1 skipped)"), std::string::npos) << none.err;
 }
 
+TEST_F(MonitorCli, TeachWithTheCutsSpeedAndTeethAveragesOverTheToothPeriod) {
+  // --rpm 600 --teeth 4: the band file records the tooth period (25 ms) as the averaging
+  // window, 0.12 of it as the smoothing, one revolution as the phase tolerance; an explicit
+  // --smoothing-s wins; --rpm alone is refused.
+  const AxisModel x = zheng2012_axis('x');
+  write("ref.csv",
+        testing::to_csv(synthetic_run(x, {{60.0, 0.5, 2000.0}}, 1e-3, {}, 1, true), "x"));
+  const Result t = cutdyn({"monitor", "teach", "--calib", "zheng2012", path("ref.csv"), "--out",
+                           path("band.json"), "--rpm", "600", "--teeth", "4"});
+  ASSERT_EQ(t.code, 0) << t.err;
+  EXPECT_EQ(t.err.find("warning"), std::string::npos) << t.err;
+  const auto band = nlohmann::json::parse(std::ifstream(path("band.json")));
+  EXPECT_DOUBLE_EQ(band.at("average_s").get<double>(), 0.025);
+  EXPECT_DOUBLE_EQ(band.at("smoothing_s").get<double>(), 0.003);
+  EXPECT_DOUBLE_EQ(band.at("phase_tolerance_s").get<double>(), 0.1);
+  const Result u = cutdyn({"monitor", "teach", "--calib", "zheng2012", path("ref.csv"), "--out",
+                           path("band2.json"), "--rpm", "600", "--teeth", "4", "--smoothing-s",
+                           "0.005"});
+  ASSERT_EQ(u.code, 0) << u.err;
+  EXPECT_DOUBLE_EQ(
+      nlohmann::json::parse(std::ifstream(path("band2.json"))).at("smoothing_s").get<double>(),
+      0.005);
+  expect_rejected({"monitor", "teach", "--calib", "zheng2012", path("ref.csv"), "--out",
+                   path("band3.json"), "--rpm", "600"},
+                  "--rpm needs --teeth");
+  expect_rejected({"monitor", "teach", "--calib", "zheng2012", path("ref.csv"), "--out",
+                   path("band3.json"), "--rpm", "-600", "--teeth", "4"},
+                  "rpm");
+}
+
 TEST_F(MonitorCli, TeachThenEstimateFlagsOverload) {
   // Reference: 0.5 s at 60 rad/s and 2000 N. Monitored: the force rises to 3000 N at 0.3 s.
   const AxisModel x = zheng2012_axis('x');
@@ -330,6 +360,9 @@ TEST_F(MonitorCli, TeachThenEstimateFlagsOverload) {
   const Result t = cutdyn(
       {"monitor", "teach", "--calib", "zheng2012", path("ref.csv"), "--out", path("band.json")});
   ASSERT_EQ(t.code, 0) << t.err;
+  EXPECT_NE(t.err.find("no --rpm and --teeth: the monitored level keeps the tooth pattern"),
+            std::string::npos)
+      << t.err;
   const Result r =
       cutdyn({"monitor", "estimate", "--calib", "zheng2012", path("cut.csv"), "--band",
               path("band.json"), "--alarms", path("alarms.csv"), "--out", path("est.csv")});

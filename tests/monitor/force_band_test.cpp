@@ -165,11 +165,8 @@ TEST(MonitorBand, IndependentOfTheSpindlePhase) {
   }
   EXPECT_EQ(false_alarms, 0);
   EXPECT_GT(locked_alarms, 5);
-  // The same with the level averaged over the tooth period (the milling setting below).
-  BandOptions o;
-  o.average_s = 0.025;
-  o.smoothing_s = 0.003;
-  const ForceBand averaged = teach_band(refs, o);
+  // The same with the level averaged over the tooth period (the milling settings below).
+  const ForceBand averaged = teach_band(refs, BandOptions::for_milling(600.0, 4));
   std::mt19937_64 rng2(43);
   int averaged_alarms = 0;
   for (unsigned k = 0; k < 20; ++k)
@@ -186,11 +183,14 @@ TEST(MonitorBand, BrokenToothAndOverloadCaughtWithin25Ms) {
   // (breakage or overload) within 25 ms of the event, and nothing is raised before it.
   std::vector<ForceRun> refs;
   for (unsigned s = 1; s <= 3; ++s) refs.push_back(milling_cycle(0.0, s));
-  // The level averaged over the tooth period (25 ms) and smoothed with 3 ms, as the docs
-  // advise for milling; the default phase tolerance.
-  BandOptions o;
-  o.average_s = 0.025;
-  o.smoothing_s = 0.003;
+  // The milling settings for 600 rpm and 4 teeth: the level averaged over the tooth period
+  // (25 ms) and smoothed with 0.12 of it (3 ms), the phase tolerance one revolution (0.1 s).
+  const BandOptions o = BandOptions::for_milling(600.0, 4);
+  EXPECT_DOUBLE_EQ(o.average_s, 0.025);
+  EXPECT_DOUBLE_EQ(o.smoothing_s, 0.003);
+  EXPECT_DOUBLE_EQ(o.phase_tolerance_s, 0.1);
+  EXPECT_THROW(BandOptions::for_milling(0.0, 4), InvalidInput);
+  EXPECT_THROW(BandOptions::for_milling(600.0, 0), InvalidInput);
   const ForceBand band = teach_band(refs, o);
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> phase(0.0, 0.1);

@@ -40,6 +40,14 @@ struct BandOptions {
   double average_s = 0.0;
 
   std::vector<std::string> validate() const;
+
+  /// The settings for a milling cut at `rpm` with `teeth` teeth (docs/models/monitor.md §5):
+  /// the level averaged over the tooth period T = 60/(teeth·rpm) (the tooth pattern removed,
+  /// whatever the spindle phase), smoothed with τ = 0.12·T (3 ms at 600 rpm and 4 teeth: a
+  /// broken tooth or an overload is caught within one tooth period), the phase tolerance one
+  /// spindle revolution 60/rpm (tooth-to-tooth runout repeats once a revolution); the rest
+  /// as default. Throws InvalidInput unless rpm > 0 and teeth >= 1.
+  static BandOptions for_milling(double rpm, int teeth);
 };
 
 /// A taught band of one axis.

@@ -11,6 +11,7 @@
 // uncertainty of that filtered force (what it covers: docs/models/monitor.md §4.3).
 #pragma once
 
+#include <cmath>
 #include <complex>
 #include <optional>
 #include <string>
@@ -19,6 +20,11 @@
 #include "cutdyn/monitor/calibration.hpp"
 
 namespace cutdyn {
+
+namespace detail {
+/// Steps equal to 1e-6 relative are the same step (the filters keep their gains).
+inline bool same_step(double a, double b) { return std::abs(a - b) <= 1e-6 * b; }
+}  // namespace detail
 
 /// Fixed-gain alpha–beta observer of speed and acceleration. Per sample (step Δt):
 ///   predict ω⁻ = ω̂ + ε̂·Δt, ε⁻ = ε̂; residual e = ω − ω⁻;
@@ -31,7 +37,19 @@ class AccelerationObserver {
 
   /// Updates with the speed measured `dt_s` (> 0) after the previous sample (ignored for the
   /// first sample).
-  void update(double speed_rad_s, double dt_s);
+  void update(double speed_rad_s, double dt_s) {
+    if (!started_) {
+      w_ = speed_rad_s;
+      e_ = 0.0;
+      started_ = true;
+      return;
+    }
+    if (!detail::same_step(dt_s, dt_)) set_step(dt_s);
+    const double predicted = w_ + e_ * dt_s;
+    const double residual = speed_rad_s - predicted;
+    w_ = predicted + alpha_ * residual;
+    e_ += beta_over_dt_ * residual;
+  }
   void reset() { started_ = false; }
 
   double speed() const { return w_; }
@@ -127,6 +145,7 @@ class AxisForceEstimator {
 
  private:
   void set_step(double dt_s);
+  void set_fixed_variance();
   AxisCalibration cal_;
   EstimatorOptions options_;
   AccelerationObserver observer_;
@@ -140,6 +159,7 @@ class AxisForceEstimator {
   double var_current_gain_ = 1.0;  // variance of the filtered current term per unit white noise
   double var_obs_nm2_ = 0.0;       // variance of the filtered X·ω + J·Δω/Δt from speed noise
   double sigma_accel_torque_ = 0.0;  // σ of J times the filtered acceleration from speed noise
+  double var_fixed_nm2_[2] = {0.0, 0.0};  // the step's constant variance: moving, standstill
   double prev_id_ = 0.0;             // |Id| of the previous sample
   // Filter states: load torque, |current| and acceleration (two first-order stages each).
   double y1_ = 0.0, y2_ = 0.0, c1_ = 0.0, c2_ = 0.0, a1_ = 0.0, a2_ = 0.0;
