@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 
@@ -365,7 +366,8 @@ std::vector<Window> windows_of(const AxisModel& m, const AxisRun& run,
 // steady and so are its neighbours: the edges of a speed change are left out (J·ε of a window
 // that holds a corner of the speed profile is not its speed line's slope).
 std::vector<Window> used_windows(const AxisModel& m, const std::vector<AxisRun>& runs,
-                                 const CalibrationOptions& o, int& rejected) {
+                                 const CalibrationOptions& o, int& rejected,
+                                 std::vector<double>* rejected_ripple = nullptr) {
   std::vector<Window> rows;
   int stretch = 0;
   for (const AxisRun& run : runs) {
@@ -377,6 +379,9 @@ std::vector<Window> used_windows(const AxisModel& m, const std::vector<AxisRun>&
       if (!use) {
         ++rejected;
         ++stretch;
+        // The RMS scatter of a moving window's speed about its line, relative to its mean.
+        if (rejected_ripple && ws[k].sign != 0.0 && ws[k].n > 2)
+          rejected_ripple->push_back(std::sqrt(ws[k].speed_ss / ws[k].n) / std::abs(ws[k].speed));
         continue;
       }
       rows.push_back(ws[k]);
@@ -503,12 +508,28 @@ LoadFit fit_load(const AxisCalibration& c, const std::vector<AxisRun>& runs,
 
   LoadFit fit;
   FitReport& r = fit.report;
-  std::vector<Window> rows = used_windows(m, runs, o, r.windows_rejected);
+  std::vector<double> ripple;
+  std::vector<Window> rows = used_windows(m, runs, o, r.windows_rejected, &ripple);
   r.windows = static_cast<int>(rows.size());
   const BiasCorrection bias = correct_magnitude_bias(rows, m, c.current_noise_a);
   if (r.windows < 2) {
     r.status = CalibrationStatus::kTooFewWindows;
-    r.message = "step 2 needs at least 2 steady windows; found " + std::to_string(r.windows);
+    r.message = "step 2 needs at least 2 steady windows; found " + std::to_string(r.windows) +
+                " (" + std::to_string(r.windows_rejected) + " rejected as not steady or at standstill)";
+    if (!ripple.empty()) {
+      // Criterion (2) of a steady window allows a scatter of 0.1·steady_tolerance of the
+      // speed: a periodic cut that ripples the speed needs ten times its ripple. The sin²-
+      // weighted means stay exact for such a ripple (docs/models/monitor.md §3).
+      const auto mid = ripple.begin() + static_cast<std::ptrdiff_t>(ripple.size() / 2);
+      std::nth_element(ripple.begin(), mid, ripple.end());
+      char text[240];
+      std::snprintf(text, sizeof text,
+                    "; the speed of the rejected moving windows scatters about its line by %.2g %% "
+                    "of its mean (median): if it ripples periodically under a cut, a steady "
+                    "tolerance (--steady-tolerance) of %.2f or more accepts those windows",
+                    100.0 * *mid, std::ceil(12.0 * *mid * 100.0) / 100.0);
+      r.message += text;
+    }
     return fit;
   }
   // Step 2: y = s·KT·Id − X·ω − Tnzm·sign(ω) − J·ε = KBlf·F, through the origin.

@@ -20,7 +20,9 @@ namespace {
 using units::kPi;
 using units::kTwoPi;
 
-// The drive of the source's X axis [Zheng2012, table 2 as SI]: J = 0.017 kg·m², X = 0.2103
+// A heavy test drive with the printed numbers of [Zheng2012, table 2] read as SI (the source
+// means kgf·cm, docs/models/monitor.md; as SI the friction exceeds the stated motor's rated
+// torque, which does not matter to this chain): J = 0.017 kg·m², X = 0.2103
 // N·m·s/rad, Tnzm = 15.60 N·m, KBlf = 0.00632 m (a lever of (d/2)·iΣ = 6.32 mm), KT = 1.621
 // N·m/A (RMS), under a PI speed loop (Kp = 50 N·m·s/rad, Ki = 5000 N·m/rad).
 constexpr double kJ = 0.017, kX = 0.2103, kTnzm = 15.60, kKblf = 0.00632, kKt = 1.621;
