@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "cutdyn/app/case_models.hpp"
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/forces/oxley.hpp"
 #include "cutdyn/io/case_file.hpp"
@@ -21,34 +22,17 @@
 
 namespace cutdyn::cli {
 
-/// The case at `path`, or the embedded example `default_example` when path is empty.
-io::Case load_case(const std::string& path, std::string_view default_example);
-
-/// Throws InvalidInput(where = case source) unless the case is a turning case.
-void require_turning(const io::Case& c, std::string_view command);
-
-/// The turning model of a case: modes, Kt and vibration. Checks that [cutting].kt_n_per_mm2
-/// is there and, with vibration, that the duty cycle can be had at every speed.
-TurningModel turning_model(const io::Case& c, std::string_view command);
-
-/// Oxley's prediction for a case with [material], at its [cutting] speed_m_per_min,
-/// uncut_chip_thickness_mm, rake_deg and width_mm (1 mm when absent and `need_width` is
-/// false: the coefficients do not depend on it). Missing keys and a cut outside the theory
-/// throw InvalidInput naming the case.
-struct OxleyPrediction {
-  OrthogonalCut cut;
-  OxleyResult result;
-};
-OxleyPrediction predict_with_oxley(const io::Case& c, std::string_view command, bool need_width);
+// The models of a case are the library's (cutdyn/app/case_models.hpp).
+using app::load_case;
+using app::lobes_grid;
+using app::milling_model;
+using app::OxleyPrediction;
+using app::predict_with_oxley;
+using app::require_turning;
+using app::turning_model;
 
 /// One line: "Kc and Kt predicted by Oxley's theory for AISI1045 at 200 m/min, ...".
 std::string oxley_summary(const io::Case& c, const OxleyPrediction& p);
-
-/// The milling model of a case: modes in x and y, Kt and Kr, [tool] and [operation].
-MillingModel milling_model(const io::Case& c, std::string_view command);
-
-/// The speed grid of the case's [lobes] table (validated).
-LobesOptions lobes_grid(const io::Case& c, int threads);
 
 /// Checks --out/--json/--plot before any work: figure format, existing folders, distinct files.
 void check_outputs(const Outputs& o);

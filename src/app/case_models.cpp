@@ -1,0 +1,129 @@
+#include "cutdyn/app/case_models.hpp"
+
+#include <filesystem>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include "cutdyn/core/error.hpp"
+
+namespace cutdyn::app {
+
+io::Case load_case(const std::string& path, std::string_view default_example) {
+  if (path.empty()) return io::load_example(default_example);
+  // A built-in example may be named instead of a file (a file of that name comes first).
+  std::error_code error;
+  if (!std::filesystem::exists(path, error) && io::example_text(path))
+    return io::load_example(path);
+  return io::load_case_file(path);
+}
+
+void require_turning(const io::Case& c, std::string_view command) {
+  if (c.process != io::Process::kTurning) {
+    throw InvalidInput({"process = \"" + std::string(io::to_string(c.process)) + "\": `cutdyn " +
+                        std::string(command) + "` handles turning only in this version"},
+                       c.source);
+  }
+}
+
+OxleyPrediction predict_with_oxley(const io::Case& c, std::string_view command, bool need_width) {
+  Validator v;
+  const io::CuttingSection& cs = c.cutting;
+  const std::string why = "required by `cutdyn " + std::string(command) +
+                          "` to predict the force coefficients from [material]";
+  const auto need = [&](bool present, const char* key) {
+    if (!present) v.add(std::string("cutting.") + key + ": missing (" + why + ")");
+  };
+  need(cs.speed_m_per_s.has_value(), "speed_m_per_min");
+  need(cs.uncut_chip_thickness_m.has_value(), "uncut_chip_thickness_mm");
+  need(cs.rake_rad.has_value(), "rake_deg");
+  if (need_width) need(cs.width_m.has_value(), "width_mm");
+  v.throw_if_any(c.source);
+  OxleyPrediction p;
+  const WorkMaterial& material = *c.material;
+  p.cut.speed_m_per_s = *cs.speed_m_per_s;
+  p.cut.uncut_chip_thickness_m = *cs.uncut_chip_thickness_m;
+  p.cut.width_m = cs.width_m.value_or(1e-3);
+  p.cut.rake_rad = *cs.rake_rad;
+  p.cut.workpiece_temperature_c =
+      cs.workpiece_temperature_c.value_or(material.flow.reference_temperature_c);
+  try {
+    p.result = oxley_orthogonal(material, p.cut, c.oxley);
+  } catch (const InvalidInput& e) {
+    std::vector<std::string> problems;
+    for (const std::string& problem : e.problems())
+      problems.push_back("[material] " + material.name + " with [cutting]: " + problem);
+    throw InvalidInput(problems, c.source);
+  }
+  return p;
+}
+
+TurningModel turning_model(const io::Case& c, std::string_view command) {
+  require_turning(c, command);
+  Validator v;
+  if (!c.cutting.kt_pa && !c.material)
+    v.add("cutting.kt_n_per_mm2: missing (required by `cutdyn " + std::string(command) + "`)");
+  if (c.vibration && !c.vibration->duty_cycle && !c.vibration->workpiece_diameter_m)
+    v.add(
+        "vibration.workpiece_diameter_mm: missing (required to compute the duty cycle at each "
+        "spindle speed; or give vibration.duty_cycle)");
+  v.throw_if_any(c.source);
+  TurningModel m;
+  m.modal = c.modal;
+  // Given, or predicted from [material] (the loader allows only one of the two).
+  m.kt_pa = c.cutting.kt_pa ? *c.cutting.kt_pa : predict_with_oxley(c, command, false).result.kt_pa;
+  if (c.vibration) {
+    VibrationAssist va;
+    va.frequency_hz = c.vibration->frequency_hz;
+    va.amplitude_m = c.vibration->amplitude_m.value_or(0.0);
+    va.workpiece_diameter_m = c.vibration->workpiece_diameter_m;
+    va.duty_cycle = c.vibration->duty_cycle;
+    m.vibration = va;
+  }
+  // The loader checked ranges in the user's units; this catches what only the model knows
+  // (an undamped mode cannot be analysed for stability).
+  if (const auto problems = m.validate(); !problems.empty()) throw InvalidInput(problems, c.source);
+  return m;
+}
+
+MillingModel milling_model(const io::Case& c, std::string_view command) {
+  Validator v;
+  if (c.process != io::Process::kMilling)
+    v.add("process = \"" + std::string(io::to_string(c.process)) +
+          "\": this is not a milling case");
+  if (!c.cutting.kt_pa)
+    v.add("cutting.kt_n_per_mm2: missing (required by `cutdyn " + std::string(command) + "`)");
+  if (!c.tool)
+    v.add("tool: missing (required for milling: at least tool.teeth and tool.diameter_mm)");
+  v.throw_if_any(c.source);
+  MillingModel m;
+  m.modal = c.modal;
+  m.kt_pa = *c.cutting.kt_pa;
+  m.kr_pa = c.cutting.kr_pa.value_or(0.0);
+  m.teeth = c.tool->teeth;
+  m.diameter_m = c.tool->diameter_m;
+  m.helix_rad = c.tool->helix_rad;
+  m.pitch_rad = c.tool->pitch_rad;
+  if (c.operation) {
+    m.radial_immersion = c.operation->radial_immersion;
+    m.down_milling = c.operation->down_milling;
+    m.window_entry_rad = c.operation->entry_rad;
+    m.window_exit_rad = c.operation->exit_rad;
+  }
+  if (const auto problems = m.validate(); !problems.empty()) throw InvalidInput(problems, c.source);
+  return m;
+}
+
+LobesOptions lobes_grid(const io::Case& c, int threads) {
+  LobesOptions grid;
+  grid.rpm_min = c.lobes.rpm_min;
+  grid.rpm_max = c.lobes.rpm_max;
+  grid.rpm_steps = c.lobes.rpm_steps;
+  grid.threads = threads;
+  grid.refine = c.lobes.refine;
+  if (const auto problems = grid.validate(); !problems.empty())
+    throw InvalidInput(problems, c.source);
+  return grid;
+}
+
+}  // namespace cutdyn::app
