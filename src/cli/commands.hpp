@@ -82,10 +82,7 @@ struct PlanArgs {
 };
 int run_plan(const PlanArgs& args, std::ostream& out, std::ostream& err);
 
-/// The milling halves of `lobes` and `check` (the commands dispatch on the case's process).
-int run_lobes_milling(const LobesArgs& args, const io::Case& c, std::ostream& out,
-                      std::ostream& err);
-int run_check_milling(const CheckArgs& args, const io::Case& c, std::ostream& out);
+/// The milling half of `simulate` (the command dispatches on the case's process).
 int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostream& out,
                          std::ostream& err);
 

@@ -27,40 +27,6 @@ using units::mm_to_m;
 constexpr std::string_view kDefaultTurningCase = "turning-ultrasonic";
 constexpr std::string_view kDefaultForceCase = "ultrasonic-force";
 
-// The method: --method, else the case's [lobes].method (library rule: turning_method).
-TurningMethod resolve_method(const io::Case& c, const TurningModel& m, const std::string& flag) {
-  return turning_method(asked_method(c, flag), m.vibration.has_value());
-}
-
-TurningStabilityOptions stability_options(const io::Case& c, TurningMethod method) {
-  TurningStabilityOptions o;
-  o.method = method;
-  o.depth_max_m = c.lobes.depth_max_m;
-  o.harmonics = c.lobes.harmonics;
-  o.fd.steps_per_period = c.lobes.steps_per_period;
-  return o;
-}
-
-std::string describe_model(const io::Case& c, const TurningModel& m) {
-  std::string s =
-      fmt::format("turning, {} mode{} in x, Kt = {} N/mm²", m.modal.modes.size(),
-                  m.modal.modes.size() == 1 ? "" : "s", human(units::pa_to_n_per_mm2(m.kt_pa)));
-  if (c.material && !c.cutting.kt_pa)
-    s += fmt::format(" (predicted for {} by Oxley's theory at {} m/min)", c.material->name,
-                     human(units::m_per_s_to_m_per_min(*c.cutting.speed_m_per_s)));
-  if (m.vibration) {
-    s += fmt::format("; vibration {} Hz", human(m.vibration->frequency_hz));
-    if (m.vibration->duty_cycle) {
-      s += fmt::format(", duty cycle {} (fixed)", human(*m.vibration->duty_cycle));
-    } else {
-      s += fmt::format(", {} µm on a {} mm workpiece (duty cycle from the speed)",
-                       human(units::m_to_um(m.vibration->amplitude_m)),
-                       human(m_to_mm(*m.vibration->workpiece_diameter_m)));
-    }
-  }
-  return s;
-}
-
 }  // namespace
 
 int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
@@ -71,91 +37,27 @@ int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
     v.throw_if_any("command line");
   }
   const io::Case c = load_case(args.case_path, kDefaultTurningCase);
-  if (c.process == io::Process::kMilling) return run_lobes_milling(args, c, out, err);
-  const TurningModel model = turning_model(c, "lobes");
-  const TurningMethod method = resolve_method(c, model, args.method);
-  const TurningStabilityOptions options = stability_options(c, method);
-  if (const auto problems = options.validate(); !problems.empty())
-    throw InvalidInput(problems, c.source);
-  const LobesOptions grid = lobes_grid(c, args.threads);
-
-  rethrow_as(c.source, "lobes.rpm_min", [&] { check_speed_domain(model, grid.rpm_min); });
-  const bool assisted = model.vibration.has_value();
-  const auto at_speed = [&](double rpm) {
-    const TurningBoundary b = turning_critical_depth(model, rpm, options);
-    return LobePoint{rpm, b.boundary, b.duty_cycle, b.lobe};
-  };
-  LobesReport report = trace_lobes(at_speed, grid, progress_reporter(err, "lobes"));
-  // With vibration, the conventional lobes beside them (exact closed form, cheap), traced
-  // with their own refinement; each curve is then completed at the other's speeds, so both
-  // hold their cusps and share one row per speed.
-  std::vector<CriticalDepth> reference;
-  if (assisted) {
-    TurningStabilityOptions exact = options;
-    exact.method = TurningMethod::kClosedForm;
-    const TurningModel conventional = model.conventional();
-    const auto conventional_at = [&](double rpm) {
-      return LobePoint{rpm, turning_critical_depth(conventional, rpm, exact).boundary, 1.0, 0};
-    };
-    LobesReport conv = trace_lobes(conventional_at, grid);
-    complete_lobes(at_speed, conv.points, report.points, grid.threads);
-    complete_lobes(conventional_at, report.points, conv.points, grid.threads);
-    for (const LobePoint& p : conv.points) reference.push_back(p.boundary);
-  }
-
-  LobesView view;
-  view.description = describe_model(c, model);
-  view.method = to_string(method);
-  view.depth_max_m = options.depth_max_m;
-  view.title = assisted ? "Stability lobes: vibration-assisted and conventional turning"
-                        : "Stability lobes: turning";
-  view.label = assisted ? fmt::format("vibration-assisted ({})", to_string(method))
-                        : fmt::format("conventional ({})", to_string(method));
-  if (assisted) {
-    view.reference = &reference;
-    view.reference_label = "conventional (closed form)";
-    view.duty_cycle = true;
-  }
-  if (args.target_depth_mm) view.target_depth_m = mm_to_m(*args.target_depth_mm);
-  report_lobes(c, report, view, args.outputs, out, err);
+  app::LobesRequest request;
+  request.method = args.method;
+  request.threads = args.threads;
+  if (args.target_depth_mm) request.target_depth_m = mm_to_m(*args.target_depth_mm);
+  request.progress = progress_reporter(err, "lobes");
+  request.names = {"command line", "--rpm", "--target-depth-mm", "--method"};
+  report_lobes(c, app::run_lobes(c, request), args.outputs, out, err);
   return 0;
 }
 
 int run_check(const CheckArgs& args, std::ostream& out, std::ostream&) {
   Validator v;
   check_output_folder(v, "--json", args.json);
-  v.require_positive("--rpm", args.rpm, "rpm");
-  v.require_positive("--depth-mm", args.depth_mm, "mm");
   v.throw_if_any("command line");
   const io::Case c = load_case(args.case_path, kDefaultTurningCase);
-  if (c.process == io::Process::kMilling) return run_check_milling(args, c, out);
-  const TurningModel model = turning_model(c, "check");
-  rethrow_as("command line", "--rpm", [&] { check_speed_domain(model, args.rpm); });
-  const TurningMethod method = resolve_method(c, model, args.method);
-  TurningStabilityOptions options = stability_options(c, method);
-  // Search far enough above the requested depth to say how much margin there is.
-  options.depth_max_m = std::max(options.depth_max_m, 4.0 * mm_to_m(args.depth_mm));
-  if (const auto problems = options.validate(); !problems.empty())
-    throw InvalidInput(problems, c.source);
-  const TurningBoundary b = turning_critical_depth(model, args.rpm, options);
-  CheckView view;
-  view.description = describe_model(c, model);
-  view.method = to_string(method);
-  view.lobe = b.lobe;
-  if (model.vibration) {
-    TurningStabilityOptions exact = options;
-    exact.method = TurningMethod::kClosedForm;
-    const TurningBoundary cb = turning_critical_depth(model.conventional(), args.rpm, exact);
-    const bool conv_stable = !cb.boundary.found || mm_to_m(args.depth_mm) < cb.boundary.depth_m;
-    view.notes.push_back("duty cycle " + human(b.duty_cycle));
-    view.notes.push_back("conventional turning: critical depth " + depth_text(cb.boundary) + ", " +
-                         (conv_stable ? "stable" : "unstable") + " at this depth");
-    view.extra["conventional"] = {{"critical_depth_mm", m_to_mm(cb.boundary.depth_m)},
-                                  {"chatter_hz", cb.boundary.chatter_hz},
-                                  {"stable", conv_stable}};
-  }
-  view.extra["duty_cycle"] = b.duty_cycle;
-  report_check(c, args, b.boundary, view, out);
+  app::CheckRequest request;
+  request.rpm = args.rpm;
+  request.depth_m = mm_to_m(args.depth_mm);
+  request.method = args.method;
+  request.names = {"command line", "--rpm", "--depth-mm", "--method"};
+  report_check(c, args, app::run_check(c, request), out);
   return 0;
 }
 
@@ -202,7 +104,7 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
   std::vector<Run> runs;
   runs.push_back({model.vibration ? "vibration-assisted" : "conventional", model, {}, {}});
   if (model.vibration) runs.push_back({"conventional", model.conventional(), {}, {}});
-  TurningStabilityOptions so = stability_options(c, TurningMethod::kFullDiscretization);
+  TurningStabilityOptions so = app::turning_stability_options(c, TurningMethod::kFullDiscretization);
   so.depth_max_m = std::max(so.depth_max_m, 4.0 * o.depth_m);
   for (Run& r : runs) {
     rethrow_as(where, "simulate", [&] { r.result = simulate_turning(r.model, o); });
@@ -213,7 +115,7 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
   out << "cutdyn simulate: " << c.source << " at " << human(o.rpm) << " rpm, depth "
       << human(m_to_mm(o.depth_m)) << " mm, feed " << human(m_to_mm(o.feed_m)) << " mm/rev, "
       << human(o.duration_s) << " s\n";
-  out << "  " << describe_model(c, model) << "\n";
+  out << "  " << app::describe_turning(c, model) << "\n";
   for (const Run& r : runs) {
     const auto& s = r.result;
     out << fmt::format(

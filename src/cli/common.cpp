@@ -61,17 +61,16 @@ std::string depth_text(const CriticalDepth& b) {
   return b.found ? mm : "> " + mm;
 }
 
-void report_lobes(const io::Case& c, const LobesReport& report, const LobesView& view,
-                  const Outputs& outputs_args, std::ostream& out, std::ostream& err) {
+void report_lobes(const io::Case& c, const app::LobesJobReport& view, const Outputs& outputs_args,
+                  std::ostream& out, std::ostream& err) {
   using nlohmann::json;
   using units::m_to_mm;
+  const LobesReport& report = view.lobes;
   if (report.status != LobesStatus::kSuccess) err << "cutdyn: warning: " << report.message << "\n";
   for (const std::string& w : view.warnings) err << "cutdyn: warning: " << w << "\n";
   const auto& pts = report.points;
-  const auto* ref = view.reference;
-  std::size_t lowest = 0;
-  for (std::size_t i = 1; i < pts.size(); ++i)
-    if (pts[i].boundary.depth_m < pts[lowest].boundary.depth_m) lowest = i;
+  const auto* ref = view.reference.empty() ? nullptr : &view.reference;
+  const std::size_t lowest = view.lowest;
 
   out << "cutdyn lobes: " << c.source << "\n";
   out << "  " << view.description << "\n";
@@ -101,7 +100,7 @@ void report_lobes(const io::Case& c, const LobesReport& report, const LobesView&
     out << "  + stable up to the depth limit at that speed\n";
   out << "\n  lowest critical depth " << depth_text(pts[lowest].boundary) << " at "
       << human(pts[lowest].rpm) << " rpm\n";
-  const auto pockets = stable_pockets(pts, 3);
+  const auto& pockets = view.pockets;
   if (!pockets.empty()) {
     out << "  stable pockets (local maxima):";
     for (std::size_t k = 0; k < pockets.size(); ++k)
@@ -113,15 +112,14 @@ void report_lobes(const io::Case& c, const LobesReport& report, const LobesView&
   // Speed ranges stable at the target depth, and the speed with the widest margin in speed
   // and depth (stability/advice).
   json ranges = json::array();
-  SpeedAdvice advice;
+  const SpeedAdvice& advice = view.advice;
   if (view.target_depth_m) {
     const double target = *view.target_depth_m;
     out << "\n  stable at " << human(m_to_mm(target)) << " mm:";
-    for (const SpeedRange& r : stable_ranges(pts, target)) {
+    for (const SpeedRange& r : view.stable_ranges) {
       out << (ranges.empty() ? " " : "; ") << human(r.rpm_from) << "–" << human(r.rpm_to) << " rpm";
       ranges.push_back({{"rpm_from", r.rpm_from}, {"rpm_to", r.rpm_to}});
     }
-    advice = recommend_speed(pts, target);
     if (ranges.empty()) {
       out << " no speed of the lobes\n";
     } else if (advice.found) {
@@ -223,43 +221,47 @@ void commit_outputs(io::OutputTransaction& outputs, const Outputs& o, std::ostre
     if (!f->empty()) out << "  wrote " << (*f == "-" ? "standard output" : *f) << "\n";
 }
 
-void report_check(const io::Case& c, const CheckArgs& args, const CriticalDepth& b,
-                  const CheckView& view, std::ostream& out) {
-  const double depth = units::mm_to_m(args.depth_mm);
-  const bool stable = !b.found || depth < b.depth_m;
-  // Margin (critical − asked)/critical; a lower bound when no boundary lies below the search
-  // limit, undefined when the process is unstable without cutting (critical depth 0).
-  const std::optional<double> margin =
-      b.depth_m > 0.0 ? std::optional<double>((b.depth_m - depth) / b.depth_m) : std::nullopt;
+void report_check(const io::Case& c, const CheckArgs& args, const app::CheckJobReport& r,
+                  std::ostream& out) {
+  const CriticalDepth& b = r.boundary;
   out << "cutdyn check: " << c.source << " at " << human(args.rpm) << " rpm, depth "
       << human(args.depth_mm) << " mm\n";
-  out << "  " << view.description << "\n";
-  out << "  " << (stable ? "STABLE" : "UNSTABLE (chatter)") << "\n";
-  out << "  critical depth " << depth_text(b) << " (" << view.method << ")";
+  out << "  " << r.description << "\n";
+  out << "  " << (r.stable ? "STABLE" : "UNSTABLE (chatter)") << "\n";
+  out << "  critical depth " << depth_text(b) << " (" << r.method << ")";
   if (b.found)
     out << ", " << to_string(b.bifurcation) << " at " << human(b.chatter_hz, 5) << " Hz, lobe "
-        << view.lobe;
-  if (!margin)
+        << r.lobe;
+  if (!r.margin)
     out << "\n  no depth margin: unstable at any depth\n";
   else
-    out << "\n  depth margin " << (b.found ? "" : "more than ") << human(100.0 * *margin, 3)
+    out << "\n  depth margin " << (b.found ? "" : "more than ") << human(100.0 * *r.margin, 3)
         << " % of the critical depth\n";
   if (b.truncated)
-    out << "  warning: " << view.method
+    out << "  warning: " << r.method
         << " could not cover every mode at this speed; the critical depth may be wrong\n";
-  for (const std::string& note : view.notes) out << "  " << note << "\n";
+  if (r.duty_cycle && r.conventional) out << "  duty cycle " << human(*r.duty_cycle) << "\n";
+  if (r.conventional)
+    out << "  conventional turning: critical depth " << depth_text(r.conventional->boundary)
+        << ", " << (r.conventional->stable ? "stable" : "unstable") << " at this depth\n";
+  for (const std::string& w : r.warnings) out << "  warning: " << w << "\n";
   if (args.json.empty()) return;
   io::OutputTransaction outputs;
   nlohmann::json doc{{"command", "check"},         {"case", io::to_json(c)},
-                     {"source", c.source},         {"method", view.method},
+                     {"source", c.source},         {"method", r.method},
                      {"spindle_rpm", args.rpm},    {"depth_mm", args.depth_mm},
-                     {"stable", stable},           {"critical_depth_mm", units::m_to_mm(b.depth_m)},
+                     {"stable", r.stable},         {"critical_depth_mm", units::m_to_mm(b.depth_m)},
                      {"beyond_limit", !b.found},   {"margin", nullptr},
                      {"chatter_hz", b.chatter_hz}, {"bifurcation", to_string(b.bifurcation)},
-                     {"lobe", view.lobe}};
-  if (margin) doc["margin"] = *margin;
+                     {"lobe", r.lobe}};
+  if (r.margin) doc["margin"] = *r.margin;
   if (b.truncated) doc["warning"] = "the method could not cover every mode at this speed";
-  doc.update(view.extra);
+  if (r.duty_cycle) doc["duty_cycle"] = *r.duty_cycle;
+  if (r.conventional)
+    doc["conventional"] = {{"critical_depth_mm", units::m_to_mm(r.conventional->boundary.depth_m)},
+                           {"chatter_hz", r.conventional->boundary.chatter_hz},
+                           {"stable", r.conventional->stable}};
+  if (!r.warnings.empty()) doc["warnings"] = r.warnings;
   io::write_json(outputs.open(args.json), doc);
   outputs.commit();
   out << "  wrote " << args.json << "\n";
@@ -273,14 +275,5 @@ std::function<void(int, int)> progress_reporter(std::ostream& err, std::string l
   };
 }
 
-std::string human(double value, int digits) {
-  // Never scientific notation for the magnitudes machinists read (20000 Hz, not 2e+04).
-  const double magnitude = std::abs(value);
-  if (magnitude >= 1.0 && magnitude < 1e9)
-    digits = std::max(digits, static_cast<int>(std::floor(std::log10(magnitude))) + 1);
-  std::ostringstream s;
-  s << std::setprecision(digits) << value;
-  return s.str();
-}
 
 }  // namespace cutdyn::cli

@@ -12,6 +12,8 @@
 
 #include "cli/commands.hpp"
 #include "cutdyn/app/case_models.hpp"
+#include "cutdyn/app/stability.hpp"
+#include "cutdyn/app/text.hpp"
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/forces/oxley.hpp"
 #include "cutdyn/io/case_file.hpp"
@@ -60,45 +62,20 @@ void rethrow_as(const std::string& where, const std::string& key, F&& check) {
 /// "6.736 mm", or "> 30 mm" when no boundary was found below the limit.
 std::string depth_text(const CriticalDepth& b);
 
-/// How `report_lobes` presents a lobe diagram.
-struct LobesView {
-  std::string description;  // one line about the model
-  std::string method;
-  double depth_max_m = 0.0;
-  std::string title;                                      // figure title
-  std::string label;                                      // the main curve's legend
-  const std::vector<CriticalDepth>* reference = nullptr;  // e.g. the conventional lobes
-  std::string reference_label;
-  bool duty_cycle = false;               // add the duty_cycle column
-  std::optional<double> target_depth_m;  // list the speed ranges stable at this depth
-  std::vector<std::string> warnings;     // where the method is weak (printed and in --json)
-};
-
 /// Prints the summary table, lowest depth and stable pockets, and writes the CSV
 /// (spindle_rpm,critical_depth_mm,chatter_hz,lobe,bifurcation,beyond_limit,...), JSON and
 /// figure that `outputs` asks for, all or none.
-void report_lobes(const io::Case& c, const LobesReport& report, const LobesView& view,
-                  const Outputs& outputs, std::ostream& out, std::ostream& err);
-
-/// What `report_check` adds for one process: the model line, the method, the lobe number,
-/// lines after the margin, and extra JSON fields.
-struct CheckView {
-  std::string description;
-  std::string method;
-  int lobe = 0;
-  std::vector<std::string> notes;
-  nlohmann::json extra = nlohmann::json::object();
-};
+void report_lobes(const io::Case& c, const app::LobesJobReport& report, const Outputs& outputs,
+                  std::ostream& out, std::ostream& err);
 
 /// Prints the verdict of `cutdyn check` (stable?, critical depth, bifurcation and chatter
 /// frequency, margin) and writes --json if asked.
-void report_check(const io::Case& c, const CheckArgs& args, const CriticalDepth& b,
-                  const CheckView& view, std::ostream& out);
+void report_check(const io::Case& c, const CheckArgs& args, const app::CheckJobReport& report,
+                  std::ostream& out);
 
 /// Progress on stderr while it is a terminal ("lobes: 120/200 speeds"); silent otherwise.
 std::function<void(int, int)> progress_reporter(std::ostream& err, std::string label);
 
-/// A fixed-precision number for people: `digits` significant digits.
-std::string human(double value, int digits = 4);
+using app::human;  // cutdyn/app/text.hpp
 
 }  // namespace cutdyn::cli

@@ -1,0 +1,306 @@
+#include "cutdyn/app/stability.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "cutdyn/app/case_models.hpp"
+#include "cutdyn/app/text.hpp"
+#include "cutdyn/core/error.hpp"
+#include "cutdyn/core/units.hpp"
+#include "cutdyn/stability/full_discretization.hpp"
+#include "cutdyn/stability/method.hpp"
+#include "cutdyn/stability/milling.hpp"
+#include "cutdyn/stability/multi_frequency.hpp"
+#include "cutdyn/stability/turning.hpp"
+
+namespace cutdyn::app {
+namespace {
+
+using units::m_to_mm;
+
+// Runs `check`; an InvalidInput it throws is rethrown naming `where` and prefixing `key`.
+template <typename F>
+void rethrow_as(const std::string& where, const std::string& key, F&& check) {
+  try {
+    check();
+  } catch (const InvalidInput& e) {
+    std::vector<std::string> problems;
+    for (const std::string& p : e.problems()) problems.push_back(key + ": " + p);
+    throw InvalidInput(problems, where);
+  }
+}
+
+// The method asked for: the request's, else the case's [lobes].method.
+StabilityMethod asked_method(const io::Case& c, const std::string& name,
+                             const RequestNames& names) {
+  if (name.empty()) return c.lobes.method;
+  if (const auto m = parse_stability_method(name)) return *m;
+  throw InvalidInput(
+      {names.method + " = \"" + name + "\": must be one of " + kStabilityMethodNames},
+      names.where);
+}
+
+// ---- turning ----------------------------------------------------------------------------
+
+}  // namespace
+
+TurningStabilityOptions turning_stability_options(const io::Case& c, TurningMethod method) {
+  TurningStabilityOptions o;
+  o.method = method;
+  o.depth_max_m = c.lobes.depth_max_m;
+  o.harmonics = c.lobes.harmonics;
+  o.fd.steps_per_period = c.lobes.steps_per_period;
+  return o;
+}
+
+std::string describe_turning(const io::Case& c, const TurningModel& m) {
+  std::string s =
+      fmt::format("turning, {} mode{} in x, Kt = {} N/mm²", m.modal.modes.size(),
+                  m.modal.modes.size() == 1 ? "" : "s", human(units::pa_to_n_per_mm2(m.kt_pa)));
+  if (c.material && !c.cutting.kt_pa)
+    s += fmt::format(" (predicted for {} by Oxley's theory at {} m/min)", c.material->name,
+                     human(units::m_per_s_to_m_per_min(*c.cutting.speed_m_per_s)));
+  if (m.vibration) {
+    s += fmt::format("; vibration {} Hz", human(m.vibration->frequency_hz));
+    if (m.vibration->duty_cycle) {
+      s += fmt::format(", duty cycle {} (fixed)", human(*m.vibration->duty_cycle));
+    } else {
+      s += fmt::format(", {} µm on a {} mm workpiece (duty cycle from the speed)",
+                       human(units::m_to_um(m.vibration->amplitude_m)),
+                       human(m_to_mm(*m.vibration->workpiece_diameter_m)));
+    }
+  }
+  return s;
+}
+
+namespace {
+
+void turning_lobes(const io::Case& c, const LobesRequest& request, LobesJobReport& r) {
+  const TurningModel model = turning_model(c, "lobes");
+  const TurningMethod method =
+      turning_method(asked_method(c, request.method, request.names), model.vibration.has_value());
+  const TurningStabilityOptions options = turning_stability_options(c, method);
+  if (const auto problems = options.validate(); !problems.empty())
+    throw InvalidInput(problems, c.source);
+  const LobesOptions grid = lobes_grid(c, request.threads);
+  rethrow_as(c.source, "lobes.rpm_min", [&] { check_speed_domain(model, grid.rpm_min); });
+  const bool assisted = model.vibration.has_value();
+  const auto at_speed = [&](double rpm) {
+    const TurningBoundary b = turning_critical_depth(model, rpm, options);
+    return LobePoint{rpm, b.boundary, b.duty_cycle, b.lobe};
+  };
+  r.lobes = trace_lobes(at_speed, grid, request.progress);
+  // With vibration, the conventional lobes beside them (exact closed form, cheap), traced
+  // with their own refinement; each curve is then completed at the other's speeds, so both
+  // hold their cusps and share one row per speed.
+  if (assisted) {
+    TurningStabilityOptions exact = options;
+    exact.method = TurningMethod::kClosedForm;
+    const TurningModel conventional = model.conventional();
+    const auto conventional_at = [&](double rpm) {
+      return LobePoint{rpm, turning_critical_depth(conventional, rpm, exact).boundary, 1.0, 0};
+    };
+    LobesReport conv = trace_lobes(conventional_at, grid);
+    complete_lobes(at_speed, conv.points, r.lobes.points, grid.threads);
+    complete_lobes(conventional_at, r.lobes.points, conv.points, grid.threads);
+    for (const LobePoint& p : conv.points) r.reference.push_back(p.boundary);
+    r.reference_label = "conventional (closed form)";
+    r.duty_cycle = true;
+  }
+  r.description = describe_turning(c, model);
+  r.method = to_string(method);
+  r.depth_max_m = options.depth_max_m;
+  r.title = assisted ? "Stability lobes: vibration-assisted and conventional turning"
+                     : "Stability lobes: turning";
+  r.label = fmt::format("{} ({})", assisted ? "vibration-assisted" : "conventional",
+                        to_string(method));
+}
+
+void turning_check(const io::Case& c, const CheckRequest& request, CheckJobReport& r) {
+  const TurningModel model = turning_model(c, "check");
+  rethrow_as(request.names.where, request.names.rpm,
+             [&] { check_speed_domain(model, request.rpm); });
+  const TurningMethod method =
+      turning_method(asked_method(c, request.method, request.names), model.vibration.has_value());
+  TurningStabilityOptions options = turning_stability_options(c, method);
+  // Search far enough above the requested depth to say how much margin there is.
+  options.depth_max_m = std::max(options.depth_max_m, 4.0 * request.depth_m);
+  if (const auto problems = options.validate(); !problems.empty())
+    throw InvalidInput(problems, c.source);
+  const TurningBoundary b = turning_critical_depth(model, request.rpm, options);
+  r.description = describe_turning(c, model);
+  r.method = to_string(method);
+  r.boundary = b.boundary;
+  r.lobe = b.lobe;
+  r.duty_cycle = b.duty_cycle;
+  if (model.vibration) {
+    TurningStabilityOptions exact = options;
+    exact.method = TurningMethod::kClosedForm;
+    const TurningBoundary cb = turning_critical_depth(model.conventional(), request.rpm, exact);
+    r.conventional = CheckJobReport::Conventional{
+        cb.boundary, !cb.boundary.found || request.depth_m < cb.boundary.depth_m};
+  }
+}
+
+// ---- milling ----------------------------------------------------------------------------
+
+// The full discretization's work grows with the structural periods in one tooth period.
+void check_milling_speed(const MillingModel& m, double rpm) {
+  constexpr double kMaxModeCycles = 500.0;
+  Validator v;
+  v.require_positive("spindle speed", rpm, "rpm");
+  v.throw_if_any();
+  const double tooth_period = 60.0 / (rpm * m.teeth);
+  const double f_top = units::rad_per_s_to_hz(m.modal.max_natural_rad_s());
+  if (tooth_period * f_top > kMaxModeCycles) {
+    v.add(
+        fmt::format("spindle speed = {} rpm: one tooth period spans {:.0f} periods of the {} Hz "
+                    "mode; the milling stability methods take at most {:.0f} (raise the speed)",
+                    human(rpm), tooth_period * f_top, human(f_top), kMaxModeCycles));
+  }
+  v.throw_if_any();
+}
+
+MillingStabilityOptions milling_options(const io::Case& c, MillingMethod method) {
+  MillingStabilityOptions o;
+  o.method = method;
+  o.depth_max_m = c.lobes.depth_max_m;
+  o.harmonics = c.lobes.harmonics;
+  o.fd.steps_per_period = c.lobes.steps_per_period;
+  // Full discretization: a coarse scan of 16 depths brackets the first unstable one (islands
+  // above a stable band are not skipped), then Brent's method on the spectral radius to 0.1 %.
+  o.rel_tol = 1e-3;
+  o.coarse_steps = 16;
+  return o;
+}
+
+// "4 teeth, helix 30°, pitch 70/110/70/110°".
+std::string cutter(const MillingModel& m) {
+  std::string teeth = fmt::format("{} teeth", m.teeth);
+  if (m.helix_rad > 0.0) teeth += fmt::format(", helix {}°", human(units::rad_to_deg(m.helix_rad)));
+  if (!m.even_pitch()) {
+    std::string pitch;
+    for (double p : m.pitch_rad) {
+      if (!pitch.empty()) pitch += '/';
+      pitch += human(units::rad_to_deg(p));
+    }
+    teeth += ", pitch " + pitch + "°";
+  }
+  return teeth;
+}
+
+// "a_e/D = 0.5, down-milling", or for a window given as angles
+// "entry 90°, exit 180° (a_e/D = 0.5)".
+std::string engagement(const MillingModel& m) {
+  if (m.window_entry_rad)
+    return fmt::format(
+        "entry {}°, exit {}° (a_e/D = {})", human(units::rad_to_deg(m.entry_angle()), 4),
+        human(units::rad_to_deg(m.exit_angle()), 4), human(m.engaged_immersion(), 4));
+  return fmt::format("a_e/D = {}, {}", human(m.radial_immersion),
+                     m.down_milling ? "down-milling" : "up-milling");
+}
+
+std::string describe(const MillingModel& m) {
+  return fmt::format("milling, {}, {} mode{}, Kt = {} N/mm², Kr = {} N/mm², {}", cutter(m),
+                     m.modal.modes.size(), m.modal.modes.size() == 1 ? "" : "s",
+                     human(units::pa_to_n_per_mm2(m.kt_pa)), human(units::pa_to_n_per_mm2(m.kr_pa)),
+                     engagement(m));
+}
+
+void milling_lobes(const io::Case& c, const LobesRequest& request, LobesJobReport& r) {
+  const MillingModel model = milling_model(c, "lobes");
+  const MillingMethod method = milling_method(asked_method(c, request.method, request.names));
+  const LobesOptions grid = lobes_grid(c, request.threads);
+  const MillingStabilityOptions options = milling_options(c, method);
+  rethrow_as(c.source, "lobes.rpm_min", [&] { check_milling_speed(model, grid.rpm_min); });
+  r.lobes = trace_lobes(
+      [&](double rpm) {
+        const MillingBoundary b = milling_critical_depth(model, rpm, options);
+        return LobePoint{rpm, b.boundary, 1.0, b.lobe};
+      },
+      grid, request.progress);
+  r.description = describe(model);
+  r.method = to_string(method);
+  r.depth_max_m = c.lobes.depth_max_m;
+  r.title = "Stability lobes: milling";
+  r.label = fmt::format("{}, {} ({})", cutter(model), engagement(model), to_string(method));
+  if (auto caveat = milling_method_caveat(model, method, grid.rpm_min, grid.rpm_max))
+    r.warnings.push_back(*caveat);
+}
+
+void milling_check(const io::Case& c, const CheckRequest& request, CheckJobReport& r) {
+  const RequestNames& names = request.names;
+  const MillingModel model = milling_model(c, "check");
+  rethrow_as(names.where, names.rpm, [&] { check_milling_speed(model, request.rpm); });
+  const MillingMethod method = milling_method(asked_method(c, request.method, names));
+  // The lobes' search; where it finds no boundary, carried on past the depth asked (to tell
+  // its margin) on the same depth grid, so the critical depth is that of the lobes whatever
+  // the depth asked.
+  const MillingStabilityOptions options = milling_options(c, method);
+  MillingBoundary b = milling_critical_depth(model, request.rpm, options);
+  const double reach = 1.25 * request.depth_m;
+  if (!b.boundary.found && reach > options.depth_max_m) {
+    if (reach > kMaxSearchExtension * options.depth_max_m) {
+      throw InvalidInput(
+          {fmt::format("{} = {}: stable up to lobes.depth_max_mm = {} mm at this speed, and the "
+                       "depth asked is more than {} times that; raise lobes.depth_max_mm in the "
+                       "case to search that deep",
+                       names.depth, human(m_to_mm(request.depth_m)),
+                       human(m_to_mm(options.depth_max_m)), human(kMaxSearchExtension / 1.25))},
+          names.where);
+    }
+    b = milling_critical_depth(model, request.rpm, extend_search(options, reach));
+  }
+  r.description = describe(model);
+  r.method = to_string(method);
+  r.boundary = b.boundary;
+  r.lobe = b.lobe;
+  if (auto caveat = milling_method_caveat(model, method, request.rpm, request.rpm))
+    r.warnings.push_back(*caveat);
+}
+
+}  // namespace
+
+LobesJobReport run_lobes(const io::Case& c, const LobesRequest& request) {
+  if (request.target_depth_m) {
+    Validator v;
+    v.require_positive(request.names.depth, m_to_mm(*request.target_depth_m), "mm");
+    v.throw_if_any(request.names.where);
+  }
+  LobesJobReport r;
+  if (c.process == io::Process::kMilling)
+    milling_lobes(c, request, r);
+  else
+    turning_lobes(c, request, r);
+  const auto& pts = r.lobes.points;
+  for (std::size_t i = 1; i < pts.size(); ++i)
+    if (pts[i].boundary.depth_m < pts[r.lowest].boundary.depth_m) r.lowest = i;
+  r.pockets = stable_pockets(pts, 3);
+  if (request.target_depth_m) {
+    r.target_depth_m = request.target_depth_m;
+    r.stable_ranges = stable_ranges(pts, *request.target_depth_m);
+    r.advice = recommend_speed(pts, *request.target_depth_m);
+  }
+  return r;
+}
+
+CheckJobReport run_check(const io::Case& c, const CheckRequest& request) {
+  Validator v;
+  v.require_positive(request.names.rpm, request.rpm, "rpm");
+  v.require_positive(request.names.depth, m_to_mm(request.depth_m), "mm");
+  v.throw_if_any(request.names.where);
+  CheckJobReport r;
+  r.rpm = request.rpm;
+  r.depth_m = request.depth_m;
+  if (c.process == io::Process::kMilling)
+    milling_check(c, request, r);
+  else
+    turning_check(c, request, r);
+  r.stable = !r.boundary.found || request.depth_m < r.boundary.depth_m;
+  if (r.boundary.depth_m > 0.0) r.margin = (r.boundary.depth_m - request.depth_m) / r.boundary.depth_m;
+  return r;
+}
+
+}  // namespace cutdyn::app
