@@ -1,0 +1,96 @@
+// The lobes and check jobs agree with each other: `check` at a speed of the lobes finds the
+// lobes' critical depth there, and its verdict flips across it; the recommended speed is
+// stable at the target depth by `check`, with the stated margin.
+#include "cutdyn/app/stability.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "cutdyn/app/case_models.hpp"
+#include "cutdyn/core/error.hpp"
+
+namespace cutdyn::app {
+namespace {
+
+struct Example {
+  const char* name;
+  double rel_tol;  // of the critical depth between the two jobs
+};
+
+class StabilityJobs : public ::testing::TestWithParam<Example> {};
+
+TEST_P(StabilityJobs, CheckAgreesWithTheLobesAndTheRecommendation) {
+  const io::Case c = load_case(GetParam().name, "");
+  LobesRequest lr;
+  lr.threads = 2;
+  const LobesJobReport lobes = run_lobes(c, lr);
+  ASSERT_FALSE(lobes.lobes.points.empty());
+  const auto& pts = lobes.lobes.points;
+  // Three speeds: the lowest depth, a pocket (if any) and the middle of the grid.
+  std::vector<std::size_t> at{lobes.lowest, pts.size() / 2};
+  if (!lobes.pockets.empty()) at.push_back(lobes.pockets.front());
+  for (std::size_t i : at) {
+    const LobePoint& p = pts[i];
+    if (!p.boundary.found) continue;
+    CheckRequest below, above;
+    below.rpm = above.rpm = p.rpm;
+    below.depth_m = 0.97 * p.boundary.depth_m;
+    above.depth_m = 1.03 * p.boundary.depth_m;
+    const CheckJobReport b = run_check(c, below), a = run_check(c, above);
+    EXPECT_EQ(b.method, lobes.method);
+    EXPECT_NEAR(b.boundary.depth_m / p.boundary.depth_m, 1.0, GetParam().rel_tol)
+        << GetParam().name << " at " << p.rpm << " rpm";
+    EXPECT_TRUE(b.stable) << p.rpm;
+    EXPECT_FALSE(a.stable) << p.rpm;
+    ASSERT_TRUE(b.margin.has_value());
+    EXPECT_NEAR(*b.margin, 1.0 - 0.97 * p.boundary.depth_m / b.boundary.depth_m, 1e-12);
+  }
+  // The recommended speed at half the lowest pocket's depth: stable there by `check`, and
+  // still stable with the speed off by the stated margin.
+  LobesRequest target = lr;
+  target.target_depth_m = 0.5 * pts[lobes.pockets.empty() ? lobes.lowest : lobes.pockets.front()]
+                                     .boundary.depth_m;
+  const LobesJobReport advised = run_lobes(c, target);
+  if (!advised.advice.found) return;
+  for (double factor : {1.0, 1.0 - 0.9 * advised.advice.margin, 1.0 + 0.9 * advised.advice.margin}) {
+    CheckRequest r;
+    r.rpm = advised.advice.rpm * factor;
+    r.depth_m = *target.target_depth_m;
+    EXPECT_TRUE(run_check(c, r).stable) << GetParam().name << " at " << r.rpm << " rpm";
+  }
+}
+
+// Turning (conventional, vibration-assisted) and milling (even and variable pitch).
+INSTANTIATE_TEST_SUITE_P(Examples, StabilityJobs,
+                         ::testing::Values(Example{"turning-conventional", 1e-9},
+                                           Example{"turning-ultrasonic", 1e-9},
+                                           Example{"milling-insperger", 2e-3},
+                                           Example{"milling-variable-pitch", 2e-3}),
+                         [](const auto& info) {
+                           std::string n = info.param.name;
+                           for (char& ch : n)
+                             if (ch == '-') ch = '_';
+                           return n;
+                         });
+
+TEST(StabilityJobsInput, RequestNamesAppearInTheErrors) {
+  const io::Case c = load_case("turning-conventional", "");
+  CheckRequest r;
+  r.rpm = -5.0;
+  r.depth_m = 1e-3;
+  r.names = {"command line", "--rpm", "--depth-mm", "--method"};
+  try {
+    run_check(c, r);
+    FAIL() << "no error";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("--rpm"), std::string::npos) << e.what();
+  }
+  r.rpm = 1000.0;
+  r.method = "tlusty";
+  EXPECT_THROW(run_check(c, r), InvalidInput);
+}
+
+}  // namespace
+}  // namespace cutdyn::app
