@@ -39,8 +39,15 @@ file(READ "${export_file}" export_text)
 if(NOT export_text MATCHES "INTERFACE_INCLUDE_DIRECTORIES \"\\\${_IMPORT_PREFIX}/include\"")
   message(FATAL_ERROR "consumer_test: a fresh configure exports no include directory (${export_file})")
 endif()
-# The internal headers are not installed.
-if(EXISTS "${prefix}/include/cutdyn/io")
-  message(FATAL_ERROR "consumer_test: include/cutdyn/io was installed")
+# The jobs: the `check` job on a built-in example through cutdyn::app (the Insperger–Stépán
+# slot at 5000 rpm and 0.04 mm: stable, below the 0.048 mm lobe).
+run("${consumer}/check_cut")
+if(NOT last_output MATCHES "\nstable at 5000 rpm and 0\\.040 mm: critical depth 0\\.04[5-9]")
+  message(FATAL_ERROR "consumer_test: unexpected output of check_cut:\n${last_output}")
+endif()
+# Internal headers (detail/) are not installed.
+file(GLOB_RECURSE internal "${prefix}/include/cutdyn/*/detail/*")
+if(internal)
+  message(FATAL_ERROR "consumer_test: internal headers were installed: ${internal}")
 endif()
 message(STATUS "consumer_test: the installed cutdyn builds and runs a consumer")
