@@ -9,6 +9,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/milling_setup.hpp"
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/forces/duty_cycle.hpp"
@@ -42,7 +43,8 @@ int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
   request.threads = args.threads;
   if (args.target_depth_mm) request.target_depth_m = mm_to_m(*args.target_depth_mm);
   request.progress = progress_reporter(err, "lobes");
-  request.names = {"command line", "--rpm", "--target-depth-mm", "--method"};
+  request.names = flag_names();
+  request.names.depth = "--target-depth-mm";
   report_lobes(c, app::run_lobes(c, request), args.outputs, out, err);
   return 0;
 }
@@ -56,7 +58,7 @@ int run_check(const CheckArgs& args, std::ostream& out, std::ostream&) {
   request.rpm = args.rpm;
   request.depth_m = mm_to_m(args.depth_mm);
   request.method = args.method;
-  request.names = {"command line", "--rpm", "--depth-mm", "--method"};
+  request.names = flag_names();
   report_check(c, args, app::run_check(c, request), out);
   return 0;
 }
@@ -68,54 +70,16 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
   if (!args.sweep.empty() || !args.metric.empty())
     throw InvalidInput({"--sweep, --metric: sweeps take milling cases in this version"},
                        "command line");
-  const TurningModel model = turning_model(c, "simulate");
-  Validator v;
-  TurningSimulationOptions o;
-  const auto rpm = args.rpm ? args.rpm : c.simulate.rpm;
-  const auto depth_m = args.depth_mm ? std::optional(mm_to_m(*args.depth_mm)) : c.simulate.depth_m;
-  if (!rpm) v.add("simulate.rpm: missing (give it in the case or as --rpm)");
-  if (!depth_m) v.add("simulate.depth_mm: missing (give it in the case or as --depth-mm)");
-  if (!c.cutting.uncut_chip_thickness_m)
-    v.add(
-        "cutting.uncut_chip_thickness_mm: missing (required by `cutdyn simulate`: the feed per "
-        "revolution)");
-  v.throw_if_any(c.source);
-  o.rpm = *rpm;
-  o.depth_m = *depth_m;
-  o.feed_m = *c.cutting.uncut_chip_thickness_m;
-  o.duration_s = args.duration_s.value_or(c.simulate.duration_s);
-  o.initial_displacement_m = c.simulate.initial_displacement_m;
-  if (const auto problems = o.validate(); !problems.empty()) {
-    std::vector<std::string> named;
-    for (const auto& p : problems) named.push_back("simulate: " + p);
-    throw InvalidInput(named,
-                       args.rpm || args.depth_mm || args.duration_s ? "command line" : c.source);
-  }
-
-  const bool from_flags = args.rpm || args.depth_mm || args.duration_s;
-  const std::string where = from_flags ? "command line" : c.source;
-  rethrow_as(where, "simulate", [&] { check_speed_domain(model, o.rpm); });
-  struct Run {
-    std::string name;
-    TurningModel model;
-    TurningSimulationResult result;
-    TurningBoundary predicted;
-  };
-  std::vector<Run> runs;
-  runs.push_back({model.vibration ? "vibration-assisted" : "conventional", model, {}, {}});
-  if (model.vibration) runs.push_back({"conventional", model.conventional(), {}, {}});
-  TurningStabilityOptions so = app::turning_stability_options(c, TurningMethod::kFullDiscretization);
-  so.depth_max_m = std::max(so.depth_max_m, 4.0 * o.depth_m);
-  for (Run& r : runs) {
-    rethrow_as(where, "simulate", [&] { r.result = simulate_turning(r.model, o); });
-    so.method = r.model.vibration ? TurningMethod::kFullDiscretization : TurningMethod::kClosedForm;
-    r.predicted = turning_critical_depth(r.model, o.rpm, so);
-  }
+  const app::TurningSimulationJobReport job =
+      app::simulate_turning_case(c, simulate_request(args));
+  const TurningSimulationOptions& o = job.options;
+  const auto& runs = job.runs;
+  using Run = app::TurningSimulationRun;
 
   out << "cutdyn simulate: " << c.source << " at " << human(o.rpm) << " rpm, depth "
       << human(m_to_mm(o.depth_m)) << " mm, feed " << human(m_to_mm(o.feed_m)) << " mm/rev, "
       << human(o.duration_s) << " s\n";
-  out << "  " << app::describe_turning(c, model) << "\n";
+  out << "  " << job.description << "\n";
   for (const Run& r : runs) {
     const auto& s = r.result;
     out << fmt::format(
@@ -135,14 +99,12 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
                        : "");
     if (s.status == SimulationStatus::kRunaway)
       out << "  " << std::string(20, ' ') << "CHATTER" << s.verdict().substr(7) << "\n";
-    if (!s.growth_settled)
-      err << "cutdyn: warning: " << c.source << ": " << r.name
-          << ": the free response's growth has not settled over " << human(o.duration_s)
-          << " s: the verdict is uncertain; simulate longer ([simulate] duration_s)\n";
     out << "  " << std::string(20, ' ') << "predicted critical depth "
         << depth_text(r.predicted.boundary) << " → depth is "
         << human(100.0 * o.depth_m / r.predicted.boundary.depth_m, 3) << " % of it\n";
   }
+
+  for (const std::string& w : job.warnings) err << "cutdyn: warning: " << c.source << ": " << w << "\n";
 
   io::OutputTransaction outputs;
   if (!args.outputs.csv.empty()) {

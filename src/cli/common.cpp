@@ -34,11 +34,14 @@ void check_output_folder(Validator& v, const char* flag, const std::string& path
     v.add(std::string(flag) + " = " + path + ": the folder " + parent.string() + " does not exist");
 }
 
-StabilityMethod asked_method(const io::Case& c, const std::string& flag) {
-  if (flag.empty()) return c.lobes.method;
-  if (const auto m = parse_stability_method(flag)) return *m;
-  throw InvalidInput({"--method = \"" + flag + "\": must be one of " + kStabilityMethodNames},
-                     "command line");
+app::RequestNames flag_names() {
+  app::RequestNames n;
+  n.where = "command line";
+  n.rpm = "--rpm";
+  n.depth = "--depth-mm";
+  n.duration = "--duration-s";
+  n.method = "--method";
+  return n;
 }
 
 void check_outputs(const Outputs& o) {

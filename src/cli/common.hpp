@@ -36,12 +36,13 @@ using app::turning_model;
 /// One line: "Kc and Kt predicted by Oxley's theory for AISI1045 at 200 m/min, ...".
 std::string oxley_summary(const io::Case& c, const OxleyPrediction& p);
 
+/// How the jobs name the command line's inputs: "command line", --rpm, --depth-mm,
+/// --duration-s, --method.
+app::RequestNames flag_names();
+
 /// Checks --out/--json/--plot before any work: figure format, existing folders, distinct files.
 void check_outputs(const Outputs& o);
 
-/// The stability method asked for: --method (`flag`), else the case's [lobes].method. Throws
-/// InvalidInput naming --method and the names for an unknown one.
-StabilityMethod asked_method(const io::Case& c, const std::string& flag);
 /// Commits the outputs (they appear together) and lists the files written.
 void commit_outputs(io::OutputTransaction& outputs, const Outputs& o, std::ostream& out);
 /// Adds a problem to `v` if `path`'s folder does not exist.

@@ -5,28 +5,21 @@
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "cutdyn/app/simulate.hpp"
 #include "cutdyn/io/case_file.hpp"
 #include "cutdyn/simulate/milling_simulation.hpp"
 
 namespace cutdyn::cli {
 
-// The cut of the case, with the speed, depth and length from the flags or [simulate].
-struct SimulationSetup {
-  MillingCut cut;
-  MillingSimulationOptions options;
-  double rpm = 0.0;
-  std::string where;  // where the speed/depth came from, for errors
-};
-
+/// The cut of the case, with the speed, depth and length from the flags or [simulate]
+/// (app::milling_setup with the flags' names).
+using SimulationSetup = app::MillingSetup;
+app::SimulateRequest simulate_request(const SimulateArgs& args);
 /// Every problem with the case or the flags throws cutdyn::InvalidInput.
 SimulationSetup milling_setup(const SimulateArgs& args, const io::Case& c);
 
-/// A sweep of one case key over FROM:STEP:TO.
-struct Sweep {
-  std::string key;
-  std::vector<double> values;
-};
-
+/// A sweep of one case key over FROM:STEP:TO (--sweep).
+using app::Sweep;
 /// "KEY=FROM:STEP:TO" (MATLAB's colon notation), at most 10 000 values; a bad spec throws
 /// cutdyn::InvalidInput at "command line".
 Sweep parse_sweep(const std::string& spec);

@@ -103,14 +103,19 @@ std::vector<std::string> MillingModel::validate() const {
   return v.problems();
 }
 
+EngagementWindow engagement_window(double radial_immersion, bool down_milling) {
+  if (down_milling) return {std::acos(2.0 * radial_immersion - 1.0), kPi};
+  return {0.0, std::acos(1.0 - 2.0 * radial_immersion)};
+}
+
 double MillingModel::entry_angle() const {
   if (window_entry_rad && window_exit_rad) return *window_entry_rad;
-  return down_milling ? std::acos(2.0 * radial_immersion - 1.0) : 0.0;
+  return engagement_window(radial_immersion, down_milling).entry_rad;
 }
 
 double MillingModel::exit_angle() const {
   if (window_entry_rad && window_exit_rad) return *window_exit_rad;
-  return down_milling ? kPi : std::acos(1.0 - 2.0 * radial_immersion);
+  return engagement_window(radial_immersion, down_milling).exit_rad;
 }
 
 double MillingModel::engaged_immersion() const {

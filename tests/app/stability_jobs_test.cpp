@@ -68,8 +68,8 @@ INSTANTIATE_TEST_SUITE_P(Examples, StabilityJobs,
                                            Example{"turning-ultrasonic", 1e-9},
                                            Example{"milling-insperger", 2e-3},
                                            Example{"milling-variable-pitch", 2e-3}),
-                         [](const auto& info) {
-                           std::string n = info.param.name;
+                         [](const auto& p) {
+                           std::string n = p.param.name;
                            for (char& ch : n)
                              if (ch == '-') ch = '_';
                            return n;

@@ -10,19 +10,13 @@
 #include <string>
 #include <vector>
 
+#include "cutdyn/app/request.hpp"
 #include "cutdyn/io/case_file.hpp"
 #include "cutdyn/stability/advice.hpp"
 #include "cutdyn/stability/lobes.hpp"
 #include "cutdyn/stability/turning.hpp"
 
 namespace cutdyn::app {
-
-/// How a front end calls a request's inputs in error messages (the CLI: "command line",
-/// "--rpm", "--depth-mm", "--method").
-struct RequestNames {
-  std::string where = "request";
-  std::string rpm = "rpm", depth = "depth_mm", method = "method";
-};
 
 struct LobesRequest {
   std::string method;                    // a stability method name; empty: the case's [lobes]

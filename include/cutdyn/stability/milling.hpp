@@ -21,6 +21,13 @@
 
 namespace cutdyn {
 
+/// The tooth's engagement window for a radial immersion a_e/D: down-milling [acos(2a_e/D − 1),
+/// π], up-milling [0, acos(1 − 2a_e/D)] (rad).
+struct EngagementWindow {
+  double entry_rad = 0.0, exit_rad = 0.0;
+};
+EngagementWindow engagement_window(double radial_immersion, bool down_milling);
+
 struct MillingModel {
   ModalModel modal;               // modes in x (feed) and y
   double kt_pa = 0.0;             // tangential cutting coefficient, N/m²
