@@ -9,6 +9,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cutdyn/app/force.hpp"
 #include "cli/milling_setup.hpp"
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
@@ -169,115 +170,144 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
   return 0;
 }
 
+namespace {
+
+// The Oxley lines of the force report (text) and their JSON.
+nlohmann::json report_oxley(const io::Case& c, const app::OxleyPrediction& p, std::ostream& out) {
+  const WorkMaterial& m = *c.material;
+  const OxleyState& s = p.result.state;
+  out << "  " << oxley_summary(c, p) << "\n";
+  out << "    material " << m.name << ": " << m.reference << "\n";
+  out << "    shear angle " << human(units::rad_to_deg(s.phi_rad)) << "°, chip thickness "
+      << human(m_to_mm(s.chip_thickness_m)) << " mm (chip ratio " << human(p.result.chip_ratio)
+      << "), contact length " << human(m_to_mm(s.contact_length_m)) << " mm\n";
+  out << "    strain-rate constant C0 = " << human(s.c0) << ", secondary zone δ = " << human(s.delta)
+      << " of the chip thickness, friction angle " << human(units::rad_to_deg(s.friction_angle_rad))
+      << "°\n";
+  out << "    temperatures: shear plane " << human(s.temperature_ab_c, 3)
+      << " °C, tool–chip interface " << human(s.temperature_interface_c, 3) << " °C\n";
+  out << "    flow stress in shear: shear plane " << human(s.shear_flow_stress_pa / 1e6)
+      << " MPa at strain rate " << human(s.strain_rate_ab_per_s, 3) << " 1/s\n";
+  for (const std::string& warning : p.result.warnings) out << "    warning: " << warning << "\n";
+  return {{"material", m.name},
+          {"shear_angle_deg", units::rad_to_deg(s.phi_rad)},
+          {"chip_thickness_mm", m_to_mm(s.chip_thickness_m)},
+          {"chip_ratio", p.result.chip_ratio},
+          {"strain_rate_constant", s.c0},
+          {"secondary_zone_ratio", s.delta},
+          {"contact_length_mm", m_to_mm(s.contact_length_m)},
+          {"friction_angle_deg", units::rad_to_deg(s.friction_angle_rad)},
+          {"shear_plane_temperature_c", s.temperature_ab_c},
+          {"interface_temperature_c", s.temperature_interface_c},
+          {"shear_plane_strain_rate_per_s", s.strain_rate_ab_per_s},
+          {"shear_plane_flow_stress_mpa", s.shear_flow_stress_pa / 1e6},
+          {"interface_strain_rate_per_s", s.strain_rate_interface_per_s},
+          {"warnings", p.result.warnings}};
+}
+
+// The vibration lines of the force report (text) and their JSON.
+nlohmann::json report_vibration(const io::VibrationSection& v, const DutyCycle& dc,
+                                std::ostream& out) {
+  const double T = dc.period_s;
+  out << "  vibration " << human(v.frequency_hz) << " Hz";
+  if (v.amplitude_m) {
+    out << ", " << human(units::m_to_um(*v.amplitude_m)) << " µm: critical speed 2πfA = "
+        << human(units::m_per_s_to_m_per_min(dc.critical_speed_m_per_s)) << " m/min";
+  }
+  out << "\n  duty cycle r = " << human(dc.ratio) << "; period " << human(T * 1e6)
+      << " µs: " << human(dc.ratio * T * 1e6) << " µs in contact, "
+      << human((1.0 - dc.ratio) * T * 1e6) << " µs separated\n";
+  if (dc.separates && !v.duty_cycle) {
+    out << "  separation starts at phase " << human(units::rad_to_deg(dc.separation_phase_rad))
+        << "°, contact resumes at " << human(units::rad_to_deg(dc.contact_phase_rad))
+        << "° (ρ = v/2πfA = " << human(dc.rho) << ")\n";
+  } else if (!dc.separates) {
+    out << "  no separation: the cutting speed is at or above 2πfA\n";
+  }
+  json vib = {{"duty_cycle", dc.ratio},
+              {"period_s", T},
+              {"contact_time_s", dc.ratio * T},
+              {"separation_time_s", (1.0 - dc.ratio) * T},
+              {"separates", dc.separates}};
+  if (v.amplitude_m && !v.duty_cycle) {
+    vib["critical_speed_m_per_min"] = units::m_per_s_to_m_per_min(dc.critical_speed_m_per_s);
+    vib["rho"] = dc.rho;
+    if (dc.separates) {
+      vib["separation_phase_deg"] = units::rad_to_deg(dc.separation_phase_rad);
+      vib["contact_phase_deg"] = units::rad_to_deg(dc.contact_phase_rad);
+    }
+  }
+  return vib;
+}
+
+// Oxley's prediction around the cut: forces and shear angle against the uncut chip thickness.
+io::PlotSpec oxley_plot(const io::Case& c, const app::ForceJobReport& r) {
+  io::PlotSpec spec;
+  spec.title = fmt::format("Oxley + Johnson–Cook: {} at {} m/min, rake {}°, w = {} mm",
+                           c.material->name,
+                           human(units::m_per_s_to_m_per_min(r.oxley->cut.speed_m_per_s)),
+                           human(units::rad_to_deg(r.oxley->cut.rake_rad)), human(m_to_mm(r.width_m)));
+  spec.x_label = "uncut chip thickness (mm)";
+  spec.y_label = "force (N)";
+  spec.y2_label = "shear angle (°)";
+  spec.y_min = 0.0;
+  const double h = m_to_mm(r.uncut_chip_thickness_m);
+  io::PlotSeries fc{"cutting force", {}, {}, "linespoints"},
+      ft{"thrust force", {}, {}, "linespoints"}, phi{"shear angle", {}, {}, "linespoints", true},
+      here{"this cut", {h, h}, {r.forces.peak_cutting_n, r.forces.peak_thrust_n}, "points"};
+  for (const app::ChipThicknessPoint& p : r.around) {
+    for (io::PlotSeries* series : {&fc, &ft, &phi})
+      series->x.push_back(m_to_mm(p.uncut_chip_thickness_m));
+    fc.y.push_back(p.cutting_force_n);
+    ft.y.push_back(p.thrust_force_n);
+    phi.y.push_back(units::rad_to_deg(p.shear_angle_rad));
+  }
+  spec.series = {fc, ft, here, phi};
+  return spec;
+}
+
+// Three vibration periods of the pulsed forces g(t)·K·h·w (or a flat line).
+io::PlotSpec pulse_plot(const app::ForceJobReport& r) {
+  const ContactWindow g = r.duty_cycle.window();
+  const double T = r.vibration ? r.duty_cycle.period_s : 1e-3;
+  io::PlotSpec spec;
+  spec.title = r.vibration ? "Pulsed cutting forces of vibration-assisted turning" : "Cutting forces";
+  spec.x_label = "time (µs)";
+  spec.y_label = "force (N)";
+  spec.y_min = 0.0;
+  spec.y_max = 1.15 * std::max(r.forces.peak_cutting_n, r.forces.peak_thrust_n);
+  io::PlotSeries fc{"cutting force", {}, {}, "lines"}, ft{"thrust force", {}, {}, "lines"};
+  const int n = 1500;
+  for (int i = 0; i <= n; ++i) {
+    const double t = 3.0 * T * i / n;
+    const double on = g.in_contact(t) ? 1.0 : 0.0;
+    fc.x.push_back(t * 1e6);
+    fc.y.push_back(on * r.forces.peak_cutting_n);
+    ft.x.push_back(t * 1e6);
+    ft.y.push_back(on * r.forces.peak_thrust_n);
+  }
+  spec.series = {fc, ft};
+  return spec;
+}
+
+}  // namespace
+
 int run_force(const ForceArgs& args, std::ostream& out, std::ostream&) {
   check_outputs({"", args.json, args.plot});
   const io::Case c = load_case(args.case_path, kDefaultForceCase);
-  require_turning(c, "force");
-  Validator v;
-  const auto need = [&](const std::optional<double>& x, const char* key) {
-    if (!x) v.add(std::string("cutting.") + key + ": missing (required by `cutdyn force`)");
-  };
-  if (!c.material) {
-    need(c.cutting.kc_pa, "kc_n_per_mm2 (or give a [material] to predict it)");
-    need(c.cutting.kt_pa, "kt_n_per_mm2 (or give a [material] to predict it)");
-  }
-  need(c.cutting.uncut_chip_thickness_m, "uncut_chip_thickness_mm");
-  need(c.cutting.width_m, "width_mm");
-  if (c.vibration && !c.vibration->duty_cycle && !c.cutting.speed_m_per_s)
-    v.add(
-        "cutting.speed_m_per_min: missing (required by `cutdyn force` to compute the duty cycle; "
-        "or give vibration.duty_cycle)");
-  v.throw_if_any(c.source);
-
-  std::optional<OxleyPrediction> oxley;
-  if (c.material) oxley = predict_with_oxley(c, "force", true);
-  const double kc = oxley ? oxley->result.kc_pa : *c.cutting.kc_pa;
-  const double kt = oxley ? oxley->result.kt_pa : *c.cutting.kt_pa;
-
-  DutyCycle dc;  // conventional: r = 1
-  if (c.vibration) {
-    dc = c.vibration->duty_cycle
-             ? fixed_duty_cycle(*c.vibration->duty_cycle, c.vibration->frequency_hz)
-             : duty_cycle(*c.cutting.speed_m_per_s, c.vibration->frequency_hz,
-                          *c.vibration->amplitude_m);
-  }
-  const double h = *c.cutting.uncut_chip_thickness_m, w = *c.cutting.width_m;
-  const PulsedForces f = pulsed_forces(kc, kt, h, w, dc.ratio);
-
+  const app::ForceJobReport r = app::run_force(c);
+  const PulsedForces& f = r.forces;
   out << "cutdyn force: " << c.source << "\n";
   json oxley_json;
-  if (oxley) {
-    const WorkMaterial& m = *c.material;
-    const OxleyState& s = oxley->result.state;
-    out << "  " << oxley_summary(c, *oxley) << "\n";
-    out << "    material " << m.name << ": " << m.reference << "\n";
-    out << "    shear angle " << human(units::rad_to_deg(s.phi_rad)) << "°, chip thickness "
-        << human(m_to_mm(s.chip_thickness_m)) << " mm (chip ratio "
-        << human(oxley->result.chip_ratio) << "), contact length "
-        << human(m_to_mm(s.contact_length_m)) << " mm\n";
-    out << "    strain-rate constant C0 = " << human(s.c0)
-        << ", secondary zone δ = " << human(s.delta) << " of the chip thickness, friction angle "
-        << human(units::rad_to_deg(s.friction_angle_rad)) << "°\n";
-    out << "    temperatures: shear plane " << human(s.temperature_ab_c, 3)
-        << " °C, tool–chip interface " << human(s.temperature_interface_c, 3) << " °C\n";
-    out << "    flow stress in shear: shear plane " << human(s.shear_flow_stress_pa / 1e6)
-        << " MPa at strain rate " << human(s.strain_rate_ab_per_s, 3) << " 1/s\n";
-    for (const std::string& warning : oxley->result.warnings)
-      out << "    warning: " << warning << "\n";
-    oxley_json = {{"material", m.name},
-                  {"shear_angle_deg", units::rad_to_deg(s.phi_rad)},
-                  {"chip_thickness_mm", m_to_mm(s.chip_thickness_m)},
-                  {"chip_ratio", oxley->result.chip_ratio},
-                  {"strain_rate_constant", s.c0},
-                  {"secondary_zone_ratio", s.delta},
-                  {"contact_length_mm", m_to_mm(s.contact_length_m)},
-                  {"friction_angle_deg", units::rad_to_deg(s.friction_angle_rad)},
-                  {"shear_plane_temperature_c", s.temperature_ab_c},
-                  {"interface_temperature_c", s.temperature_interface_c},
-                  {"shear_plane_strain_rate_per_s", s.strain_rate_ab_per_s},
-                  {"shear_plane_flow_stress_mpa", s.shear_flow_stress_pa / 1e6},
-                  {"interface_strain_rate_per_s", s.strain_rate_interface_per_s},
-                  {"warnings", oxley->result.warnings}};
-  }
-  out << "  Kc = " << human(units::pa_to_n_per_mm2(kc))
-      << " N/mm², Kt = " << human(units::pa_to_n_per_mm2(kt)) << " N/mm²; h = " << human(m_to_mm(h))
-      << " mm, w = " << human(m_to_mm(w)) << " mm";
-  if (c.cutting.speed_m_per_s)
-    out << ", v = " << human(units::m_per_s_to_m_per_min(*c.cutting.speed_m_per_s)) << " m/min";
+  if (r.oxley) oxley_json = report_oxley(c, *r.oxley, out);
+  out << "  Kc = " << human(units::pa_to_n_per_mm2(r.kc_pa))
+      << " N/mm², Kt = " << human(units::pa_to_n_per_mm2(r.kt_pa))
+      << " N/mm²; h = " << human(m_to_mm(r.uncut_chip_thickness_m))
+      << " mm, w = " << human(m_to_mm(r.width_m)) << " mm";
+  if (r.speed_m_per_s) out << ", v = " << human(units::m_per_s_to_m_per_min(*r.speed_m_per_s)) << " m/min";
   out << "\n";
   json vib;
-  if (c.vibration) {
-    const double T = dc.period_s;
-    out << "  vibration " << human(c.vibration->frequency_hz) << " Hz";
-    if (c.vibration->amplitude_m) {
-      out << ", " << human(units::m_to_um(*c.vibration->amplitude_m))
-          << " µm: critical speed 2πfA = "
-          << human(units::m_per_s_to_m_per_min(dc.critical_speed_m_per_s)) << " m/min";
-    }
-    out << "\n  duty cycle r = " << human(dc.ratio) << "; period " << human(T * 1e6)
-        << " µs: " << human(dc.ratio * T * 1e6) << " µs in contact, "
-        << human((1.0 - dc.ratio) * T * 1e6) << " µs separated\n";
-    if (dc.separates && !c.vibration->duty_cycle) {
-      out << "  separation starts at phase " << human(units::rad_to_deg(dc.separation_phase_rad))
-          << "°, contact resumes at " << human(units::rad_to_deg(dc.contact_phase_rad))
-          << "° (ρ = v/2πfA = " << human(dc.rho) << ")\n";
-    } else if (!dc.separates) {
-      out << "  no separation: the cutting speed is at or above 2πfA\n";
-    }
-    vib = {{"duty_cycle", dc.ratio},
-           {"period_s", T},
-           {"contact_time_s", dc.ratio * T},
-           {"separation_time_s", (1.0 - dc.ratio) * T},
-           {"separates", dc.separates}};
-    if (c.vibration->amplitude_m && !c.vibration->duty_cycle) {
-      vib["critical_speed_m_per_min"] = units::m_per_s_to_m_per_min(dc.critical_speed_m_per_s);
-      vib["rho"] = dc.rho;
-      if (dc.separates) {
-        vib["separation_phase_deg"] = units::rad_to_deg(dc.separation_phase_rad);
-        vib["contact_phase_deg"] = units::rad_to_deg(dc.contact_phase_rad);
-      }
-    }
-  }
+  if (c.vibration) vib = report_vibration(*c.vibration, r.duty_cycle, out);
   out << "  cutting force " << human(f.peak_cutting_n) << " N while cutting, mean "
       << human(f.mean_cutting_n) << " N\n";
   out << "  thrust force  " << human(f.peak_thrust_n) << " N while cutting, mean "
@@ -288,77 +318,24 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream&) {
     json doc{{"command", "force"},
              {"case", io::to_json(c)},
              {"source", c.source},
-             {"kc_n_per_mm2", units::pa_to_n_per_mm2(kc)},
-             {"kt_n_per_mm2", units::pa_to_n_per_mm2(kt)},
-             {"coefficients", oxley ? "oxley" : "given"},
+             {"kc_n_per_mm2", units::pa_to_n_per_mm2(r.kc_pa)},
+             {"kt_n_per_mm2", units::pa_to_n_per_mm2(r.kt_pa)},
+             {"coefficients", r.oxley ? "oxley" : "given"},
              {"cutting_force_n", f.peak_cutting_n},
              {"thrust_force_n", f.peak_thrust_n},
              {"mean_cutting_force_n", f.mean_cutting_n},
              {"mean_thrust_force_n", f.mean_thrust_n},
-             {"duty_cycle", dc.ratio}};
+             {"duty_cycle", r.duty_cycle.ratio}};
     if (!vib.is_null()) doc["vibration"] = vib;
-    if (oxley) {
+    if (r.oxley) {
       doc["shear_angle_deg"] = oxley_json["shear_angle_deg"];
       doc["chip_thickness_mm"] = oxley_json["chip_thickness_mm"];
       doc["oxley"] = oxley_json;
     }
     io::write_json(outputs.open(args.json), doc);
   }
-  if (!args.plot.empty() && oxley && !c.vibration) {
-    // The prediction around the case: forces and shear angle against the uncut chip
-    // thickness, from h/4 to 2h (points outside the theory's validity are left out).
-    io::PlotSpec spec;
-    spec.title =
-        fmt::format("Oxley + Johnson–Cook: {} at {} m/min, rake {}°, w = {} mm", c.material->name,
-                    human(units::m_per_s_to_m_per_min(oxley->cut.speed_m_per_s)),
-                    human(units::rad_to_deg(oxley->cut.rake_rad)), human(m_to_mm(w)));
-    spec.x_label = "uncut chip thickness (mm)";
-    spec.y_label = "force (N)";
-    spec.y2_label = "shear angle (°)";
-    spec.y_min = 0.0;
-    io::PlotSeries fc{"cutting force", {}, {}, "linespoints"},
-        ft{"thrust force", {}, {}, "linespoints"}, phi{"shear angle", {}, {}, "linespoints", true},
-        here{"this cut", {m_to_mm(h), m_to_mm(h)}, {f.peak_cutting_n, f.peak_thrust_n}, "points"};
-    for (int i = 0; i <= 14; ++i) {
-      OrthogonalCut cut = oxley->cut;
-      cut.uncut_chip_thickness_m = h * (0.25 + 1.75 * i / 14.0);
-      try {
-        const OxleyResult r = oxley_orthogonal(*c.material, cut, c.oxley);
-        for (io::PlotSeries* series : {&fc, &ft, &phi})
-          series->x.push_back(m_to_mm(cut.uncut_chip_thickness_m));
-        fc.y.push_back(r.state.cutting_force_n);
-        ft.y.push_back(r.state.thrust_force_n);
-        phi.y.push_back(units::rad_to_deg(r.state.phi_rad));
-      } catch (const InvalidInput&) {
-        // outside the theory: no point
-      }
-    }
-    spec.series = {fc, ft, here, phi};
-    io::write_plot(spec, args.plot, outputs);
-  } else if (!args.plot.empty()) {
-    // Three vibration periods of the pulsed forces g(t)·K·h·w (or a flat line).
-    const ContactWindow g = dc.window();
-    const double T = c.vibration ? dc.period_s : 1e-3;
-    io::PlotSpec spec;
-    spec.title =
-        c.vibration ? "Pulsed cutting forces of vibration-assisted turning" : "Cutting forces";
-    spec.x_label = "time (µs)";
-    spec.y_label = "force (N)";
-    spec.y_min = 0.0;
-    spec.y_max = 1.15 * std::max(f.peak_cutting_n, f.peak_thrust_n);
-    io::PlotSeries fc{"cutting force", {}, {}, "lines"}, ft{"thrust force", {}, {}, "lines"};
-    const int n = 1500;
-    for (int i = 0; i <= n; ++i) {
-      const double t = 3.0 * T * i / n;
-      const double on = g.in_contact(t) ? 1.0 : 0.0;
-      fc.x.push_back(t * 1e6);
-      fc.y.push_back(on * f.peak_cutting_n);
-      ft.x.push_back(t * 1e6);
-      ft.y.push_back(on * f.peak_thrust_n);
-    }
-    spec.series = {fc, ft};
-    io::write_plot(spec, args.plot, outputs);
-  }
+  if (!args.plot.empty())
+    io::write_plot(r.oxley && !r.vibration ? oxley_plot(c, r) : pulse_plot(r), args.plot, outputs);
   outputs.commit();
   for (const std::string* file : {&args.json, &args.plot})
     if (!file->empty()) out << "  wrote " << *file << "\n";
