@@ -17,7 +17,7 @@ namespace cutdyn::cli {
 
 int run_plan(const PlanArgs& args, std::ostream& out, std::ostream& err) {
   check_outputs({"", args.json, args.plot});
-  const io::Case c = load_case(args.case_path, "bore-plan");
+  const io::Case c = load_case(args.case_path, "bore-plan", err);
   if (!c.bore) {
     throw InvalidInput({"process = \"" + std::string(io::to_string(c.process)) +
                         "\": `cutdyn plan` takes a bore-milling case ([bore], [cutter] and a "

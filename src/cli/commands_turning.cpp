@@ -70,7 +70,7 @@ int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
     v.require_positive("--target-depth-mm", *args.target_depth_mm, "mm");
     v.throw_if_any("command line");
   }
-  const io::Case c = load_case(args.case_path, kDefaultTurningCase);
+  const io::Case c = load_case(args.case_path, kDefaultTurningCase, err);
   if (c.process == io::Process::kMilling) return run_lobes_milling(args, c, out, err);
   const TurningModel model = turning_model(c, "lobes");
   const TurningMethod method = resolve_method(c, model, args.method);
@@ -121,13 +121,13 @@ int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
   return 0;
 }
 
-int run_check(const CheckArgs& args, std::ostream& out, std::ostream&) {
+int run_check(const CheckArgs& args, std::ostream& out, std::ostream& err) {
   Validator v;
   check_output_folder(v, "--json", args.json);
   v.require_positive("--rpm", args.rpm, "rpm");
   v.require_positive("--depth-mm", args.depth_mm, "mm");
   v.throw_if_any("command line");
-  const io::Case c = load_case(args.case_path, kDefaultTurningCase);
+  const io::Case c = load_case(args.case_path, kDefaultTurningCase, err);
   if (c.process == io::Process::kMilling) return run_check_milling(args, c, out);
   const TurningModel model = turning_model(c, "check");
   rethrow_as("command line", "--rpm", [&] { check_speed_domain(model, args.rpm); });
@@ -161,7 +161,7 @@ int run_check(const CheckArgs& args, std::ostream& out, std::ostream&) {
 
 int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err) {
   check_outputs(args.outputs);
-  const io::Case c = load_case(args.case_path, kDefaultTurningCase);
+  const io::Case c = load_case(args.case_path, kDefaultTurningCase, err);
   if (c.process == io::Process::kMilling) return run_simulate_milling(args, c, out, err);
   if (!args.sweep.empty() || !args.metric.empty())
     throw InvalidInput({"--sweep, --metric: sweeps take milling cases in this version"},
@@ -305,9 +305,9 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
   return 0;
 }
 
-int run_force(const ForceArgs& args, std::ostream& out, std::ostream&) {
+int run_force(const ForceArgs& args, std::ostream& out, std::ostream& err) {
   check_outputs({"", args.json, args.plot});
-  const io::Case c = load_case(args.case_path, kDefaultForceCase);
+  const io::Case c = load_case(args.case_path, kDefaultForceCase, err);
   require_turning(c, "force");
   Validator v;
   const auto need = [&](const std::optional<double>& x, const char* key) {
