@@ -1035,45 +1035,6 @@ Case with_value(const Case& c, std::string_view key, double value) {
   return out;
 }
 
-namespace detail {
-// The sweep step as it was done before the field tables: the TOML text with the key set,
-// read again. Kept while the tests compare the two ways.
-Case with_value_via_toml(const Case& c, std::string_view dotted_key, double value) {
-  const std::string key(dotted_key);
-  const std::string label = key + " = " + format_value(value);
-  toml::table root;
-  try {
-    root = toml::parse(c.text, c.source);
-  } catch (const toml::parse_error&) {
-    throw InvalidInput({label + ": the case text does not parse"}, c.source);
-  }
-  const auto dot = key.find('.');
-  const std::string table = dot == std::string::npos ? "" : key.substr(0, dot);
-  const std::string name = dot == std::string::npos ? key : key.substr(dot + 1);
-  if (name.empty() || name.find('.') != std::string::npos ||
-      (dot != std::string::npos && table.empty()))
-    throw InvalidInput({label + ": the key must be \"table.key\" or \"key\""}, c.source);
-  toml::table* target = &root;
-  if (!table.empty()) {
-    toml::node* node = root.get(table);
-    if (node == nullptr) {
-      root.insert(table, toml::table{});
-      node = root.get(table);
-    }
-    target = node->as_table();
-    if (target == nullptr) throw InvalidInput({label + ": " + table + " is not a table"}, c.source);
-  }
-  if (std::isfinite(value) && value == std::round(value) && std::abs(value) < 9e15)
-    target->insert_or_assign(name, static_cast<std::int64_t>(value));
-  else
-    target->insert_or_assign(name, value);
-  std::ostringstream text;
-  text << root;
-  return parse_case(text.str(), c.source + " with " + label);
-}
-
-}  // namespace detail
-
 Case load_case_file(const std::filesystem::path& path) {
   const std::string where = path.string();
   auto fail = [&](int error) -> Case {

@@ -16,9 +16,6 @@
 #include "io/case_fields.hpp"
 
 namespace cutdyn::io {
-namespace detail {
-Case with_value_via_toml(const Case& c, std::string_view dotted_key, double value);
-}  // namespace detail
 namespace {
 
 using ::testing::ElementsAre;
@@ -529,41 +526,6 @@ TEST(CaseFields, SweepProblemsNameTheKeyAndWhatIsWrong) {
     with_value(c, "lobes.rpm_max", 4000);
   } catch (const InvalidInput& e) {
     EXPECT_EQ(e.where(), "m.toml with lobes.rpm_max = 4000");
-  }
-}
-
-// The sweep through the field table against the TOML rewrite it replaces.
-TEST(CaseFields, SweepsEqualTheOldTomlRewrite) {
-  const struct {
-    const char* text;
-    const char* key;
-    double value;
-  } steps[] = {{kFullMilling, "lobes.rpm_max", 12000},     {kFullMilling, "simulate.depth_mm", 0.08},
-               {kFullMilling, "tool.helix_deg", 12.5},      {kFullMilling, "cutting.kr_n_per_mm2", 250.7},
-               {kFullMilling, "operation.exit_deg", 150},   {kForceLawMilling, "force_law.p0_n", 12.5},
-               {kForceLawMilling, "operation.radial_immersion", 0.3},
-               {kFullTurning, "vibration.amplitude_um", 7.5}, {kFullTurning, "oxley.eta", 0.7},
-               {kFullTurning, "simulate.duration_s", 0.125}, {kFullTurning, "lobes.rpm_steps", 60},
-               {kPlanWithFeed, "cutter.offset_mm", 2.5},    {kPlanWithFeed, "limits.cutter_rpm_max", 450}};
-  for (const auto& step : steps) {
-    const Case c = parse_case(step.text, "a.toml");
-    const Case now = with_value(c, step.key, step.value);
-    const Case before = detail::with_value_via_toml(c, step.key, step.value);
-    expect_same_values(now, before);
-    EXPECT_EQ(to_json(now), to_json(before)) << step.key;
-    EXPECT_EQ(now.source, before.source);
-  }
-  // What the rewrite refused, the table refuses.
-  const Case m = parse_case(kFullMilling, "m.toml");
-  for (const auto& [key, value] :
-       std::vector<std::pair<const char*, double>>{{"tool.teeth", 2.5},
-                                                   {"tool.teeth", 3},
-                                                   {"lobes.rpm_max", 100},
-                                                   {"operation.radial_immersion", 1.5},
-                                                   {"cutting.kc_n_per_mm2", 1500},
-                                                   {"simulate.summary_revolutions", 20}}) {
-    EXPECT_THROW(with_value(m, key, value), InvalidInput) << key;
-    EXPECT_THROW(detail::with_value_via_toml(m, key, value), InvalidInput) << key;
   }
 }
 
