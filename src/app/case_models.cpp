@@ -63,7 +63,7 @@ TurningModel turning_model(const io::Case& c, std::string_view command) {
   require_turning(c, command);
   Validator v;
   if (!c.cutting.kt_pa && !c.material)
-    v.add("cutting.kt_n_per_mm2: missing (required by `cutdyn " + std::string(command) + "`)");
+    v.add("cutting.kf_n_per_mm2: missing (required by `cutdyn " + std::string(command) + "`)");
   if (c.vibration && !c.vibration->duty_cycle && !c.vibration->workpiece_diameter_m)
     v.add(
         "vibration.workpiece_diameter_mm: missing (required to compute the duty cycle at each "

@@ -18,7 +18,7 @@ void require_keys(const io::Case& c) {
   };
   if (!c.material) {
     need(c.cutting.kc_pa, "kc_n_per_mm2 (or give a [material] to predict it)");
-    need(c.cutting.kt_pa, "kt_n_per_mm2 (or give a [material] to predict it)");
+    need(c.cutting.kt_pa, "kf_n_per_mm2 (or give a [material] to predict it)");
   }
   need(c.cutting.uncut_chip_thickness_m, "uncut_chip_thickness_mm");
   need(c.cutting.width_m, "width_mm");

@@ -235,7 +235,7 @@ int run_sweep(const DriveArgs& args, const io::Case& c, std::ostream& out, std::
 int run_drive(const DriveArgs& args, std::ostream& out, std::ostream& err) {
   check_outputs(args.outputs);
   if (!args.currents.empty()) check_outputs({args.currents, "", ""});
-  const io::Case c = load_case(args.case_path, kDefaultDriveCase);
+  const io::Case c = load_case(args.case_path, kDefaultDriveCase, err);
   if (!args.sweep.empty()) {
     if (!args.currents.empty())
       throw InvalidInput({"--currents: not with --sweep"}, "command line");

@@ -133,7 +133,7 @@ io::PlotSpec plan_plot(const app::PlanJobReport& job) {
 
 int run_plan(const PlanArgs& args, std::ostream& out, std::ostream& err) {
   check_outputs({"", args.json, args.plot});
-  const io::Case c = load_case(args.case_path, "bore-plan");
+  const io::Case c = load_case(args.case_path, "bore-plan", err);
   if (!args.plot.empty() && c.bore && !c.bore_limits)
     throw InvalidInput({"--plot: the trade-off needs the [limits] table"}, c.source);
   app::PlanRequest request;

@@ -38,7 +38,7 @@ int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
     v.require_positive("--target-depth-mm", *args.target_depth_mm, "mm");
     v.throw_if_any("command line");
   }
-  const io::Case c = load_case(args.case_path, kDefaultTurningCase);
+  const io::Case c = load_case(args.case_path, kDefaultTurningCase, err);
   app::LobesRequest request;
   request.method = args.method;
   request.threads = args.threads;
@@ -50,11 +50,11 @@ int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
   return 0;
 }
 
-int run_check(const CheckArgs& args, std::ostream& out, std::ostream&) {
+int run_check(const CheckArgs& args, std::ostream& out, std::ostream& err) {
   Validator v;
   check_output_folder(v, "--json", args.json);
   v.throw_if_any("command line");
-  const io::Case c = load_case(args.case_path, kDefaultTurningCase);
+  const io::Case c = load_case(args.case_path, kDefaultTurningCase, err);
   app::CheckRequest request;
   request.rpm = args.rpm;
   request.depth_m = mm_to_m(args.depth_mm);
@@ -66,7 +66,7 @@ int run_check(const CheckArgs& args, std::ostream& out, std::ostream&) {
 
 int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err) {
   check_outputs(args.outputs);
-  const io::Case c = load_case(args.case_path, kDefaultTurningCase);
+  const io::Case c = load_case(args.case_path, kDefaultTurningCase, err);
   if (c.process == io::Process::kMilling) return run_simulate_milling(args, c, out, err);
   if (!args.sweep.empty() || !args.metric.empty())
     throw InvalidInput({"--sweep, --metric: sweeps take milling cases in this version"},
@@ -292,9 +292,9 @@ io::PlotSpec pulse_plot(const app::ForceJobReport& r) {
 
 }  // namespace
 
-int run_force(const ForceArgs& args, std::ostream& out, std::ostream&) {
+int run_force(const ForceArgs& args, std::ostream& out, std::ostream& err) {
   check_outputs({"", args.json, args.plot});
-  const io::Case c = load_case(args.case_path, kDefaultForceCase);
+  const io::Case c = load_case(args.case_path, kDefaultForceCase, err);
   const app::ForceJobReport r = app::run_force(c);
   const PulsedForces& f = r.forces;
   out << "cutdyn force: " << c.source << "\n";

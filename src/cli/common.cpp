@@ -18,6 +18,13 @@
 
 namespace cutdyn::cli {
 
+io::Case load_case(const std::string& path, std::string_view default_example, std::ostream& err) {
+  io::Case c = app::load_case(path, default_example);
+  for (const std::string& w : c.warnings)
+    err << "cutdyn: warning: " << c.source << ": " << w << "\n";
+  return c;
+}
+
 std::string oxley_summary(const io::Case& c, const OxleyPrediction& p) {
   return fmt::format(
       "Kc and Kt predicted by Oxley's theory with Johnson–Cook flow stress: {} at {} m/min, "

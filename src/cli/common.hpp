@@ -25,7 +25,9 @@
 namespace cutdyn::cli {
 
 // The models of a case are the library's (cutdyn/app/case_models.hpp).
-using app::load_case;
+/// app::load_case, with the case's load warnings (an old key name) printed on `err` as
+/// "cutdyn: warning: SOURCE: ...".
+io::Case load_case(const std::string& path, std::string_view default_example, std::ostream& err);
 using app::lobes_grid;
 using app::milling_model;
 using app::OxleyPrediction;

@@ -263,8 +263,8 @@ TEST_F(Cli, RejectsMaterialProblems) {
 
 // One test per kind of bad input in product.md: exit 2, the key named, no output file.
 TEST_F(Cli, RejectsMissingKey) {
-  const auto file = variant("kt_n_per_mm2 = 850", "");
-  expect_rejected({"lobes", file, "--out", path("o.csv")}, "cutting.kt_n_per_mm2: missing");
+  const auto file = variant("kf_n_per_mm2 = 850", "");
+  expect_rejected({"lobes", file, "--out", path("o.csv")}, "cutting.kf_n_per_mm2: missing");
 }
 
 TEST_F(Cli, RejectsWrongType) {
@@ -296,8 +296,8 @@ TEST_F(Cli, RejectsRpmMinNotBelowRpmMax) {
 }
 
 TEST_F(Cli, RejectsNan) {
-  const auto file = variant("kt_n_per_mm2 = 850", "kt_n_per_mm2 = nan");
-  expect_rejected({"lobes", file, "--plot", path("o.png")}, "cutting.kt_n_per_mm2 = nan");
+  const auto file = variant("kf_n_per_mm2 = 850", "kf_n_per_mm2 = nan");
+  expect_rejected({"lobes", file, "--plot", path("o.png")}, "cutting.kf_n_per_mm2 = nan");
 }
 
 TEST_F(Cli, RejectsUnknownKey) {

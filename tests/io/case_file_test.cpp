@@ -559,7 +559,7 @@ TEST(CaseFileJson, EchoesTheFileInItsOwnKeysAndUnits) {
   EXPECT_EQ(j["modes"][0]["damping_ratio"].get<double>(), 0.01);
   EXPECT_EQ(j["modes"][0]["stiffness_n_per_m"].get<double>(), 2.26e8);
   EXPECT_EQ(j["cutting"],
-            (nlohmann::json{{"kt_n_per_mm2", 850}, {"uncut_chip_thickness_mm", 0.05}}));
+            (nlohmann::json{{"kf_n_per_mm2", 850}, {"uncut_chip_thickness_mm", 0.05}}));
   EXPECT_EQ(j["vibration"],
             (nlohmann::json{
                 {"frequency_hz", 20000}, {"amplitude_um", 20}, {"workpiece_diameter_mm", 40}}));
@@ -698,7 +698,7 @@ TEST(CaseFileProcessKeys, KeysTheProcessDoesNotUseAreErrors) {
                           HasSubstr("cutting.width_mm = 2: not used in a milling case")));
   EXPECT_THAT(problems_of(with("[cutting]\nkt_n_per_mm2 = 850\nkr_n_per_mm2 = 200\n")),
               ElementsAre("cutting.kr_n_per_mm2 = 200: not used in a turning case (turning takes "
-                          "kt_n_per_mm2, kc_n_per_mm2, speed_m_per_min, uncut_chip_thickness_mm, "
+                          "kf_n_per_mm2, kc_n_per_mm2, speed_m_per_min, uncut_chip_thickness_mm, "
                           "width_mm, rake_deg, workpiece_temperature_c)"));
   EXPECT_THAT(problems_of(with("[cutting]\nkte_n_per_mm = 5\n")),
               ElementsAre(HasSubstr("cutting.kte_n_per_mm = 5: not used in a turning case")));

@@ -38,8 +38,9 @@ const char* to_string(Process process);
 
 /// [cutting]. Which keys a command needs is checked by that command.
 struct CuttingSection {
-  std::optional<double>
-      kt_pa;  // kt_n_per_mm2: turning feed-direction coefficient; milling tangential
+  /// Turning: kf_n_per_mm2, the feed-direction coefficient (kt_n_per_mm2 is its old name,
+  /// read with a warning). Milling: kt_n_per_mm2, the tangential coefficient.
+  std::optional<double> kt_pa;
   std::optional<double> kc_pa;          // kc_n_per_mm2: turning cutting-direction coefficient
   std::optional<double> kr_pa;          // kr_n_per_mm2: milling radial coefficient
   std::optional<double> speed_m_per_s;  // speed_m_per_min
@@ -120,6 +121,9 @@ struct Case {
   std::string text;    // the TOML it was read from
   Process process = Process::kTurning;
   ModalModel modal;  // from [[modes]], SI
+  /// [[modes]] mass_kg as given, one entry per mode (nullopt: given by stiffness_n_per_m);
+  /// the stiffness follows it and natural_hz.
+  std::vector<std::optional<double>> mode_mass_kg;
   CuttingSection cutting;
   std::optional<ToolSection> tool;
   std::optional<OperationSection> operation;
@@ -138,15 +142,23 @@ struct Case {
   std::optional<BoreMillingLimits> bore_limits;  // [limits]: `cutdyn plan` then optimises
   LobesSection lobes;
   SimulateSection simulate;
+  /// What the loader accepted but the user should change (an old key name); the commands
+  /// print each as "cutdyn: warning: SOURCE: ...".
+  std::vector<std::string> warnings;
 };
 
 /// Parses and validates TOML text. `source` names it in error messages.
 Case parse_case(std::string_view toml_text, std::string_view source);
 
-/// The case with one key set to `value` (its table created if absent), read again with
-/// every check: `dotted_key` is "table.key" or a top-level "key". Integral values are
-/// written as TOML integers. Throws cutdyn::InvalidInput naming the key and value.
-Case with_value(const Case& c, std::string_view dotted_key, double value);
+/// The case with one number key set to `value` in the key's own unit (a sweep step): set
+/// through the field table on a copy and checked again with every rule of the loader.
+/// `key` is the TOML path as in the messages: "lobes.rpm_max", "modes[0].damping_ratio",
+/// "drives[1].ratio", "material.johnson_cook.a_mpa", or a top-level key. An absent table is
+/// created (its other required keys are then missing). The copy's source reads
+/// "SOURCE with KEY = VALUE". Throws cutdyn::InvalidInput naming the key and value for an
+/// unknown key or table, a key that is not a number, an index out of range, a value out of
+/// range, and anything the loader would refuse.
+Case with_value(const Case& c, std::string_view key, double value);
 
 /// Reads and parses a file. A missing or unreadable file throws cutdyn::InvalidInput
 /// with where() = the path and a problem saying why.

@@ -1,0 +1,1165 @@
+// The field tables of the case file (case_fields.hpp) and the doc tables made from them.
+#include "case_fields.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <initializer_list>
+#include <type_traits>
+#include <utility>
+
+#include "cutdyn/core/error.hpp"
+#include "cutdyn/core/units.hpp"
+#include "cutdyn/monitor/equivalent_current.hpp"
+
+namespace cutdyn::io::detail {
+
+// ---- ranges ------------------------------------------------------------------------------
+
+bool Range::contains(double v) const {
+  return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi) && !(nonzero && v == 0.0);
+}
+
+std::string Range::rule() const {
+  if (!rule_text.empty()) return std::string(rule_text);
+  if (lo == 0.0 && lo_open && hi == kInf) return "must be positive";
+  std::string text = "must be ";
+  if (lo > -kInf) text += (lo_open ? "greater than " : "at least ") + format_value(lo);
+  if (lo > -kInf && hi < kInf) text += " and ";
+  if (hi < kInf) text += (hi_open ? "less than " : "at most ") + format_value(hi);
+  return text;
+}
+
+namespace {
+
+// A number for the doc: "0.005", "−45" (a real minus sign), "100000", "1e6".
+std::string doc_number(double v) {
+  std::string text = number_text(v);
+  if (v >= 1e6 && text.find_first_not_of('0', 1) == std::string::npos && text[0] == '1')
+    text = "1e" + std::to_string(text.size() - 1);
+  if (!text.empty() && text[0] == '-') text = "−" + text.substr(1);
+  return text;
+}
+
+}  // namespace
+
+std::string Range::doc(bool integer) const {
+  if (integer) return doc_number(lo) + " … " + doc_number(hi);
+  if (nonzero && lo == -kInf && hi == kInf) return "≠ 0";
+  const bool has_lo = lo > -kInf, has_hi = hi < kInf;
+  if (has_lo && has_hi) {
+    if (!lo_open && !hi_open) return doc_number(lo) + " … " + doc_number(hi);
+    return doc_number(lo) + (lo_open ? " < . " : " ≤ . ") + (hi_open ? "< " : "≤ ") +
+           doc_number(hi);
+  }
+  if (has_lo) return (lo_open ? "> " : "≥ ") + doc_number(lo);
+  if (has_hi) return (hi_open ? "< " : "≤ ") + doc_number(hi);
+  return {};
+}
+
+bool Field::used_in(Process process) const {
+  if (uses == Uses::kBoth) return true;
+  return (uses == Uses::kTurning) == (process == Process::kTurning);
+}
+
+const Field* Section::find(std::string_view key) const {
+  for (const Field& f : fields)
+    if (f.key == key) return &f;
+  return nullptr;
+}
+
+const Alias* Section::alias(std::string_view key, Process process) const {
+  for (const Alias& a : aliases)
+    if (a.key == key && (a.uses == Uses::kBoth || (a.uses == Uses::kTurning) ==
+                                                      (process == Process::kTurning)))
+      return &a;
+  return nullptr;
+}
+
+std::string key_text(std::string_view key) {
+  const bool bare = !key.empty() && std::all_of(key.begin(), key.end(), [](char ch) {
+    return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') ||
+           ch == '_' || ch == '-';
+  });
+  if (bare) return std::string(key);
+  std::string quoted = "\"";
+  for (char ch : key) {
+    if (ch == '"' || ch == '\\') quoted += '\\';
+    quoted += ch;
+  }
+  return quoted + "\"";
+}
+
+std::string number_text(double value) {
+  if (std::isfinite(value) && value == std::trunc(value) && std::abs(value) < 1e15)
+    return std::to_string(static_cast<long long>(value));
+  return format_value(value);
+}
+
+double tidy_number(double value) {
+  if (!std::isfinite(value)) return value;
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.15g", value);
+  return std::strtod(buffer, nullptr);
+}
+
+std::string value_text(const Field& field, const Value& value) {
+  if (const double* v = std::get_if<double>(&value))
+    return number_text(tidy_number(field.unit.from_si(*v)));
+  if (const bool* b = std::get_if<bool>(&value)) return *b ? "true" : "false";
+  if (const std::string* s = std::get_if<std::string>(&value)) return "\"" + *s + "\"";
+  std::string text = "[";
+  for (double v : std::get<std::vector<double>>(value)) {
+    if (text.size() > 1) text += ", ";
+    text += number_text(tidy_number(field.unit.from_si(v)));
+  }
+  return text + "]";
+}
+
+namespace {
+
+// ---- units -------------------------------------------------------------------------------
+
+double same(double v) { return v; }
+double n_per_mm_to_n_per_m(double v) { return 1e3 * v; }
+double n_per_m_to_n_per_mm(double v) { return 1e-3 * v; }
+double mpa_to_pa(double v) { return v * 1e6; }
+double pa_to_mpa(double v) { return v / 1e6; }
+double per_min_to_per_s(double v) { return v / 60.0; }
+double per_s_to_per_min(double v) { return 60.0 * v; }
+
+constexpr Unit unit(std::string_view text) { return {text, same, same}; }
+constexpr Unit kNone = unit("–");
+constexpr Unit kMm{"mm", units::mm_to_m, units::m_to_mm};
+constexpr Unit kUm{"µm", units::um_to_m, units::m_to_um};
+constexpr Unit kDeg{"deg", units::deg_to_rad, units::rad_to_deg};
+constexpr Unit kNPerMm2{"N/mm²", units::n_per_mm2_to_pa, units::pa_to_n_per_mm2};
+constexpr Unit kNPerMm{"N/mm", n_per_mm_to_n_per_m, n_per_m_to_n_per_mm};
+constexpr Unit kMPerMin{"m/min", units::m_per_min_to_m_per_s, units::m_per_s_to_m_per_min};
+constexpr Unit kHzAsRadPerS{"Hz", units::hz_to_rad_per_s, units::rad_per_s_to_hz};
+constexpr Unit kMpa{"MPa", mpa_to_pa, pa_to_mpa};
+constexpr Unit kPlanMPerMin{"m/min", per_min_to_per_s, per_s_to_per_min};
+constexpr Unit kRpmAsRevPerS{"rpm", per_min_to_per_s, per_s_to_per_min};
+constexpr Unit kCelsius = unit("°C");
+
+constexpr Range make_range(double lo, bool lo_open, double hi, bool hi_open) {
+  Range r;
+  r.lo = lo;
+  r.lo_open = lo_open;
+  r.hi = hi;
+  r.hi_open = hi_open;
+  return r;
+}
+constexpr Range kAny{};
+constexpr Range kPositive = make_range(0.0, true, kInf, true);
+constexpr Range kNonNegative = make_range(0.0, false, kInf, true);
+constexpr Range open_closed(double lo, double hi) { return make_range(lo, true, hi, false); }
+constexpr Range closed_open(double lo, double hi) { return make_range(lo, false, hi, true); }
+constexpr Range open(double lo, double hi) { return make_range(lo, true, hi, true); }
+constexpr Range closed(double lo, double hi) { return make_range(lo, false, hi, false); }
+
+// ---- building rows -----------------------------------------------------------------------
+
+template <class T>
+struct IsOptional : std::false_type {};
+template <class T>
+struct IsOptional<std::optional<T>> : std::true_type {};
+
+// Where a section's struct is in the Case (element `index` of an array); nullptr when absent.
+template <class S>
+using Locate = S* (*)(Case&, std::size_t);
+
+class Row {
+ public:
+  Row(std::string_view key, Type type, Unit u = kNone, Range range = kAny) {
+    f_.key = key;
+    f_.type = type;
+    f_.unit = u;
+    f_.range = range;
+  }
+  Row& required() {
+    f_.required = true;
+    return *this;
+  }
+  Row& required_if(Predicate p) {
+    f_.required_if = std::move(p);
+    return *this;
+  }
+  Row& uses(Uses u) {
+    f_.uses = u;
+    return *this;
+  }
+  Row& no_echo() {
+    f_.echo = false;
+    return *this;
+  }
+  Row& echo_if(Predicate p) {
+    f_.echo_if = std::move(p);
+    return *this;
+  }
+  Row& size(int n) {
+    f_.array_size = n;
+    return *this;
+  }
+  Row& choices(std::initializer_list<std::string_view> names) {
+    f_.choices = names;
+    return *this;
+  }
+  Row& deflt(std::string_view text) {
+    f_.default_doc = text;
+    return *this;
+  }
+  Row& process(std::string_view text) {
+    f_.process_doc = text;
+    return *this;
+  }
+  Row& meaning(std::string_view text) {
+    f_.meaning = text;
+    return *this;
+  }
+  Row& access(Getter get, Setter set) {
+    f_.get = std::move(get);
+    f_.set = std::move(set);
+    return *this;
+  }
+  // The Case member: double, int, unsigned, bool or std::optional<double>.
+  template <class S, class M>
+  Row& member(Locate<S> at, M S::*m, std::string_view absent = "its table is absent") {
+    f_.get = [at, m](const Case& c, std::size_t i) -> std::optional<Value> {
+      const S* s = at(const_cast<Case&>(c), i);
+      if (s == nullptr) return std::nullopt;
+      const M& v = s->*m;
+      if constexpr (IsOptional<M>::value) {
+        if (!v) return std::nullopt;
+        return Value(static_cast<double>(*v));
+      } else if constexpr (std::is_same_v<M, bool>) {
+        return Value(v);
+      } else {
+        return Value(static_cast<double>(v));
+      }
+    };
+    f_.set = [at, m, absent](Case& c, std::size_t i, const Value& v) -> std::string {
+      S* s = at(c, i);
+      if (s == nullptr) return std::string(absent);
+      if constexpr (IsOptional<M>::value) {
+        s->*m = std::get<double>(v);
+      } else if constexpr (std::is_same_v<M, bool>) {
+        s->*m = std::get<bool>(v);
+      } else {
+        s->*m = static_cast<M>(std::get<double>(v));
+      }
+      return {};
+    };
+    return *this;
+  }
+  operator Field() const { return f_; }  // NOLINT: rows are written as fields
+
+ private:
+  Field f_;
+};
+
+Row number(std::string_view key, Unit u, Range range) { return Row(key, Type::kNumber, u, range); }
+Row integer(std::string_view key, int lo, int hi) {
+  return Row(key, Type::kInteger, kNone, closed(lo, hi));
+}
+Row boolean(std::string_view key) { return Row(key, Type::kBoolean); }
+Row choice(std::string_view key, std::initializer_list<std::string_view> names) {
+  Row r(key, Type::kChoice);
+  r.choices(names);
+  return r;
+}
+
+const std::string& text_of(const Value& v) { return std::get<std::string>(v); }
+
+// ---- where each section is in the Case -------------------------------------------------
+
+Case* whole(Case& c, std::size_t) { return &c; }
+Mode* mode(Case& c, std::size_t i) {
+  return i < c.modal.modes.size() ? &c.modal.modes[i] : nullptr;
+}
+CuttingSection* cutting(Case& c, std::size_t) { return &c.cutting; }
+ToolSection* tool(Case& c, std::size_t) { return c.tool ? &*c.tool : nullptr; }
+OperationSection* operation(Case& c, std::size_t) {
+  return c.operation ? &*c.operation : nullptr;
+}
+VibrationSection* vibration(Case& c, std::size_t) {
+  return c.vibration ? &*c.vibration : nullptr;
+}
+ForceLawSection* force_law(Case& c, std::size_t) {
+  return c.force_law ? &*c.force_law : nullptr;
+}
+LobesSection* lobes(Case& c, std::size_t) { return &c.lobes; }
+SimulateSection* simulate(Case& c, std::size_t) { return &c.simulate; }
+JohnsonCook* johnson_cook(Case& c, std::size_t) {
+  return c.material ? &c.material->flow : nullptr;
+}
+ThermalProperties* thermal(Case& c, std::size_t) {
+  return c.material ? &c.material->thermal : nullptr;
+}
+OxleyOptions* oxley(Case& c, std::size_t) { return &c.oxley; }
+Transmission* transmission(Case& c, std::size_t i) {
+  return i < c.drives.size() ? &c.drives[i].drive.transmission : nullptr;
+}
+FeedDrive* drive(Case& c, std::size_t i) {
+  return i < c.drives.size() ? &c.drives[i].drive : nullptr;
+}
+PmsmMotor* motor(Case& c, std::size_t i) {
+  return i < c.drives.size() && c.drives[i].motor ? &*c.drives[i].motor : nullptr;
+}
+BoreMillingCase* bore(Case& c, std::size_t) { return c.bore ? &*c.bore : nullptr; }
+BoreMillingLimits* limits(Case& c, std::size_t) {
+  return c.bore_limits ? &*c.bore_limits : nullptr;
+}
+
+constexpr std::string_view kNeedsMotor = "needs the motor: pole_pairs and torque_constant_nm_per_a";
+
+bool is_lever(const Case& c, std::size_t i) {
+  return i < c.drives.size() &&
+         c.drives[i].drive.transmission.kind == Transmission::Kind::kLeverArm;
+}
+bool is_dynamic(const Case& c, std::size_t i) {
+  return i < c.drives.size() && c.drives[i].drive.model == FeedDrive::Model::kDynamic;
+}
+bool has_motor(const Case& c, std::size_t i) { return i < c.drives.size() && c.drives[i].motor; }
+
+// The stiffness of a mode given by its mass follows the natural frequency.
+void refresh_mass_mode(Case& c, std::size_t i) {
+  if (i < c.mode_mass_kg.size() && c.mode_mass_kg[i] && i < c.modal.modes.size()) {
+    const Mode& m = c.modal.modes[i];
+    c.modal.modes[i] = mode_from_mass(m.direction, m.natural_rad_s, m.damping_ratio,
+                                      *c.mode_mass_kg[i]);
+  }
+}
+
+std::function<std::size_t(const Case&)> always() {
+  return [](const Case&) -> std::size_t { return 1; };
+}
+template <class T>
+std::function<std::size_t(const Case&)> if_present(std::optional<T> Case::*m) {
+  return [m](const Case& c) -> std::size_t { return (c.*m).has_value() ? 1 : 0; };
+}
+template <class T>
+std::function<std::string(Case&)> emplace(std::optional<T> Case::*m) {
+  return [m](Case& c) -> std::string {
+    (c.*m).emplace();
+    return {};
+  };
+}
+std::function<std::string(Case&)> refuse(std::string_view why) {
+  return [why](Case&) { return std::string(why); };
+}
+
+// ---- the tables ----------------------------------------------------------------------------
+
+std::vector<Section> make_sections() {
+  std::vector<Section> all;
+
+  Section top;
+  top.name = "";
+  top.subtables = {"modes",     "cutting",   "tool",  "operation", "vibration", "lobes",
+                   "simulate",  "force_law", "drives", "material", "oxley"};
+  top.fields = {
+      choice("process", {"turning", "milling"})
+          .required()
+          .access([](const Case& c, std::size_t) -> std::optional<Value> {
+            return Value(std::string(to_string(c.process)));
+          },
+                  [](Case& c, std::size_t, const Value& v) -> std::string {
+                    c.process = text_of(v) == "turning" ? Process::kTurning : Process::kMilling;
+                    return {};
+                  })};
+  top.count = always();
+  top.create = refuse("");
+  all.push_back(std::move(top));
+
+  Section modes;
+  modes.name = "modes";
+  modes.array = true;
+  modes.fields = {
+      choice("direction", {"x", "y"})
+          .required()
+          .meaning("turning models the feed direction `\"x\"` only")
+          .access([](const Case& c, std::size_t i) -> std::optional<Value> {
+            if (i >= c.modal.modes.size()) return std::nullopt;
+            return Value(std::string(c.modal.modes[i].direction == Direction::kX ? "x" : "y"));
+          },
+                  [](Case& c, std::size_t i, const Value& v) -> std::string {
+                    c.modal.modes.at(i).direction =
+                        text_of(v) == "x" ? Direction::kX : Direction::kY;
+                    return {};
+                  }),
+      number("natural_hz", kHzAsRadPerS, kPositive)
+          .required()
+          .access([](const Case& c, std::size_t i) -> std::optional<Value> {
+            if (i >= c.modal.modes.size()) return std::nullopt;
+            return Value(c.modal.modes[i].natural_rad_s);
+          },
+                  [](Case& c, std::size_t i, const Value& v) -> std::string {
+                    c.modal.modes.at(i).natural_rad_s = std::get<double>(v);
+                    refresh_mass_mode(c, i);
+                    return {};
+                  }),
+      number("damping_ratio", kNone, closed_open(0.0, 1.0))
+          .required()
+          .access([](const Case& c, std::size_t i) -> std::optional<Value> {
+            if (i >= c.modal.modes.size()) return std::nullopt;
+            return Value(c.modal.modes[i].damping_ratio);
+          },
+                  [](Case& c, std::size_t i, const Value& v) -> std::string {
+                    c.modal.modes.at(i).damping_ratio = std::get<double>(v);
+                    refresh_mass_mode(c, i);
+                    return {};
+                  }),
+      number("stiffness_n_per_m", unit("N/m"), kPositive)
+          .deflt("one of the two")
+          .member(mode, &Mode::stiffness_n_per_m),
+      number("mass_kg", unit("kg"), kPositive)
+          .deflt("one of the two")
+          .meaning("stiffness k = m·(2π·natural_hz)²")
+          .no_echo()
+          .access([](const Case& c, std::size_t i) -> std::optional<Value> {
+            if (i >= c.mode_mass_kg.size() || !c.mode_mass_kg[i]) return std::nullopt;
+            return Value(*c.mode_mass_kg[i]);
+          },
+                  [](Case& c, std::size_t i, const Value& v) -> std::string {
+                    if (c.mode_mass_kg.size() <= i) c.mode_mass_kg.resize(i + 1);
+                    c.mode_mass_kg[i] = std::get<double>(v);
+                    refresh_mass_mode(c, i);
+                    return {};
+                  })};
+  modes.count = [](const Case& c) { return c.modal.modes.size(); };
+  modes.create = refuse("");
+  all.push_back(std::move(modes));
+
+  Section cut;
+  cut.name = "cutting";
+  cut.process_column = true;
+  cut.echo_empty = false;
+  cut.fields = {
+      number("kt_n_per_mm2", kNPerMm2, kPositive)
+          .uses(Uses::kMilling)
+          .deflt("optional")
+          .process("milling; turning: the old name of `kf_n_per_mm2` (a warning)")
+          .meaning("tangential coefficient")
+          .member(cutting, &CuttingSection::kt_pa),
+      number("kf_n_per_mm2", kNPerMm2, kPositive)
+          .uses(Uses::kTurning)
+          .deflt("optional")
+          .meaning("feed-direction (thrust) coefficient")
+          .member(cutting, &CuttingSection::kt_pa),
+      number("kc_n_per_mm2", kNPerMm2, kPositive)
+          .uses(Uses::kTurning)
+          .meaning("cutting-direction coefficient (`cutdyn force`)")
+          .member(cutting, &CuttingSection::kc_pa),
+      number("kr_n_per_mm2", kNPerMm2, kNonNegative)
+          .uses(Uses::kMilling)
+          .meaning("radial coefficient")
+          .member(cutting, &CuttingSection::kr_pa),
+      number("speed_m_per_min", kMPerMin, kPositive)
+          .uses(Uses::kTurning)
+          .member(cutting, &CuttingSection::speed_m_per_s),
+      number("uncut_chip_thickness_mm", kMm, kPositive)
+          .uses(Uses::kTurning)
+          .meaning("feed per revolution")
+          .member(cutting, &CuttingSection::uncut_chip_thickness_m),
+      number("width_mm", kMm, kPositive)
+          .uses(Uses::kTurning)
+          .meaning("depth of cut")
+          .member(cutting, &CuttingSection::width_m),
+      number("kte_n_per_mm", kNPerMm, kNonNegative)
+          .uses(Uses::kMilling)
+          .deflt("0")
+          .meaning("simulation: tangential edge coefficient (force per unit axial depth); not "
+                   "with `[force_law]`")
+          .member(cutting, &CuttingSection::kte_n_per_m),
+      number("kre_n_per_mm", kNPerMm, kNonNegative)
+          .uses(Uses::kMilling)
+          .deflt("0")
+          .meaning("simulation: radial edge coefficient; not with `[force_law]`")
+          .member(cutting, &CuttingSection::kre_n_per_m),
+      number("rake_deg", kDeg, open(-45.0, 45.0))
+          .uses(Uses::kTurning)
+          .process("turning, with `[material]`")
+          .deflt("required with `[material]`")
+          .meaning("tool rake angle (Oxley)")
+          .member(cutting, &CuttingSection::rake_rad),
+      number("workpiece_temperature_c", kCelsius, make_range(-273.15, true, kInf, true))
+          .uses(Uses::kTurning)
+          .process("turning, with `[material]`")
+          .deflt("the material's Johnson–Cook reference temperature")
+          .meaning("and below melting; workpiece temperature before cutting (Oxley)")
+          .member(cutting, &CuttingSection::workpiece_temperature_c)};
+  cut.aliases = {{"kt_n_per_mm2", "kf_n_per_mm2", Uses::kTurning,
+                  "in a turning case kt_n_per_mm2 is the old name of kf_n_per_mm2, the "
+                  "feed-direction (thrust) coefficient; write kf_n_per_mm2 (in milling "
+                  "kt_n_per_mm2 is the tangential coefficient)"}};
+  cut.count = always();
+  cut.create = refuse("");
+  all.push_back(std::move(cut));
+
+  Section material;
+  material.name = "material";
+  material.subtables = {"johnson_cook", "thermal"};
+  material.fields = {Row("name", Type::kText)
+                         .deflt("required unless both sub-tables are given")
+                         .meaning("a library entry, or your label")
+                         .access([](const Case& c, std::size_t) -> std::optional<Value> {
+                           if (!c.material) return std::nullopt;
+                           return Value(c.material->name);
+                         },
+                                 [](Case& c, std::size_t, const Value& v) -> std::string {
+                                   if (!c.material) return "its table is absent";
+                                   c.material->name = text_of(v);
+                                   return {};
+                                 })};
+  material.count = if_present(&Case::material);
+  material.create = refuse("the case has no [material] (give its name or both of its tables)");
+  all.push_back(std::move(material));
+
+  Section jc;
+  jc.name = "material.johnson_cook";
+  jc.fields = {
+      number("a_mpa", kMpa, kPositive).required().member(johnson_cook, &JohnsonCook::a_pa),
+      number("b_mpa", kMpa, kNonNegative).required().member(johnson_cook, &JohnsonCook::b_pa),
+      number("n", kNone, closed_open(0.0, 1.0)).required().member(johnson_cook, &JohnsonCook::n),
+      number("c", kNone, closed_open(0.0, 1.0)).required().member(johnson_cook, &JohnsonCook::c),
+      number("m", kNone, open_closed(0.0, 10.0)).required().member(johnson_cook, &JohnsonCook::m),
+      number("reference_strain_rate_per_s", unit("1/s"), kPositive)
+          .member(johnson_cook, &JohnsonCook::reference_strain_rate_per_s),
+      number("reference_temperature_c", kCelsius, make_range(-273.15, true, kInf, true))
+          .member(johnson_cook, &JohnsonCook::reference_temperature_c),
+      number("melting_temperature_c", kCelsius, make_range(-273.15, true, kInf, true))
+          .required()
+          .meaning("above the reference temperature")
+          .member(johnson_cook, &JohnsonCook::melting_temperature_c)};
+  jc.count = if_present(&Case::material);
+  jc.create = refuse("the case has no [material] (give its name or both of its tables)");
+  all.push_back(std::move(jc));
+
+  Section th;
+  th.name = "material.thermal";
+  th.fields = {
+      number("density_kg_per_m3", unit("kg/m³"), kPositive)
+          .required()
+          .member(thermal, &ThermalProperties::density_kg_per_m3),
+      number("specific_heat_j_per_kg_k", unit("J/(kg·K)"), kPositive)
+          .required()
+          .meaning("S0")
+          .member(thermal, &ThermalProperties::specific_heat_j_per_kg_k),
+      number("specific_heat_slope_j_per_kg_k2", unit("J/(kg·K²)"), kAny)
+          .meaning("S1; S(T) > 0 from Tr to Tm")
+          .member(thermal, &ThermalProperties::specific_heat_slope_j_per_kg_k2),
+      number("conductivity_w_per_m_k", unit("W/(m·K)"), kPositive)
+          .required()
+          .meaning("K0")
+          .member(thermal, &ThermalProperties::conductivity_w_per_m_k),
+      number("conductivity_slope_w_per_m_k2", unit("W/(m·K²)"), kAny)
+          .meaning("K1; K(T) > 0 from Tr to Tm")
+          .member(thermal, &ThermalProperties::conductivity_slope_w_per_m_k2)};
+  th.count = if_present(&Case::material);
+  th.create = refuse("the case has no [material] (give its name or both of its tables)");
+  all.push_back(std::move(th));
+
+  Section ox;
+  ox.name = "oxley";
+  ox.fields = {
+      number("c0_min", kNone, kPositive)
+          .meaning("less than `c0_max`: range of the strain-rate constant C0")
+          .member(oxley, &OxleyOptions::c0_min),
+      number("c0_max", kNone, kPositive).member(oxley, &OxleyOptions::c0_max),
+      number("delta_min", kNone, open(0.0, 1.0))
+          .meaning("less than `delta_max`: range of δ")
+          .member(oxley, &OxleyOptions::delta_min),
+      number("delta_max", kNone, open(0.0, 1.0)).member(oxley, &OxleyOptions::delta_max),
+      number("eta", kNone, open_closed(0.0, 1.0))
+          .meaning("shear-plane temperature factor η")
+          .member(oxley, &OxleyOptions::eta),
+      number("psi", kNone, open_closed(0.0, 1.0))
+          .meaning("interface temperature factor ψ")
+          .member(oxley, &OxleyOptions::psi)};
+  ox.count = [](const Case& c) -> std::size_t { return c.material ? 1 : 0; };
+  ox.create = refuse("used only with a [material] (the settings of Oxley's theory)");
+  all.push_back(std::move(ox));
+
+  Section tl;
+  tl.name = "tool";
+  tl.fields = {
+      integer("teeth", 1, 200).required().member(tool, &ToolSection::teeth),
+      number("diameter_mm", kMm, kPositive).required().member(tool, &ToolSection::diameter_m),
+      number("helix_deg", kDeg, closed_open(0.0, 90.0))
+          .meaning("with a helix the stability methods cut the flute into axial slices "
+                   "(docs/models/milling-stability.md)")
+          .member(tool, &ToolSection::helix_rad),
+      Row("pitch_deg", Type::kNumbers, kDeg, open(0.0, 360.0))
+          .deflt("even pitch")
+          .meaning("one angle per tooth, adding up to 360: `pitch_deg[j]` is the angle by "
+                   "which tooth j trails tooth j − 1 (uneven pitch)")
+          .access([](const Case& c, std::size_t) -> std::optional<Value> {
+            if (!c.tool || c.tool->pitch_rad.empty()) return std::nullopt;
+            return Value(c.tool->pitch_rad);
+          },
+                  [](Case& c, std::size_t, const Value& v) -> std::string {
+                    if (!c.tool) return "its table is absent";
+                    const auto& p = std::get<std::vector<double>>(v);
+                    const int teeth = c.tool->teeth;
+                    double sum = 0.0;
+                    for (double x : p) sum += units::rad_to_deg(x);
+                    if (static_cast<int>(p.size()) != teeth && teeth > 0)
+                      return "must give one angle per tooth (teeth = " + std::to_string(teeth) +
+                             "), got " + std::to_string(p.size());
+                    if (std::abs(sum - 360.0) > 1e-6)
+                      return "the angles must add up to 360, they add up to " +
+                             format_value(tidy_number(sum));
+                    // Exactly one revolution, whatever the rounding of the degrees.
+                    double total = 0.0;
+                    for (double x : p) total += x;
+                    const double scale = units::kTwoPi / total;
+                    c.tool->pitch_rad = p;
+                    for (double& x : c.tool->pitch_rad) x *= scale;
+                    return {};
+                  })};
+  tl.count = if_present(&Case::tool);
+  tl.create = emplace(&Case::tool);
+  all.push_back(std::move(tl));
+
+  Section op;
+  op.name = "operation";
+  op.fields = {
+      number("radial_immersion", unit("– (a_e/D)"), open_closed(0.0, 1.0))
+          .member(operation, &OperationSection::radial_immersion),
+      choice("direction", {"down", "up"})
+          .access([](const Case& c, std::size_t) -> std::optional<Value> {
+            if (!c.operation) return std::nullopt;
+            return Value(std::string(c.operation->down_milling ? "down" : "up"));
+          },
+                  [](Case& c, std::size_t, const Value& v) -> std::string {
+                    if (!c.operation) return "its table is absent";
+                    c.operation->down_milling = text_of(v) == "down";
+                    return {};
+                  }),
+      number("feed_per_tooth_mm", kMm, kPositive)
+          .deflt("required by `cutdyn simulate`")
+          .member(operation, &OperationSection::feed_per_tooth_m),
+      number("entry_deg", kDeg, closed(0.0, 180.0))
+          .deflt("from the immersion")
+          .meaning("the engagement window itself (angles clockwise from +y), instead of "
+                   "`radial_immersion` and `direction`; give both, entry < exit")
+          .member(operation, &OperationSection::entry_rad),
+      number("exit_deg", kDeg, closed(0.0, 180.0))
+          .deflt("from the immersion")
+          .meaning("greater than `entry_deg`")
+          .member(operation, &OperationSection::exit_rad)};
+  op.count = if_present(&Case::operation);
+  op.create = emplace(&Case::operation);
+  all.push_back(std::move(op));
+
+  Section fl;
+  fl.name = "force_law";
+  fl.fields = {
+      number("c_n_per_mm", kNPerMm, kNonNegative)
+          .required()
+          .meaning("cutting stiffness c of the engaged flute: P = c·U")
+          .member(force_law, &ForceLawSection::c_n_per_m),
+      number("t2_s", unit("s"), kNonNegative)
+          .meaning("chip-formation time constant T2 (T2·dU/dt + U = X)")
+          .member(force_law, &ForceLawSection::t2_s),
+      number("p0_n", unit("N"), kNonNegative)
+          .meaning("flank contact force P0 (F = P0·e^(−X/T1))")
+          .member(force_law, &ForceLawSection::p0_n),
+      number("t1_mm", kMm, kPositive)
+          .deflt("1000 (none)")
+          .meaning("T1")
+          .member(force_law, &ForceLawSection::t1_m),
+      number("phi_rez_deg", kDeg, closed(-90.0, 90.0))
+          .meaning("cutting force from the tangent (towards the centre)")
+          .member(force_law, &ForceLawSection::phi_rez_rad),
+      number("phi_skv_deg", kDeg, closed(-90.0, 90.0))
+          .meaning("contact force from the tangent")
+          .member(force_law, &ForceLawSection::phi_skv_rad)};
+  fl.count = if_present(&Case::force_law);
+  fl.create = emplace(&Case::force_law);
+  all.push_back(std::move(fl));
+
+  Section dr;
+  dr.name = "drives";
+  dr.array = true;
+  dr.fields = {
+      choice("axis", {"x", "y", "z"})
+          .deflt("`axis` or `direction`")
+          .meaning("the feed is `\"x\"`")
+          .no_echo()
+          .access([](const Case& c, std::size_t i) -> std::optional<Value> {
+            if (i >= c.drives.size()) return std::nullopt;
+            return Value(c.drives[i].name);
+          },
+                  [](Case& c, std::size_t i, const Value& v) -> std::string {
+                    FeedAxis& a = c.drives.at(i);
+                    a.name = text_of(v);
+                    for (int k = 0; k < 3; ++k) a.direction[k] = k == a.name[0] - 'x' ? 1.0 : 0.0;
+                    return {};
+                  }),
+      Row("direction", Type::kNumbers)
+          .size(3)
+          .deflt("`axis` or `direction`")
+          .meaning("not all zero; normalised")
+          .access([](const Case& c, std::size_t i) -> std::optional<Value> {
+            if (i >= c.drives.size()) return std::nullopt;
+            const double* d = c.drives[i].direction;
+            return Value(std::vector<double>{d[0], d[1], d[2]});
+          },
+                  [](Case& c, std::size_t i, const Value& v) -> std::string {
+                    const auto& d = std::get<std::vector<double>>(v);
+                    const double norm = d.size() == 3 ? std::hypot(d[0], d[1], d[2]) : 0.0;
+                    if (d.size() != 3 || !(norm > 0.0))
+                      return "must be three numbers (x, y, z), not all zero";
+                    for (int k = 0; k < 3; ++k)
+                      c.drives.at(i).direction[k] = d[static_cast<std::size_t>(k)] / norm;
+                    return {};
+                  }),
+      choice("transmission", {"ball-screw", "lever"})
+          .required()
+          .access([](const Case& c, std::size_t i) -> std::optional<Value> {
+            if (i >= c.drives.size()) return std::nullopt;
+            return Value(std::string(is_lever(c, i) ? "lever" : "ball-screw"));
+          },
+                  [](Case& c, std::size_t i, const Value& v) -> std::string {
+                    c.drives.at(i).drive.transmission.kind = text_of(v) == "lever"
+                                                                 ? Transmission::Kind::kLeverArm
+                                                                 : Transmission::Kind::kBallScrew;
+                    return {};
+                  }),
+      number("lead_mm", kMm, kPositive)
+          .required_if([](const Case& c, std::size_t i) { return !is_lever(c, i); })
+          .echo_if([](const Case& c, std::size_t i) { return !is_lever(c, i); })
+          .deflt("required for a ball screw")
+          .member(transmission, &Transmission::lead_m),
+      number("efficiency", kNone, open_closed(0.0, 1.0))
+          .echo_if([](const Case& c, std::size_t i) { return !is_lever(c, i); })
+          .member(transmission, &Transmission::efficiency),
+      number("gear_ratio", kNone, kPositive)
+          .echo_if([](const Case& c, std::size_t i) { return !is_lever(c, i); })
+          .meaning("motor speed / screw speed")
+          .member(transmission, &Transmission::gear_ratio),
+      number("output_diameter_mm", kMm, kPositive)
+          .required_if(is_lever)
+          .echo_if(is_lever)
+          .deflt("required for a lever")
+          .meaning("d of eq. 12")
+          .member(transmission, &Transmission::output_diameter_m),
+      number("ratio", kNone, kPositive)
+          .echo_if(is_lever)
+          .meaning("iΣ of eq. 12")
+          .member(transmission, &Transmission::ratio),
+      number("idle_torque_nm", unit("N·m"), kAny)
+          .meaning("Mc0")
+          .member(transmission, &Transmission::idle_torque_nm),
+      choice("model", {"static", "dynamic"})
+          .meaning("static: eq. 13; dynamic: the PI loop")
+          .access([](const Case& c, std::size_t i) -> std::optional<Value> {
+            if (i >= c.drives.size()) return std::nullopt;
+            return Value(std::string(is_dynamic(c, i) ? "dynamic" : "static"));
+          },
+                  [](Case& c, std::size_t i, const Value& v) -> std::string {
+                    c.drives.at(i).drive.model = text_of(v) == "dynamic"
+                                                     ? FeedDrive::Model::kDynamic
+                                                     : FeedDrive::Model::kStatic;
+                    return {};
+                  }),
+      number("stiffness_nm_s_per_rad", unit("N·m·s/rad"),
+             {-kInf, true, kInf, true, true,
+              "must not be 0 (|β|, the slope of the characteristic)"})
+          .required_if([](const Case& c, std::size_t i) { return !is_dynamic(c, i); })
+          .echo_if([](const Case& c, std::size_t i) { return !is_dynamic(c, i); })
+          .deflt("required for static")
+          .meaning("β (its magnitude is used)")
+          .member(drive, &FeedDrive::stiffness_nm_s_per_rad),
+      number("inertia_kg_m2", unit("kg·m²"), kPositive)
+          .required_if(is_dynamic)
+          .echo_if(is_dynamic)
+          .deflt("required for dynamic")
+          .meaning("motor + load at the motor")
+          .member(drive, &FeedDrive::inertia_kg_m2),
+      number("viscous_nm_s_per_rad", unit("N·m·s/rad"), kNonNegative)
+          .echo_if(is_dynamic)
+          .member(drive, &FeedDrive::viscous_nm_s_per_rad),
+      number("kp_nm_s_per_rad", unit("N·m·s/rad"), kPositive)
+          .required_if(is_dynamic)
+          .echo_if(is_dynamic)
+          .deflt("required for dynamic")
+          .meaning("speed-loop gain")
+          .member(drive, &FeedDrive::kp_nm_s_per_rad),
+      number("ki_nm_per_rad", unit("N·m/rad"), kNonNegative)
+          .required_if(is_dynamic)
+          .echo_if(is_dynamic)
+          .deflt("required for dynamic")
+          .meaning("speed-loop gain")
+          .member(drive, &FeedDrive::ki_nm_per_rad),
+      number("torque_limit_nm", unit("N·m"), kNonNegative)
+          .echo_if(is_dynamic)
+          .deflt("0 (none)")
+          .member(drive, &FeedDrive::torque_limit_nm),
+      integer("pole_pairs", 1, 100)
+          .required_if(has_motor)
+          .deflt("with the motor")
+          .member(motor, &PmsmMotor::pole_pairs, kNeedsMotor),
+      number("torque_constant_nm_per_a", unit("N·m/A"), kPositive)
+          .required_if(has_motor)
+          .deflt("with the motor")
+          .meaning("in `current_measure`'s measure")
+          .member(motor, &PmsmMotor::torque_constant_nm_per_a, kNeedsMotor),
+      choice("current_measure", {"rms", "space-vector"})
+          .access([](const Case& c, std::size_t i) -> std::optional<Value> {
+            if (!has_motor(c, i)) return std::nullopt;
+            return Value(std::string(to_string(c.drives[i].motor->measure)));
+          },
+                  [](Case& c, std::size_t i, const Value& v) -> std::string {
+                    if (!has_motor(c, i)) return std::string(kNeedsMotor);
+                    c.drives[i].motor->measure = *parse_current_measure(text_of(v));
+                    return {};
+                  }),
+      number("current_noise_a", unit("A"), kNonNegative)
+          .meaning("σ of white noise per phase")
+          .member(motor, &PmsmMotor::noise_a, kNeedsMotor),
+      Row("current_offset_a", Type::kNumbers, unit("A"))
+          .size(3)
+          .deflt("0")
+          .meaning("sensor offsets of u, v, w")
+          .access([](const Case& c, std::size_t i) -> std::optional<Value> {
+            if (!has_motor(c, i)) return std::nullopt;
+            const double* o = c.drives[i].motor->offset_a;
+            return Value(std::vector<double>{o[0], o[1], o[2]});
+          },
+                  [](Case& c, std::size_t i, const Value& v) -> std::string {
+                    if (!has_motor(c, i)) return std::string(kNeedsMotor);
+                    const auto& o = std::get<std::vector<double>>(v);
+                    if (o.size() != 3) return "must be three numbers (phases u, v, w)";
+                    for (int k = 0; k < 3; ++k)
+                      c.drives[i].motor->offset_a[k] = o[static_cast<std::size_t>(k)];
+                    return {};
+                  }),
+      integer("seed", 0, 2147483647)
+          .meaning("with the motor; the seed of the current noise. Each axis draws its own "
+                   "stream of it (mixed with its index in `[[drives]]`), so axes are "
+                   "independent even with the same seed; `cutdyn drive --seed N` overrides it "
+                   "for every axis")
+          .member(motor, &PmsmMotor::seed, kNeedsMotor)};
+  dr.count = [](const Case& c) { return c.drives.size(); };
+  dr.create = refuse("");
+  all.push_back(std::move(dr));
+
+  Section vib;
+  vib.name = "vibration";
+  vib.fields = {
+      number("frequency_hz", unit("Hz"), kPositive)
+          .required()
+          .member(vibration, &VibrationSection::frequency_hz),
+      number("amplitude_um", kUm, kPositive)
+          .deflt("required unless `duty_cycle` is given")
+          .member(vibration, &VibrationSection::amplitude_m),
+      number("workpiece_diameter_mm", kMm, kPositive)
+          .meaning("the duty cycle then follows from the cutting speed at each spindle speed")
+          .member(vibration, &VibrationSection::workpiece_diameter_m),
+      number("duty_cycle", kNone, open_closed(0.0, 1.0))
+          .meaning("a fixed duty cycle r")
+          .member(vibration, &VibrationSection::duty_cycle)};
+  vib.count = if_present(&Case::vibration);
+  vib.create = emplace(&Case::vibration);
+  all.push_back(std::move(vib));
+
+  Section lb;
+  lb.name = "lobes";
+  lb.fields = {
+      number("rpm_min", unit("rpm"), kPositive).member(lobes, &LobesSection::rpm_min),
+      number("rpm_max", unit("rpm"), kPositive)
+          .meaning("greater than `rpm_min`")
+          .member(lobes, &LobesSection::rpm_max),
+      integer("rpm_steps", 2, 100000).member(lobes, &LobesSection::rpm_steps),
+      number("depth_max_mm", kMm, open_closed(0.0, 10000.0))
+          .member(lobes, &LobesSection::depth_max_m),
+      choice("method", {"auto", "zero-order", "closed-form", "multi-frequency",
+                        "full-discretization", "full-discretization-dense"})
+          .meaning(
+              "the same names as `--method`. `zero-order` and `closed-form` are one method: in "
+              "turning the closed form (Tlusty; the averaged theory with vibration), in milling "
+              "the averaged solution (Altintas & Budak); `auto` is the closed form for "
+              "conventional turning and the full discretization otherwise")
+          .access([](const Case& c, std::size_t) -> std::optional<Value> {
+            return Value(std::string(to_string(c.lobes.method)));
+          },
+                  [](Case& c, std::size_t, const Value& v) -> std::string {
+                    c.lobes.method = *parse_stability_method(text_of(v));
+                    return {};
+                  }),
+      integer("harmonics", 0, 50)
+          .meaning("multi-frequency: the least number of harmonics kept each side (more are "
+                   "used until the window covers every mode and the contact pulse; "
+                   "docs/models/milling-stability.md)")
+          .member(lobes, &LobesSection::harmonics),
+      integer("steps_per_period", 0, 100000)
+          .meaning("full discretization, 0 = automatic")
+          .member(lobes, &LobesSection::steps_per_period),
+      boolean("refine")
+          .meaning("add speeds where lobes meet or are narrower than the grid (adaptive "
+                   "tracing); false: the uniform grid only")
+          .member(lobes, &LobesSection::refine)};
+  lb.count = always();
+  lb.create = refuse("");
+  all.push_back(std::move(lb));
+
+  Section sim;
+  sim.name = "simulate";
+  sim.process_column = true;
+  sim.fields = {
+      number("rpm", unit("rpm"), kPositive).member(simulate, &SimulateSection::rpm),
+      number("depth_mm", kMm, kPositive).member(simulate, &SimulateSection::depth_m),
+      number("duration_s", unit("s"), open_closed(0.0, 1000.0))
+          .uses(Uses::kTurning)
+          .member(simulate, &SimulateSection::duration_s),
+      number("initial_displacement_um", kUm, kPositive)
+          .uses(Uses::kTurning)
+          .member(simulate, &SimulateSection::initial_displacement_m),
+      number("revolutions", kNone, closed(1.0, 1e6))
+          .uses(Uses::kMilling)
+          .meaning("`--duration-s` sets it from the speed")
+          .member(simulate, &SimulateSection::revolutions),
+      number("summary_revolutions", kNone, kPositive)
+          .uses(Uses::kMilling)
+          .meaning("at most `revolutions`; the last ones, for the summary (ΔP, means, chatter "
+                   "indicator)")
+          .member(simulate, &SimulateSection::summary_revolutions),
+      boolean("regenerative")
+          .uses(Uses::kMilling)
+          .meaning("false: the chip comes from the feed alone (force studies)")
+          .member(simulate, &SimulateSection::regenerative),
+      integer("steps_per_tooth", 8, 100000)
+          .uses(Uses::kMilling)
+          .meaning("raised with regeneration to 64 steps per shortest mode period")
+          .member(simulate, &SimulateSection::steps_per_tooth),
+      integer("slices", 0, 10000)
+          .uses(Uses::kMilling)
+          .meaning("axial slices of a helical flute, 0 = automatic (one angle step of lag each)")
+          .member(simulate, &SimulateSection::slices),
+      boolean("closed_form_helix")
+          .uses(Uses::kMilling)
+          .meaning("true: the S1 closed form (eqs. 8–9) instead of slices")
+          .member(simulate, &SimulateSection::closed_form_helix)};
+  sim.count = always();
+  sim.create = refuse("");
+  all.push_back(std::move(sim));
+
+  // ---- plan cases ----
+  Section bo;
+  bo.name = "bore";
+  bo.plan = true;
+  bo.fields = {
+      number("diameter_mm", kMm, kPositive)
+          .required()
+          .meaning("d, the machined bore")
+          .member(bore, &BoreMillingCase::bore_diameter_m),
+      number("length_mm", kMm, kPositive)
+          .required()
+          .meaning("L")
+          .member(bore, &BoreMillingCase::length_m),
+      number("allowance_mm", kMm, kPositive)
+          .required()
+          .meaning("less than the bore's radius; t, radial")
+          .member(bore, &BoreMillingCase::allowance_m)};
+  bo.count = if_present(&Case::bore);
+  bo.create = refuse("");
+  all.push_back(std::move(bo));
+
+  Section cu;
+  cu.name = "cutter";
+  cu.plan = true;
+  cu.fields = {
+      number("diameter_mm", kMm, kPositive)
+          .required()
+          .meaning("less than `bore.diameter_mm`; D")
+          .member(bore, &BoreMillingCase::cutter_diameter_m),
+      integer("teeth", 1, 500).required().meaning("z").member(bore, &BoreMillingCase::teeth),
+      number("offset_mm", kMm, kAny)
+          .required()
+          .meaning("h; −h is the mirror image of +h; the cutter must fit (D/2 + \\|h\\| < d/2); "
+                   "at h* = (2dt − t²)/(8D) the edge sets share the allowance evenly "
+                   "(docs/models/bore-milling.md)")
+          .member(bore, &BoreMillingCase::offset_m),
+      number("lead_angle_deg", kDeg, open_closed(0.0, 90.0))
+          .required()
+          .meaning("φ")
+          .member(bore, &BoreMillingCase::lead_angle_rad),
+      number("inclination_deg", kDeg, open(-90.0, 90.0))
+          .meaning("λ")
+          .member(bore, &BoreMillingCase::inclination_rad)};
+  cu.count = if_present(&Case::bore);
+  cu.create = refuse("");
+  all.push_back(std::move(cu));
+
+  Section pr;
+  pr.name = "process";
+  pr.plan = true;
+  pr.fields = {
+      number("cutting_speed_m_per_min", kPlanMPerMin, kPositive)
+          .required()
+          .meaning("v")
+          .member(bore, &BoreMillingCase::cutting_speed_m_per_s),
+      number("mean_chip_thickness_mm", kMm, kPositive)
+          .required()
+          .meaning("a_cp")
+          .member(bore, &BoreMillingCase::mean_chip_thickness_m),
+      number("accuracy_coefficient", kNone,
+             {kAccuracyCoefficientMin, false, kAccuracyCoefficientMax, false, false,
+              "must be from 0.005 (finishing) to 0.1 (roughing), the source's range of k"})
+          .required()
+          .meaning("k: Δ1 ≤ k·t (the source's range: 0.1 roughing … 0.005 finishing)")
+          .member(bore, &BoreMillingCase::accuracy_coefficient),
+      number("axial_feed_mm", kMm, kPositive)
+          .deflt("the largest")
+          .meaning("a fixed S0")
+          .member(whole, &Case::axial_feed_m)};
+  pr.count = if_present(&Case::bore);
+  pr.create = refuse("");
+  all.push_back(std::move(pr));
+
+  Section li;
+  li.name = "limits";
+  li.plan = true;
+  li.fields = {
+      number("offset_min_mm", kMm, kAny)
+          .required()
+          .meaning("the range of h for the optimiser, taken as \\|h\\| and kept below "
+                   "(dt − t²)/(2D), where both edge sets cut")
+          .member(limits, &BoreMillingLimits::offset_min_m),
+      number("offset_max_mm", kMm, kAny)
+          .required()
+          .meaning("at least `offset_min_mm`")
+          .member(limits, &BoreMillingLimits::offset_max_m),
+      number("cutting_speed_max_m_per_min", kPlanMPerMin, kPositive)
+          .required()
+          .member(limits, &BoreMillingLimits::cutting_speed_max_m_per_s),
+      number("cutter_rpm_max", kRpmAsRevPerS, kPositive)
+          .required()
+          .member(limits, &BoreMillingLimits::cutter_rev_per_s_max),
+      number("workpiece_rpm_max", kRpmAsRevPerS, kPositive)
+          .required()
+          .member(limits, &BoreMillingLimits::workpiece_rev_per_s_max),
+      number("faceting_max_mm", kMm, kPositive)
+          .required()
+          .meaning("Δ2")
+          .member(limits, &BoreMillingLimits::faceting_max_m),
+      number("max_chip_thickness_mm", kMm, kPositive)
+          .required()
+          .meaning("a_max")
+          .member(limits, &BoreMillingLimits::max_chip_thickness_m)};
+  li.count = if_present(&Case::bore_limits);
+  li.create = emplace(&Case::bore_limits);
+  all.push_back(std::move(li));
+  return all;
+}
+
+// ---- the doc tables ------------------------------------------------------------------------
+
+// A Case with every table present and its defaults, for the doc's default column.
+const Case& defaults_case() {
+  static const Case c = [] {
+    Case d;
+    d.modal.modes.emplace_back();
+    d.mode_mass_kg.emplace_back();
+    d.tool.emplace();
+    d.operation.emplace();
+    d.vibration.emplace();
+    d.force_law.emplace();
+    d.material.emplace();
+    d.bore.emplace();
+    d.bore_limits.emplace();
+    d.drives.emplace_back();
+    d.drives.back().motor.emplace();
+    return d;
+  }();
+  return c;
+}
+
+std::string type_doc(const Field& f) {
+  switch (f.type) {
+    case Type::kNumber:
+      return "number";
+    case Type::kInteger:
+      return "integer";
+    case Type::kBoolean:
+      return "boolean";
+    case Type::kChoice:
+    case Type::kText:
+      return "string";
+    case Type::kNumbers:
+      return f.array_size > 0 ? "array of " + std::to_string(f.array_size) + " numbers"
+                              : "array of numbers";
+  }
+  return "?";
+}
+
+std::string default_doc(const Field& f) {
+  if (!f.default_doc.empty()) return std::string(f.default_doc);
+  if (f.required) return "required";
+  const auto v = f.get ? f.get(defaults_case(), 0) : std::nullopt;
+  if (!v) return "optional";
+  if (const std::string* s = std::get_if<std::string>(&*v)) return "`\"" + *s + "\"`";
+  return value_text(f, *v);
+}
+
+std::string process_doc(const Field& f) {
+  if (!f.process_doc.empty()) return std::string(f.process_doc);
+  switch (f.uses) {
+    case Uses::kBoth:
+      return "both";
+    case Uses::kTurning:
+      return "turning";
+    case Uses::kMilling:
+      return "milling";
+  }
+  return "?";
+}
+
+std::string rule_doc(const Field& f) {
+  std::string range;
+  if (f.type == Type::kChoice) {
+    for (std::size_t i = 0; i < f.choices.size(); ++i) {
+      if (i > 0) range += i + 1 == f.choices.size() ? " or " : ", ";
+      range += "`\"" + std::string(f.choices[i]) + "\"`";
+    }
+  } else if (f.numeric() || f.type == Type::kNumbers) {
+    range = f.range.doc(f.type == Type::kInteger);
+    if (f.type == Type::kNumbers && !range.empty()) range = "each " + range;
+  }
+  if (f.meaning.empty()) return range;
+  if (range.empty()) return std::string(f.meaning);
+  return range + "; " + std::string(f.meaning);
+}
+
+}  // namespace
+
+const std::vector<Section>& case_sections() {
+  static const std::vector<Section> all = make_sections();
+  return all;
+}
+
+const Section* find_section(std::string_view name, bool plan) {
+  for (const Section& s : case_sections())
+    if (s.name == name && s.plan == plan) return &s;
+  return nullptr;
+}
+
+std::string key_table_markdown(const Section& s) {
+  std::string md = s.process_column ? "| key | type | unit | process | required / default | rule |\n"
+                                      "|---|---|---|---|---|---|\n"
+                                    : "| key | type | unit | required / default | rule |\n"
+                                      "|---|---|---|---|---|\n";
+  for (const Field& f : s.fields) {
+    md += "| `" + std::string(f.key) + "` | " + type_doc(f) + " | " + std::string(f.unit.text) +
+          " | ";
+    if (s.process_column) md += process_doc(f) + " | ";
+    md += default_doc(f) + " | " + rule_doc(f) + " |\n";
+  }
+  return md;
+}
+
+}  // namespace cutdyn::io::detail
