@@ -14,6 +14,7 @@
 
 #include "bench_support.hpp"
 #include "cutdyn/core/units.hpp"
+#include "cutdyn/drive/equivalent_current.hpp"
 #include "cutdyn/monitor/current_csv.hpp"
 #include "cutdyn/monitor/force_estimator.hpp"
 

@@ -87,65 +87,7 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
                          std::ostream& err);
 
 // ---- monitor: cutting force from servo-motor currents (docs/models/monitor.md) ----------
-
-/// `cutdyn monitor calibrate`: steps 1 (idle logs) and 2 (loaded logs) per axis.
-struct MonitorCalibrateArgs {
-  std::vector<std::string> idle;     // --idle: no-cut logs at constant speeds
-  std::vector<std::string> loaded;   // --loaded: logs with a reference force column
-  std::string base;                  // --base: a calibration file or "zheng2012"
-  std::vector<std::string> kt;       // --kt [AXIS=]VALUE, N·m/A
-  std::vector<std::string> inertia;  // --inertia [AXIS=]VALUE, kg·m²
-  std::string measure;               // --measure rms|space-vector
-  std::string force_column = "force_n";
-  double window_s = 0.05;
-  double steady_tolerance = 0.01;
-  double standstill_rad_s = 0.5;
-  std::string on_bad_line = "stop";
-  std::string out;  // --out calib.json (required)
-};
-int run_monitor_calibrate(const MonitorCalibrateArgs& args, std::ostream& out, std::ostream& err);
-
-/// `cutdyn monitor estimate` and `cutdyn monitor teach` share the estimator's settings.
-struct MonitorEstimatorArgs {
-  std::string calib;  // --calib C.json (or "zheng2012")
-  double bandwidth_hz = 50.0;
-  double standstill_rad_s = 0.5;
-  std::string on_bad_line = "stop";
-};
-
-struct MonitorEstimateArgs {
-  MonitorEstimatorArgs estimator;
-  std::string input = "-";  // INPUT.csv, or - for standard input
-  std::string out;          // --out F.csv (else standard output, line by line)
-  std::string band;         // --band B.json: add level/limits/alarm columns
-  std::string alarms;       // --alarms F.csv: the alarm events
-  double tooth_frequency_hz = 0.0;  // --tooth-frequency-hz: report the filter there (0: not)
-  std::string json;                 // --json F.json: the summary (filter, warnings) as JSON
-  double persist_s = 0.005;
-  double wear_fraction = 0.15;
-  double wear_time_constant_s = 0.5;
-};
-int run_monitor_estimate(const MonitorEstimateArgs& args, std::ostream& out, std::ostream& err);
-
-struct MonitorTeachArgs {
-  MonitorEstimatorArgs estimator;
-  std::vector<std::string> inputs;  // reference runs (one cycle each)
-  std::string out;                  // --out band.json (required)
-  // A milling cut's spindle speed and teeth (both or neither): the level is then averaged
-  // over the tooth period (BandOptions::for_milling); the options below, where given, win.
-  std::optional<double> rpm;
-  std::optional<int> teeth;
-  double bin_s = 0.01;
-  std::optional<double> smoothing_s;
-  double k_sigma = 3.0;
-  double relative_margin = 0.1;
-  double absolute_margin_n = 0.0;
-  double peak_margin = 0.05;
-  double cutting_fraction = 0.2;
-  std::optional<double> phase_tolerance_s;
-  std::optional<double> average_s;
-};
-int run_monitor_teach(const MonitorTeachArgs& args, std::ostream& out, std::ostream& err);
+// The jobs and their options are the library's (cutdyn/app/monitor.hpp).
 
 /// Registers `monitor` (calibrate, estimate, teach) on `app`. The returned function runs the
 /// subcommand that was parsed and returns its exit code, or −1 if `monitor` was not used.

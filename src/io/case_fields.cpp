@@ -11,7 +11,7 @@
 
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
-#include "cutdyn/monitor/equivalent_current.hpp"
+#include "cutdyn/drive/equivalent_current.hpp"
 
 namespace cutdyn::io::detail {
 

@@ -15,7 +15,7 @@
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/forces/oxley.hpp"
 #include "cutdyn/io/case_file.hpp"
-#include "cutdyn/monitor/equivalent_current.hpp"
+#include "cutdyn/drive/equivalent_current.hpp"
 #include "cutdyn/plan/bore_milling.hpp"
 #include "cutdyn/simulate/milling_simulation.hpp"
 #include "cutdyn/stability/full_discretization.hpp"

@@ -16,6 +16,7 @@
 
 #include <unistd.h>
 
+#include "monitor/synthetic_logs.hpp"
 #include "support/cli_runner.hpp"
 #include "support/temp_dir.hpp"
 
@@ -112,22 +113,9 @@ using testing::read_file;
 
 class GoldenOutputs : public ::testing::TestWithParam<Golden> {};
 
-TEST_P(GoldenOutputs, AreUnchanged) {
-  const Golden& g = GetParam();
-  const fs::path dir_ = fs::temp_directory_path() /
-                        ("cutdyn-golden-" + std::to_string(::getpid()) + "-" + g.name);
-  fs::remove_all(dir_);
-  fs::create_directories(dir_);
-  const std::string dir = dir_.string();
-  std::vector<std::string> args;
-  for (std::string a : g.args) {
-    if (const auto at = a.find("{dir}"); at != std::string::npos) a.replace(at, 5, dir);
-    args.push_back(a);
-  }
-  const auto r = testing::run_cutdyn(args);
-  ASSERT_EQ(r.code, 0) << r.err;
-  std::vector<std::pair<std::string, std::string>> outputs = {{g.name + ".txt", r.out}};
-  for (const std::string& f : g.files) outputs.push_back({g.name + "." + f, read_file(dir_ / f)});
+// Compares (or with CUTDYN_UPDATE_GOLDEN=1 rewrites) each (golden file, output) pair.
+void expect_golden(const std::vector<std::pair<std::string, std::string>>& outputs,
+                   const std::string& dir) {
   const fs::path golden_dir = fs::path(CUTDYN_SOURCE_DIR) / "tests" / "golden";
   const bool update = std::getenv("CUTDYN_UPDATE_GOLDEN") != nullptr;
   for (const auto& [file, content] : outputs) {
@@ -139,11 +127,166 @@ TEST_P(GoldenOutputs, AreUnchanged) {
     ASSERT_TRUE(fs::exists(golden_dir / file)) << file << ": no golden output (CUTDYN_UPDATE_GOLDEN=1)";
     EXPECT_EQ(compare(read_file(golden_dir / file), actual), "") << file;
   }
+}
+
+// A fresh folder for one golden case.
+fs::path golden_folder(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() /
+                       ("cutdyn-golden-" + std::to_string(::getpid()) + "-" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// The arguments with "{dir}" replaced by `dir`.
+std::vector<std::string> in_folder(const std::vector<std::string>& args, const std::string& dir) {
+  std::vector<std::string> out;
+  for (std::string a : args) {
+    if (const auto at = a.find("{dir}"); at != std::string::npos) a.replace(at, 5, dir);
+    out.push_back(a);
+  }
+  return out;
+}
+
+TEST_P(GoldenOutputs, AreUnchanged) {
+  const Golden& g = GetParam();
+  const fs::path dir_ = golden_folder(g.name);
+  const std::string dir = dir_.string();
+  const auto r = testing::run_cutdyn(in_folder(g.args, dir));
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::vector<std::pair<std::string, std::string>> outputs = {{g.name + ".txt", r.out}};
+  for (const std::string& f : g.files) outputs.push_back({g.name + "." + f, read_file(dir_ / f)});
+  expect_golden(outputs, dir);
   fs::remove_all(dir_);
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, GoldenOutputs, ::testing::ValuesIn(goldens()),
                          [](const ::testing::TestParamInfo<Golden>& param_info) {
+                           std::string n = param_info.param.name;
+                           for (char& ch : n)
+                             if (ch == '-') ch = '_';
+                           return n;
+                         });
+
+// ---- monitor: the commands read current logs ------------------------------------------
+// Each case first writes the same logs into its folder (synthetic logs of the preset's axes
+// x and y with noise on the currents and the speed, tests/monitor/synthetic_logs.hpp; fixed
+// seeds), runs its `setup` commands (e.g. the calibration an estimate reads), then the
+// command; its standard error (the estimate's summary, warnings, alarms) is compared too.
+struct MonitorGolden {
+  std::string name;
+  std::vector<std::vector<std::string>> setup;
+  std::vector<std::string> args;
+  std::vector<std::string> files;
+};
+
+void write_monitor_logs(const fs::path& dir) {
+  using testing::synthetic_run;
+  const testing::LogNoise noise{0.05, 0.02};
+  const AxisModel x = zheng2012_axis('x'), y = zheng2012_axis('y');
+  const auto csv = [](const AxisRun& run, const std::string& axis, bool force = false) {
+    return testing::to_csv(run, axis, force);
+  };
+  const auto body = [](const std::string& text) { return text.substr(text.find('\n') + 1); };
+  const auto put = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir / name, std::ios::binary) << text;
+  };
+  put("idle.csv", csv(synthetic_run(x, testing::idle_profile(0.3), 1e-3, noise, 1), "x") +
+                      body(csv(synthetic_run(y, testing::idle_profile(0.3), 1e-3, noise, 2), "y")));
+  put("loaded_x.csv", csv(synthetic_run(x, testing::loaded_profile(0.2), 1e-3, noise, 3), "x", true));
+  put("loaded_y.csv", csv(synthetic_run(y, testing::loaded_profile(0.2), 1e-3, noise, 4), "y", true));
+  // Reference runs of axis x: 0.4 s at 60 rad/s and 2000 N; the cut: 2000 N, then an
+  // overload of 3000 N from 0.25 s; axis y (no band) at -40 rad/s and 800 N.
+  put("ref1.csv", csv(synthetic_run(x, {{60.0, 0.4, 2000.0}}, 1e-3, noise, 5, true), "x"));
+  put("ref2.csv", csv(synthetic_run(x, {{60.0, 0.4, 2000.0}}, 1e-3, noise, 6, true), "x"));
+  const std::string cut =
+      csv(synthetic_run(x, {{60.0, 0.25, 2000.0}, {60.0, 0.15, 3000.0, 0.0}}, 1e-3, noise, 7,
+                        true),
+          "x") +
+      body(csv(synthetic_run(y, {{-40.0, 0.1, 800.0}}, 1e-3, noise, 8, true), "y"));
+  put("cut.csv", cut);
+  // The cut with three bad lines (text, NaN, time going back) after its 11th data line.
+  std::string bad = cut;
+  std::size_t at = 0;
+  for (int k = 0; k < 12; ++k) at = bad.find('\n', at) + 1;
+  bad.insert(at, "0.0105,x,ten,-5,-5,60\n0.0106,x,20,-10,-10,NaN\n0.002,x,20,-10,-10,60\n");
+  put("bad.csv", bad);
+}
+
+const std::vector<std::string> kCalibrate = {
+    "monitor", "calibrate", "--idle", "{dir}/idle.csv", "--loaded", "{dir}/loaded_x.csv",
+    "{dir}/loaded_y.csv", "--base", "zheng2012", "--out", "{dir}/calib.json"};
+const std::vector<std::string> kTeach = {
+    "monitor", "teach", "--calib", "{dir}/calib.json", "{dir}/ref1.csv", "{dir}/ref2.csv",
+    "--out", "{dir}/band.json", "--rpm", "600", "--teeth", "4"};
+
+const std::vector<MonitorGolden>& monitor_goldens() {
+  static const std::vector<MonitorGolden> all = {
+      {"monitor-calibrate", {}, kCalibrate, {"calib.json"}},
+      {"monitor-calibrate-idle-kt",
+       {},
+       {"monitor", "calibrate", "--idle", "{dir}/idle.csv", "--kt", "0.1596", "--kt", "x=0.159",
+        "--inertia", "x=1.667e-3", "--inertia", "y=1.383e-3", "--measure", "rms", "--base",
+        "zheng2012",
+        "--window-s", "0.04", "--out", "{dir}/calib.json"},
+       {"calib.json"}},
+      {"monitor-estimate",
+       {kCalibrate},
+       {"monitor", "estimate", "--calib", "{dir}/calib.json", "{dir}/cut.csv",
+        "--tooth-frequency-hz", "40", "--json", "{dir}/e.json"},
+       {"e.json"}},
+      {"monitor-estimate-preset-skip",
+       {},
+       {"monitor", "estimate", "--calib", "zheng2012", "{dir}/bad.csv", "--on-bad-line", "skip",
+        "--bandwidth-hz", "80", "--out", "{dir}/e.csv"},
+       {"e.csv"}},
+      {"monitor-estimate-band",
+       {kCalibrate, kTeach},
+       {"monitor", "estimate", "--calib", "{dir}/calib.json", "{dir}/cut.csv", "--band",
+        "{dir}/band.json", "--alarms", "{dir}/alarms.csv", "--out", "{dir}/e.csv", "--json",
+        "{dir}/e.json", "--persist-s", "0.004"},
+       {"e.csv", "alarms.csv", "e.json"}},
+      {"monitor-teach", {kCalibrate}, kTeach, {"band.json"}},
+      // The currents of `cutdyn drive` (space-vector motors, with the rotor angle) against the
+      // preset's constants in their measure.
+      {"monitor-estimate-drive-currents",
+       {{"drive", "ermolaev2020", "--currents", "{dir}/currents.csv", "--seed", "3"},
+        {"monitor", "calibrate", "--base", "zheng2012", "--measure", "space-vector", "--out",
+         "{dir}/sv.json"}},
+       {"monitor", "estimate", "--calib", "{dir}/sv.json", "{dir}/currents.csv", "--out",
+        "{dir}/e.csv", "--json", "{dir}/e.json"},
+       {"sv.json", "e.csv", "e.json"}},
+      {"monitor-teach-plain",
+       {},
+       {"monitor", "teach", "--calib", "zheng2012", "{dir}/ref1.csv", "--out", "{dir}/band.json",
+        "--bin-s", "0.02", "--k-sigma", "4"},
+       {"band.json"}},
+  };
+  return all;
+}
+
+class MonitorGoldenOutputs : public ::testing::TestWithParam<MonitorGolden> {};
+
+TEST_P(MonitorGoldenOutputs, AreUnchanged) {
+  const MonitorGolden& g = GetParam();
+  const fs::path dir_ = golden_folder(g.name);
+  const std::string dir = dir_.string();
+  write_monitor_logs(dir_);
+  for (const auto& command : g.setup) {
+    const auto s = testing::run_cutdyn(in_folder(command, dir));
+    ASSERT_EQ(s.code, 0) << s.err;
+  }
+  const auto r = testing::run_cutdyn(in_folder(g.args, dir));
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::vector<std::pair<std::string, std::string>> outputs = {{g.name + ".txt", r.out},
+                                                              {g.name + ".err.txt", r.err}};
+  for (const std::string& f : g.files) outputs.push_back({g.name + "." + f, read_file(dir_ / f)});
+  expect_golden(outputs, dir);
+  fs::remove_all(dir_);
+}
+
+INSTANTIATE_TEST_SUITE_P(Monitor, MonitorGoldenOutputs, ::testing::ValuesIn(monitor_goldens()),
+                         [](const ::testing::TestParamInfo<MonitorGolden>& param_info) {
                            std::string n = param_info.param.name;
                            for (char& ch : n)
                              if (ch == '-') ch = '_';

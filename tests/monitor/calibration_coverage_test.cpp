@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "cutdyn/monitor/calibration.hpp"
-#include "cutdyn/monitor/equivalent_current.hpp"
+#include "cutdyn/drive/equivalent_current.hpp"
 #include "cutdyn/monitor/force_estimator.hpp"
 #include "monitor/drive_chain.hpp"
 

@@ -6,7 +6,7 @@
 #include <random>
 
 #include "cutdyn/core/units.hpp"
-#include "cutdyn/monitor/equivalent_current.hpp"
+#include "cutdyn/drive/equivalent_current.hpp"
 #include "cutdyn/monitor/force_estimator.hpp"
 #include "monitor/drive_chain.hpp"
 

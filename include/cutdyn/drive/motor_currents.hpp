@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "cutdyn/monitor/equivalent_current.hpp"
+#include "cutdyn/drive/equivalent_current.hpp"
 
 namespace cutdyn {
 

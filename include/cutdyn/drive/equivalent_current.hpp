@@ -1,4 +1,6 @@
 // Equivalent current of a three-phase servo motor [Zheng2012, eq. 1]; docs/models/monitor.md §1.
+// The drive owns it (the motor's currents are made for a measure, motor_currents.hpp); the
+// monitor, which builds on the drive, reads the currents through it.
 #pragma once
 
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "cutdyn/monitor/equivalent_current.hpp"
+#include "cutdyn/drive/equivalent_current.hpp"
 
 #include <algorithm>
 #include <cmath>

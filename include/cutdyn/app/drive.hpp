@@ -1,0 +1,89 @@
+// The drive job (models.md S1.7; docs/models/feed-drive.md): the case's feed drives under the
+// force of its simulated milling cut. The cut is simulated over its whole length; each
+// [[drives]] axis takes its share of the feed and the projection of the cutter's force, and is
+// summarised over its periodic steady state at the spindle revolution. A front end builds
+// the cut (the speed, depth and length it is asked for) and renders the Report.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "cutdyn/drive/feed_drive.hpp"
+#include "cutdyn/drive/motor_currents.hpp"
+#include "cutdyn/io/case_file.hpp"
+#include "cutdyn/simulate/milling_simulation.hpp"
+
+namespace cutdyn::app {
+
+/// The milling cut a drive run simulates.
+struct DriveCut {
+  MillingCut cut;
+  MillingSimulationOptions options;
+  double rpm = 0.0;
+  std::string where;  // where the speed and depth came from, for errors
+};
+
+struct DriveOptions {
+  std::optional<int> seed;  // the current noise's seed for every axis (else the case's)
+};
+
+/// One axis under the cut.
+struct DriveAxisReport {
+  FeedAxis axis;                    // as run: pointing along the feed, its noise stream set
+  double feed_speed_m_per_s = 0.0;  // its share of the feed velocity
+  FeedDriveResult drive;
+  std::vector<double> cutter_m;   // the cutter's deflection along the axis
+  std::vector<double> epsilon_m;  // drive position error + cutter deflection
+  // Peak-to-peak over the last summary revolutions, within the drive's steady window.
+  double drive_pp_m = 0.0, cutter_pp_m = 0.0, epsilon_pp_m = 0.0;
+};
+
+struct DriveReport {
+  DriveCut cut;
+  DriveOptions options;
+  std::vector<DriveAxisReport> axes;
+  double traces_from_s = 0.0;  // the traces worth showing: the last summary revolutions
+};
+
+/// Throws InvalidInput unless the case is a milling case with at least one [[drives]] table.
+void require_drive_case(const io::Case& c);
+
+/// The drives of case `c` under `cut`. Throws InvalidInput for a drive that cannot run.
+DriveReport run_drive(const io::Case& c, const DriveCut& cut, const DriveOptions& options = {});
+
+/// The metrics of an axis a sweep tabulates, and their names: epsilon_um, drive_error_um,
+/// cutter_error_um, k_delta, static_error, torque_ripple_nm, speed_ripple_rad_s.
+const std::vector<std::string>& drive_metric_names();
+std::vector<double> drive_metrics(const DriveAxisReport& a);
+
+/// The phase currents of an axis' motor over the traces from `from_s` (the axis needs its
+/// motor: pole_pairs, torque_constant_nm_per_a).
+PhaseCurrents axis_currents(const DriveAxisReport& a, double from_s);
+
+/// Throws InvalidInput (naming `source`) unless every axis has its motor (pole_pairs,
+/// torque_constant_nm_per_a): what the phase currents need.
+void require_motors(const DriveReport& report, const std::string& source);
+
+/// The current log of the run's traces (the last summary revolutions) as `monitor` reads it
+/// (docs/models/monitor.md §6): per axis a comment with its motor (axis, measure,
+/// torque_constant_nm_per_a, pole_pairs), then time_s,axis,iu_a,iv_a,iw_a,speed_rad_s,
+/// rotor_angle_rad. Throws as require_motors does.
+void write_current_log(std::ostream& out, const DriveReport& report, const std::string& source);
+
+/// A sweep of one case key: the case with each value, its cut from `cut_of` (all built, and
+/// so checked, before any runs), then the runs on `threads` threads (0: all).
+struct DriveSweepReport {
+  std::string key;
+  std::vector<double> values;
+  std::vector<DriveReport> runs;  // one per value
+};
+DriveSweepReport run_drive_sweep(const io::Case& c, const std::string& key,
+                                 const std::vector<double>& values,
+                                 const std::function<DriveCut(const io::Case&)>& cut_of,
+                                 const DriveOptions& options = {}, int threads = 0,
+                                 const std::function<void(int, int)>& progress = {});
+
+}  // namespace cutdyn::app

@@ -1,0 +1,196 @@
+#include "monitor_stream.hpp"
+
+#include <optional>
+
+namespace cutdyn::app::detail {
+namespace {
+
+constexpr std::size_t kShownBadLines = 5;
+
+}  // namespace
+
+void warn(const MonitorListener& listener, std::vector<MonitorWarning>& warnings,
+          MonitorWarning w) {
+  if (listener.warning) listener.warning(w);
+  warnings.push_back(std::move(w));
+}
+
+void BadLines::take(std::vector<CsvLineError>& errors) {
+  for (const CsvLineError& e : errors) {
+    if (stop_) throw InvalidInput({e.text()}, source_);
+    if (count_ < kShownBadLines) {
+      MonitorWarning w;
+      w.kind = MonitorWarning::Kind::kBadLine;
+      w.source = source_;
+      w.line = e.line;
+      w.message = e.text();
+      warn(listener_, warnings_, std::move(w));
+    }
+    ++count_;
+  }
+  errors.clear();
+}
+
+void BadLines::finish(std::size_t good) {
+  if (count_ > 0) {
+    MonitorWarning w;
+    w.kind = MonitorWarning::Kind::kBadLinesSkipped;
+    w.source = source_;
+    w.count = count_;
+    warn(listener_, warnings_, std::move(w));
+  }
+  if (good == 0)
+    throw InvalidInput({"no valid data line (" + std::to_string(count_) + " skipped)"}, source_);
+}
+
+InvalidInput measure_mismatch(const std::string& file, std::size_t line, const std::string& axis,
+                              CurrentMeasure logged, CurrentMeasure calibration) {
+  return InvalidInput({"line " + std::to_string(line) + ": axis " + axis +
+                       ": the currents were logged with measure = " +
+                       std::string(to_string(logged)) + ", the calibration's measure is " +
+                       std::string(to_string(calibration)) +
+                       ": KT holds for one measure only (they differ by √2); calibrate with "
+                       "--measure " + std::string(to_string(logged)) +
+                       " or log the calibration's measure"},
+                      file);
+}
+
+std::map<std::string, AxisRun> read_log(const std::string& path, const std::string& force_column,
+                                        bool stop, const MonitorListener& listener,
+                                        std::vector<MonitorWarning>& warnings,
+                                        RecordedMeasures* measures) {
+  LogInput in(path);
+  CurrentCsvParser parser(in.name(), force_column);
+  BadLines bad(in.name(), stop, listener, warnings);
+  std::vector<CurrentRow> rows;
+  std::vector<CsvLineError> errors;
+  for (std::string_view chunk = in.read(); !chunk.empty(); chunk = in.read()) {
+    parser.feed(chunk, rows, errors, stop);
+    bad.take(errors);
+  }
+  parser.finish(rows, errors, stop);
+  bad.take(errors);
+  bad.finish(parser.good_rows());
+  std::map<std::string, AxisRun> runs;
+  const bool angle = parser.has_rotor_angle();
+  for (const CurrentRow& r : rows)
+    runs[parser.axes()[static_cast<std::size_t>(r.axis)]].push_back(
+        {r.time_s, r.iu_a, r.iv_a, r.iw_a, r.speed_rad_s, r.extra, angle, r.rotor_angle_rad});
+  if (measures)
+    for (const auto& [axis, run] : runs)
+      if (const auto m = parser.recorded_measure(axis)) (*measures)[axis] = *m;
+  return runs;
+}
+
+EstimateStream::EstimateStream(const Calibration& calibration, std::string calibration_name,
+                               const EstimatorOptions& options, std::string source, bool stop,
+                               const MonitorListener& listener,
+                               std::vector<MonitorWarning>& warnings, Each each,
+                               std::function<void()> flush)
+    : calibration_(calibration),
+      calibration_name_(std::move(calibration_name)),
+      options_(options),
+      source_(std::move(source)),
+      stop_(stop),
+      listener_(listener),
+      warnings_(warnings),
+      each_(std::move(each)),
+      flush_(std::move(flush)),
+      parser_(source_),
+      bad_(source_, stop, listener, warnings) {}
+
+EstimateStream::Axis* EstimateStream::axis(int index) {
+  const auto i = static_cast<std::size_t>(index);
+  while (by_index_.size() <= i) by_index_.push_back(nullptr);
+  if (!by_index_[i]) {
+    const std::string& name = parser_.axes()[i];
+    const auto it = calibration_.find(name);
+    if (it == calibration_.end()) return nullptr;
+    by_index_[i] = std::make_unique<Axis>();
+    by_index_[i]->name = name;
+    by_index_[i]->estimator = std::make_unique<AxisForceEstimator>(it->second, options_);
+    made_.push_back(by_index_[i].get());
+  }
+  return by_index_[i].get();
+}
+
+void EstimateStream::estimate(const CurrentRow& r, Axis& a) {
+  AxisForceEstimator& e = *a.estimator;
+  if (!a.seen) {
+    a.seen = true;
+    if (const auto m = parser_.recorded_measure(a.name);
+        m && m->first != e.calibration().model.measure)
+      throw measure_mismatch(source_, m->second, a.name, m->first, e.calibration().model.measure);
+  }
+  ForceEstimate estimate;
+  try {
+    estimate = e.update(r.time_s, r.iu_a, r.iv_a, r.iw_a, r.speed_rad_s,
+                        parser_.has_rotor_angle() ? std::optional<double>(r.rotor_angle_rad)
+                                                  : std::nullopt);
+  } catch (const InvalidInput& x) {
+    // The bandwidth against the log's sampling (the only check of update).
+    std::vector<std::string> problems;
+    for (const std::string& p : x.problems())
+      problems.push_back("--bandwidth-hz: " + p + ", axis " + a.name + " at line " +
+                         std::to_string(r.line));
+    throw InvalidInput(problems, source_);
+  }
+  if (estimate.torque_sign_doubtful && a.sign_doubts++ == 0) {
+    a.first_doubt_line = r.line;
+    a.first_doubt_time_s = r.time_s;
+    MonitorWarning w;
+    w.kind = MonitorWarning::Kind::kTorqueSign;
+    w.source = source_;
+    w.axis = a.name;
+    w.line = r.line;
+    w.time_s = r.time_s;
+    w.message = kSignDoubt;
+    warn(listener_, warnings_, std::move(w));
+  }
+  each_(r, a.name, estimate);
+  ++good_;
+}
+
+void EstimateStream::process() {
+  for (const CurrentRow& r : rows_) {
+    Axis* a = axis(r.axis);
+    if (!a) {
+      const std::string& name = parser_.axes()[static_cast<std::size_t>(r.axis)];
+      std::string have;
+      for (const auto& [axis, c] : calibration_) have += (have.empty() ? "" : ", ") + axis;
+      errors_.push_back({r.line, "axis \"" + name + "\" is not in the calibration " +
+                                     calibration_name_ + " (it has " + have + ")"});
+      bad_.take(errors_);
+      continue;
+    }
+    estimate(r, *a);
+  }
+  rows_.clear();
+  if (flush_) flush_();
+  bad_.take(errors_);  // after the good lines before it are out
+}
+
+void EstimateStream::feed(std::string_view chunk) {
+  parser_.feed(chunk, rows_, errors_, stop_);
+  process();
+}
+
+std::size_t EstimateStream::finish() {
+  parser_.finish(rows_, errors_, stop_);
+  process();
+  bad_.finish(good_);
+  std::map<std::string, std::size_t> doubts;  // by axis name
+  for (const Axis* a : made_)
+    if (a->sign_doubts > 1) doubts[a->name] = a->sign_doubts;
+  for (const auto& [axis, samples] : doubts) {
+    MonitorWarning w;
+    w.kind = MonitorWarning::Kind::kTorqueSignCount;
+    w.source = source_;
+    w.axis = axis;
+    w.count = samples;
+    warn(listener_, warnings_, std::move(w));
+  }
+  return good_;
+}
+
+}  // namespace cutdyn::app::detail

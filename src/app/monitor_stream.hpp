@@ -1,0 +1,117 @@
+// The monitor jobs' shared parts (not public): the bad lines of a log, a whole log read into
+// runs per axis, and the estimators of a stream's axes fed row by row.
+#pragma once
+
+#include <cstddef>
+#include <map>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "cutdyn/app/monitor.hpp"
+#include "cutdyn/core/error.hpp"
+
+namespace cutdyn::app::detail {
+
+/// Runs `check`; an InvalidInput it throws is rethrown naming `where` and prefixing `key`.
+template <typename F>
+void rethrow_as(const std::string& where, const std::string& key, F&& check) {
+  try {
+    check();
+  } catch (const InvalidInput& e) {
+    std::vector<std::string> problems;
+    for (const std::string& p : e.problems()) problems.push_back(key + ": " + p);
+    throw InvalidInput(problems, where);
+  }
+}
+
+/// Records a warning: in `warnings` and to the listener.
+void warn(const MonitorListener& listener, std::vector<MonitorWarning>& warnings,
+          MonitorWarning w);
+
+/// The bad lines of one input: stop (throw the first) or skip (warn about the first few,
+/// count them).
+class BadLines {
+ public:
+  BadLines(std::string source, bool stop, const MonitorListener& listener,
+           std::vector<MonitorWarning>& warnings)
+      : source_(std::move(source)), stop_(stop), listener_(listener), warnings_(warnings) {}
+  void take(std::vector<CsvLineError>& errors);
+  /// The summary, and an error if no line was good.
+  void finish(std::size_t good);
+  std::size_t count() const { return count_; }
+
+ private:
+  std::string source_;
+  bool stop_;
+  const MonitorListener& listener_;
+  std::vector<MonitorWarning>& warnings_;
+  std::size_t count_ = 0;
+};
+
+/// The refusal of a log whose recorded current measure is not the calibration's (docs/models/
+/// monitor.md §1, §6).
+InvalidInput measure_mismatch(const std::string& file, std::size_t line, const std::string& axis,
+                              CurrentMeasure logged, CurrentMeasure calibration);
+
+/// A whole log, per axis: the runs of calibration; `measures` gets the measure its comments
+/// record per axis (and the line).
+using RecordedMeasures = std::map<std::string, std::pair<CurrentMeasure, std::size_t>>;
+std::map<std::string, AxisRun> read_log(const std::string& path, const std::string& force_column,
+                                        bool stop, const MonitorListener& listener,
+                                        std::vector<MonitorWarning>& warnings,
+                                        RecordedMeasures* measures = nullptr);
+
+/// A log fed chunk by chunk through the estimators of its axes (made as the axes appear):
+/// `each(row, axis, estimate)` per good row, `flush()` after the rows of each chunk, before
+/// its bad lines are dealt with.
+class EstimateStream {
+ public:
+  using Each = std::function<void(const CurrentRow&, const std::string&, const ForceEstimate&)>;
+  EstimateStream(const Calibration& calibration, std::string calibration_name,
+                 const EstimatorOptions& options, std::string source, bool stop,
+                 const MonitorListener& listener, std::vector<MonitorWarning>& warnings,
+                 Each each, std::function<void()> flush);
+  void feed(std::string_view chunk);
+  /// The end: the last line, the counts. Returns the good rows.
+  std::size_t finish();
+
+  struct Axis {
+    std::string name;
+    std::unique_ptr<AxisForceEstimator> estimator;
+    bool seen = false;
+    std::size_t sign_doubts = 0, first_doubt_line = 0;
+    double first_doubt_time_s = 0.0;
+  };
+  /// The axes estimated, in order of appearance.
+  const std::vector<Axis*>& axes() const { return made_; }
+  bool signed_current() const { return parser_.has_rotor_angle(); }
+  std::size_t bad_lines() const { return bad_.count(); }
+  const std::string& source() const { return source_; }
+
+ private:
+  Axis* axis(int index);
+  void process();
+  void estimate(const CurrentRow& r, Axis& a);
+
+  const Calibration& calibration_;
+  std::string calibration_name_;
+  EstimatorOptions options_;
+  std::string source_;
+  bool stop_;
+  const MonitorListener& listener_;
+  std::vector<MonitorWarning>& warnings_;
+  Each each_;
+  std::function<void()> flush_;
+  CurrentCsvParser parser_;
+  BadLines bad_;
+  std::vector<CurrentRow> rows_;
+  std::vector<CsvLineError> errors_;
+  std::vector<std::unique_ptr<Axis>> by_index_;
+  std::vector<Axis*> made_;
+  std::size_t good_ = 0;
+};
+
+}  // namespace cutdyn::app::detail
