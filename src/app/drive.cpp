@@ -199,3 +199,21 @@ DriveSweepReport run_drive_sweep(const io::Case& c, const std::string& key,
 }
 
 }  // namespace cutdyn::app
+
+namespace cutdyn::app {
+
+DriveReport run_drive(const io::Case& c, const SimulateRequest& request,
+                      const DriveOptions& options) {
+  require_drive_case(c);
+  return run_drive(c, milling_setup(c, request), options);
+}
+
+DriveSweepReport run_drive_sweep(const io::Case& c, const Sweep& sweep,
+                                 const SimulateRequest& request, const DriveOptions& options,
+                                 int threads, const std::function<void(int, int)>& progress) {
+  return run_drive_sweep(
+      c, sweep.key, sweep.values, [&](const io::Case& v) { return milling_setup(v, request); },
+      options, threads, progress);
+}
+
+}  // namespace cutdyn::app

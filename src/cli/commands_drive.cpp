@@ -31,15 +31,13 @@ void warn(std::ostream& err, const std::string& source, const std::string& prefi
           << w << "\n";
 }
 
-// The milling cut of a drive case at the flags' speed and depth.
-app::DriveCut drive_cut(const DriveArgs& args, const io::Case& c) {
-  app::require_drive_case(c);
-  SimulateArgs sim;
-  sim.case_path = args.case_path;
-  sim.rpm = args.rpm;
-  sim.depth_mm = args.depth_mm;
-  SimulationSetup s = milling_setup(sim, c);
-  return {std::move(s.cut), s.options, s.rpm, std::move(s.where)};
+// The flags' speed and depth for the drive's cut.
+app::SimulateRequest drive_request(const DriveArgs& args) {
+  app::SimulateRequest r;
+  r.rpm = args.rpm;
+  if (args.depth_mm) r.depth_m = units::mm_to_m(*args.depth_mm);
+  r.names = flag_names();
+  return r;
 }
 
 void print_sweep(const app::DriveSweepReport& sweep, const io::Case& c, std::size_t column,
@@ -113,7 +111,7 @@ int run_sweep(const DriveArgs& args, const io::Case& c, std::ostream& out, std::
   const Sweep spec = parse_sweep(args.sweep);
   const std::size_t column = metric_column(args.metric, "epsilon_um", app::drive_metric_names());
   const app::DriveSweepReport sweep = app::run_drive_sweep(
-      c, spec.key, spec.values, [&](const io::Case& v) { return drive_cut(args, v); },
+      c, spec, drive_request(args),
       {args.seed}, args.threads, progress_reporter(err, "sweep"));
   for (std::size_t i = 0; i < sweep.runs.size(); ++i)
     warn(err, c.source, sweep.key + " = " + human(sweep.values[i]) + ", ", sweep.runs[i]);
@@ -238,7 +236,7 @@ int run_drive(const DriveArgs& args, std::ostream& out, std::ostream& err) {
     return run_sweep(args, c, out, err);
   }
   if (!args.metric.empty()) throw InvalidInput({"--metric: only with --sweep"}, "command line");
-  const app::DriveReport run = app::run_drive(c, drive_cut(args, c), {args.seed});
+  const app::DriveReport run = app::run_drive(c, drive_request(args), {args.seed});
   if (!args.currents.empty()) app::require_motors(run, c.source);
   print_run(run, c, out);
   warn(err, c.source, "", run);

@@ -7,7 +7,6 @@
 #include <cmath>
 #include <sstream>
 
-#include "cli/milling_setup.hpp"
 #include "cutdyn/app/case_models.hpp"
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
@@ -17,11 +16,7 @@ namespace cutdyn::app {
 namespace {
 
 // The cut of the case as `cutdyn drive` builds it (its speed and depth, [simulate]).
-DriveCut cut_of(const io::Case& c) {
-  cli::SimulateArgs none;
-  cli::SimulationSetup s = cli::milling_setup(none, c);
-  return {s.cut, s.options, s.rpm, s.where};
-}
+DriveCut cut_of(const io::Case& c) { return milling_setup(c, SimulateRequest{}); }
 
 TEST(DriveJob, AxesTakeTheirShareOfTheFeedAndLogTheirCurrents) {
   const io::Case c = load_case("", "ermolaev2020");
@@ -65,6 +60,12 @@ TEST(DriveJob, ASweepIsItsSingleRuns) {
   ASSERT_EQ(sweep.runs.size(), 2u);
   const io::Case faster = io::with_value(c, "simulate.rpm", 1.5 * rpm);
   const DriveReport single = run_drive(faster, cut_of(faster));
+  // The overloads on the case's own cut give the same.
+  EXPECT_EQ(drive_metrics(run_drive(faster, SimulateRequest{}).axes[0]),
+            drive_metrics(single.axes[0]));
+  const DriveSweepReport own = run_drive_sweep(c, Sweep{"simulate.rpm", {1.5 * rpm}},
+                                               SimulateRequest{}, {}, 1);
+  EXPECT_EQ(drive_metrics(own.runs[0].axes[0]), drive_metrics(single.axes[0]));
   ASSERT_EQ(sweep.runs[1].axes.size(), single.axes.size());
   for (std::size_t k = 0; k < single.axes.size(); ++k)
     EXPECT_EQ(drive_metrics(sweep.runs[1].axes[k]), drive_metrics(single.axes[k]));

@@ -13,18 +13,14 @@
 
 #include "cutdyn/drive/feed_drive.hpp"
 #include "cutdyn/drive/motor_currents.hpp"
+#include "cutdyn/app/simulate.hpp"
 #include "cutdyn/io/case_file.hpp"
 #include "cutdyn/simulate/milling_simulation.hpp"
 
 namespace cutdyn::app {
 
-/// The milling cut a drive run simulates.
-struct DriveCut {
-  MillingCut cut;
-  MillingSimulationOptions options;
-  double rpm = 0.0;
-  std::string where;  // where the speed and depth came from, for errors
-};
+/// The milling cut a drive run simulates (the simulate job's cut of the case).
+using DriveCut = MillingSetup;
 
 struct DriveOptions {
   std::optional<int> seed;  // the current noise's seed for every axis (else the case's)
@@ -53,6 +49,9 @@ void require_drive_case(const io::Case& c);
 
 /// The drives of case `c` under `cut`. Throws InvalidInput for a drive that cannot run.
 DriveReport run_drive(const io::Case& c, const DriveCut& cut, const DriveOptions& options = {});
+/// The same under the case's own cut at the request's (or [simulate]'s) speed and depth.
+DriveReport run_drive(const io::Case& c, const SimulateRequest& request,
+                      const DriveOptions& options = {});
 
 /// The metrics of an axis a sweep tabulates, and their names: epsilon_um, drive_error_um,
 /// cutter_error_um, k_delta, static_error, torque_ripple_nm, speed_ripple_rad_s.
@@ -84,6 +83,11 @@ DriveSweepReport run_drive_sweep(const io::Case& c, const std::string& key,
                                  const std::vector<double>& values,
                                  const std::function<DriveCut(const io::Case&)>& cut_of,
                                  const DriveOptions& options = {}, int threads = 0,
+                                 const std::function<void(int, int)>& progress = {});
+/// The same with each case's own cut at the request's (or [simulate]'s) speed and depth.
+DriveSweepReport run_drive_sweep(const io::Case& c, const Sweep& sweep,
+                                 const SimulateRequest& request, const DriveOptions& options = {},
+                                 int threads = 0,
                                  const std::function<void(int, int)>& progress = {});
 
 }  // namespace cutdyn::app
