@@ -70,7 +70,7 @@ json sweep_json(const app::DriveSweepReport& sweep, const io::Case& c, const std
     }
     points.push_back({{"value", sweep.values[i]}, {"axes", std::move(axes)}});
   }
-  return {{"command", "drive"}, {"case", io::to_json(c)}, {"source", c.source},
+  return {{"command", "drive"}, {"schema_version", kJsonSchemaVersion}, {"case", io::to_json(c)}, {"source", c.source},
           {"sweep", sweep.key}, {"metric", metric},       {"points", std::move(points)}};
 }
 
@@ -179,7 +179,7 @@ json run_json(const app::DriveReport& run, const io::Case& c) {
                     {"cutter_error_um", m_to_um(a.cutter_pp_m)},
                     {"epsilon_um", m_to_um(a.epsilon_pp_m)}});
   }
-  return {{"command", "drive"},
+  return {{"command", "drive"}, {"schema_version", kJsonSchemaVersion},
           {"case", io::to_json(c)},
           {"source", c.source},
           {"spindle_rpm", run.cut.rpm},

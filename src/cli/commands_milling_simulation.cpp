@@ -124,7 +124,7 @@ int run_sweep(const SimulateArgs& args, const io::Case& c, std::ostream& out, st
         p[names[k]] = std::isnan(m[k]) ? json() : json(m[k]);
       points.push_back(std::move(p));
     }
-    json doc{{"command", "simulate"}, {"case", io::to_json(c)}, {"source", c.source},
+    json doc{{"command", "simulate"}, {"schema_version", kJsonSchemaVersion}, {"case", io::to_json(c)}, {"source", c.source},
              {"sweep", sweep.key},    {"metric", metric},       {"points", std::move(points)}};
     io::write_json(outputs.open(args.outputs.json), doc);
   }
@@ -232,7 +232,7 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
                  {"step_s", r.step_s},
                  {"steps", r.steps}};
     if (predicted) summary["predicted_critical_depth_mm"] = m_to_mm(predicted->boundary.depth_m);
-    json doc{{"command", "simulate"},
+    json doc{{"command", "simulate"}, {"schema_version", kJsonSchemaVersion},
              {"case", io::to_json(c)},
              {"source", c.source},
              {"spindle_rpm", s.rpm},

@@ -231,7 +231,9 @@ void describe_filter(std::ostream& out, const std::string& axis, const app::Filt
 }
 
 json summary_json(const app::EstimateReport& r) {
-  json summary{{"format", "cutdyn monitor estimate"},
+  json summary{{"schema_version", kJsonSchemaVersion},
+               {"command", "monitor estimate"},
+               {"format", "cutdyn monitor estimate"},
                {"version", 1},
                {"samples", r.samples},
                {"force_sigma_n_covers", app::kSigmaCovers}};

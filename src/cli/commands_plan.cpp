@@ -68,7 +68,7 @@ void print_plan(const app::PlanJobReport& job, std::ostream& out, std::ostream& 
 
 nlohmann::json plan_json(const io::Case& c, const app::PlanJobReport& job) {
   const BoreMillingResult& r = job.result;
-  nlohmann::json doc{{"command", "plan"},
+  nlohmann::json doc{{"command", "plan"}, {"schema_version", kJsonSchemaVersion},
                      {"case", io::to_json(c)},
                      {"source", c.source},
                      {"q_mm", m_to_mm(r.q_m)},

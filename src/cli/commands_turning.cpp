@@ -142,7 +142,7 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
                          {"step_s", s.step_s},
                          {"steps", s.steps}});
     }
-    json doc{{"command", "simulate"},
+    json doc{{"command", "simulate"}, {"schema_version", kJsonSchemaVersion},
              {"case", io::to_json(c)},
              {"source", c.source},
              {"spindle_rpm", o.rpm},
@@ -315,7 +315,7 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream& err) {
 
   io::OutputTransaction outputs;
   if (!args.json.empty()) {
-    json doc{{"command", "force"},
+    json doc{{"command", "force"}, {"schema_version", kJsonSchemaVersion},
              {"case", io::to_json(c)},
              {"source", c.source},
              {"kc_n_per_mm2", units::pa_to_n_per_mm2(r.kc_pa)},

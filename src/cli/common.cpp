@@ -41,6 +41,13 @@ void check_output_folder(Validator& v, const char* flag, const std::string& path
     v.add(std::string(flag) + " = " + path + ": the folder " + parent.string() + " does not exist");
 }
 
+nlohmann::json json_document(std::string_view command, const io::Case& c) {
+  return {{"schema_version", kJsonSchemaVersion},
+          {"command", std::string(command)},
+          {"source", c.source},
+          {"case", io::to_json(c)}};
+}
+
 app::RequestNames flag_names() {
   app::RequestNames n;
   n.where = "command line";
@@ -69,160 +76,6 @@ void check_outputs(const Outputs& o) {
 std::string depth_text(const CriticalDepth& b) {
   const std::string mm = human(units::m_to_mm(b.depth_m)) + " mm";
   return b.found ? mm : "> " + mm;
-}
-
-void report_lobes(const io::Case& c, const app::LobesJobReport& view, const Outputs& outputs_args,
-                  std::ostream& out, std::ostream& err) {
-  using nlohmann::json;
-  using units::m_to_mm;
-  const LobesReport& report = view.lobes;
-  if (report.status != LobesStatus::kSuccess) err << "cutdyn: warning: " << report.message << "\n";
-  for (const std::string& w : view.warnings) err << "cutdyn: warning: " << w << "\n";
-  const auto& pts = report.points;
-  const auto* ref = view.reference.empty() ? nullptr : &view.reference;
-  const std::size_t lowest = view.lowest;
-
-  out << "cutdyn lobes: " << c.source << "\n";
-  out << "  " << view.description << "\n";
-  out << fmt::format("  method {}, {} speeds {}–{} rpm, depth limit {} mm, {:.2f} s\n", view.method,
-                     pts.size(), human(report.options.rpm_min), human(report.options.rpm_max),
-                     human(m_to_mm(view.depth_max_m)), report.seconds);
-  out << "\n";
-  std::string header = fmt::format("  {:>11}  {:>17}  {:>10}  {:>4}  {:>11}", "spindle_rpm",
-                                   "critical_depth_mm", "chatter_hz", "lobe", "bifurcation");
-  if (view.duty_cycle) header += fmt::format("  {:>10}", "duty_cycle");
-  if (ref) header += fmt::format("  {:>21}", "conventional_depth_mm");
-  out << header << "\n";
-  const std::size_t stride = std::max<std::size_t>(1, (pts.size() + 19) / 20);
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    if (i % stride != 0 && i + 1 != pts.size()) continue;
-    const LobePoint& p = pts[i];
-    std::string row = fmt::format("  {:>11.1f}  {:>16.4f}{}  {:>10.2f}  {:>4}  {:>11}", p.rpm,
-                                  m_to_mm(p.boundary.depth_m), p.boundary.found ? ' ' : '+',
-                                  p.boundary.chatter_hz, p.lobe, to_string(p.boundary.bifurcation));
-    if (view.duty_cycle) row += fmt::format("  {:>10.4f}", p.duty_cycle);
-    if (ref)
-      row += fmt::format("  {:>20.4f}{}", m_to_mm((*ref)[i].depth_m), (*ref)[i].found ? ' ' : '+');
-    out << row << "\n";
-  }
-  if (stride > 1) out << "  (every " << stride << "th speed shown; --out F.csv writes them all)\n";
-  if (std::any_of(pts.begin(), pts.end(), [](const LobePoint& p) { return !p.boundary.found; }))
-    out << "  + stable up to the depth limit at that speed\n";
-  out << "\n  lowest critical depth " << depth_text(pts[lowest].boundary) << " at "
-      << human(pts[lowest].rpm) << " rpm\n";
-  const auto& pockets = view.pockets;
-  if (!pockets.empty()) {
-    out << "  stable pockets (local maxima):";
-    for (std::size_t k = 0; k < pockets.size(); ++k)
-      out << (k ? ";" : "") << " " << human(pts[pockets[k]].rpm) << " rpm, "
-          << depth_text(pts[pockets[k]].boundary);
-    out << "\n";
-  }
-
-  // Speed ranges stable at the target depth, and the speed with the widest margin in speed
-  // and depth (stability/advice).
-  json ranges = json::array();
-  const SpeedAdvice& advice = view.advice;
-  if (view.target_depth_m) {
-    const double target = *view.target_depth_m;
-    out << "\n  stable at " << human(m_to_mm(target)) << " mm:";
-    for (const SpeedRange& r : view.stable_ranges) {
-      out << (ranges.empty() ? " " : "; ") << human(r.rpm_from) << "–" << human(r.rpm_to) << " rpm";
-      ranges.push_back({{"rpm_from", r.rpm_from}, {"rpm_to", r.rpm_to}});
-    }
-    if (ranges.empty()) {
-      out << " no speed of the lobes\n";
-    } else if (advice.found) {
-      const LobePoint& p = pts[advice.index];
-      out << "\n  recommended: " << human(advice.rpm) << " rpm (in " << human(advice.range.rpm_from)
-          << "–" << human(advice.range.rpm_to) << " rpm, critical depth " << depth_text(p.boundary)
-          << "): stable with the speed " << human(100.0 * advice.margin, 2) << " % (±"
-          << human(advice.margin * advice.rpm, 3) << " rpm) off and the depth "
-          << human(100.0 * advice.margin, 2) << " % larger\n";
-    }
-  }
-  // One row of named values per speed, shared by the CSV and the JSON.
-  std::vector<std::string> columns{"spindle_rpm", "critical_depth_mm", "chatter_hz",
-                                   "lobe",        "bifurcation",       "beyond_limit"};
-  if (view.duty_cycle) columns.push_back("duty_cycle");
-  if (ref) columns.insert(columns.end(), {"conventional_depth_mm", "conventional_chatter_hz"});
-  const auto row = [&](std::size_t i) {
-    const LobePoint& p = pts[i];
-    std::vector<io::CsvCell> cells{p.rpm,
-                                   m_to_mm(p.boundary.depth_m),
-                                   p.boundary.chatter_hz,
-                                   static_cast<long long>(p.lobe),
-                                   std::string(to_string(p.boundary.bifurcation)),
-                                   static_cast<long long>(p.boundary.found ? 0 : 1)};
-    if (view.duty_cycle) cells.emplace_back(p.duty_cycle);
-    if (ref) {
-      cells.emplace_back(m_to_mm((*ref)[i].depth_m));
-      cells.emplace_back((*ref)[i].chatter_hz);
-    }
-    return cells;
-  };
-
-  io::OutputTransaction outputs;
-  if (!outputs_args.csv.empty()) {
-    io::CsvWriter csv(outputs.open(outputs_args.csv), columns);
-    for (std::size_t i = 0; i < pts.size(); ++i) csv.row(row(i));
-  }
-  if (!outputs_args.json.empty()) {
-    json points = json::array();
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      json j = json::object();
-      const auto cells = row(i);
-      for (std::size_t k = 0; k < columns.size(); ++k)
-        std::visit([&](const auto& v) { j[columns[k]] = v; }, cells[k]);
-      j["beyond_limit"] = !pts[i].boundary.found;
-      points.push_back(std::move(j));
-    }
-    json doc{{"command", "lobes"},
-             {"case", io::to_json(c)},
-             {"source", c.source},
-             {"method", view.method},
-             {"seconds", report.seconds},
-             {"evaluations", report.evaluations},
-             {"lowest",
-              {{"spindle_rpm", pts[lowest].rpm},
-               {"critical_depth_mm", m_to_mm(pts[lowest].boundary.depth_m)}}},
-             {"points", std::move(points)}};
-    if (report.status != LobesStatus::kSuccess) doc["warning"] = report.message;
-    if (!view.warnings.empty()) doc["warnings"] = view.warnings;
-    if (view.target_depth_m) {
-      doc["target_depth_mm"] = m_to_mm(*view.target_depth_m);
-      doc["stable_ranges"] = ranges;
-      if (advice.found) {
-        doc["recommended_rpm"] = advice.rpm;
-        doc["recommended_margin"] = advice.margin;
-        doc["recommended_range"] = {{"rpm_from", advice.range.rpm_from},
-                                    {"rpm_to", advice.range.rpm_to}};
-      }
-    }
-    io::write_json(outputs.open(outputs_args.json), doc);
-  }
-  if (!outputs_args.plot.empty()) {
-    io::PlotSpec spec;
-    spec.title = view.title;
-    spec.x_label = "spindle speed (rpm)";
-    spec.y_label = "critical depth of cut (mm)";
-    spec.y_min = 0.0;
-    spec.y_max = m_to_mm(view.depth_max_m);
-    io::PlotSeries main{view.label, {}, {}, "stable-region"};
-    io::PlotSeries reference{view.reference_label, {}, {}, "lines"};
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      main.x.push_back(pts[i].rpm);
-      main.y.push_back(m_to_mm(pts[i].boundary.depth_m));
-      if (ref) {
-        reference.x.push_back(pts[i].rpm);
-        reference.y.push_back(m_to_mm((*ref)[i].depth_m));
-      }
-    }
-    spec.series.push_back(std::move(main));
-    if (ref) spec.series.push_back(std::move(reference));
-    io::write_plot(spec, outputs_args.plot, outputs);
-  }
-  commit_outputs(outputs, outputs_args, out);
 }
 
 void commit_outputs(io::OutputTransaction& outputs, const Outputs& o, std::ostream& out) {
@@ -257,7 +110,7 @@ void report_check(const io::Case& c, const CheckArgs& args, const app::CheckJobR
   for (const std::string& w : r.warnings) out << "  warning: " << w << "\n";
   if (args.json.empty()) return;
   io::OutputTransaction outputs;
-  nlohmann::json doc{{"command", "check"},         {"case", io::to_json(c)},
+  nlohmann::json doc{{"command", "check"}, {"schema_version", kJsonSchemaVersion},         {"case", io::to_json(c)},
                      {"source", c.source},         {"method", r.method},
                      {"spindle_rpm", args.rpm},    {"depth_mm", args.depth_mm},
                      {"stable", r.stable},         {"critical_depth_mm", units::m_to_mm(b.depth_m)},

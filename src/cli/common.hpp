@@ -42,6 +42,11 @@ std::string oxley_summary(const io::Case& c, const OxleyPrediction& p);
 /// --duration-s, --method.
 app::RequestNames flag_names();
 
+/// The JSON layout every command shares (docs/json.md): {"schema_version", "command", "source",
+/// "case" (the effective case)}; the command adds its results.
+inline constexpr int kJsonSchemaVersion = 1;
+nlohmann::json json_document(std::string_view command, const io::Case& c);
+
 /// Checks --out/--json/--plot before any work: figure format, existing folders, distinct files.
 void check_outputs(const Outputs& o);
 
