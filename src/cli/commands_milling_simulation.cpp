@@ -149,16 +149,14 @@ int run_sweep(const SimulateArgs& args, const io::Case& c, std::ostream& out, st
 
 }  // namespace
 
-int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostream& out,
-                         std::ostream& err) {
-  if (!args.sweep.empty()) return run_sweep(args, c, out, err);
-  if (!args.metric.empty()) throw InvalidInput({"--metric: only with --sweep"}, "command line");
-  const app::MillingSimulationJobReport job = app::simulate_milling_case(c, simulate_request(args));
+namespace {
+
+void print_milling(const io::Case& c, const app::MillingSimulationJobReport& job, std::ostream& out,
+                   std::ostream& err) {
   const SimulationSetup& s = job.setup;
   const MillingSimulationResult& r = job.result;
   const bool s1 = job.s1_law;
   const std::optional<MillingBoundary>& predicted = job.predicted;
-
   out << "cutdyn simulate: " << c.source << " at " << human(s.rpm) << " rpm, depth "
       << human(m_to_mm(s.cut.width_m)) << " mm, feed " << human(m_to_mm(s.cut.feed_per_tooth_m))
       << " mm/tooth, " << human(s.options.revolutions) << " revolutions\n";
@@ -198,6 +196,90 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
         << human(100.0 * s.cut.width_m / predicted->boundary.depth_m, 3) << " % of it\n";
   }
 
+}
+
+json milling_json(const io::Case& c, const app::MillingSimulationJobReport& job) {
+  const SimulationSetup& s = job.setup;
+  const MillingSimulationResult& r = job.result;
+  const bool s1 = job.s1_law;
+  const std::optional<MillingBoundary>& predicted = job.predicted;
+  json summary{{"force_pulsation", r.force_pulsation},
+               {"mean_force_n", r.mean_force_n},
+               {"min_force_n", r.min_force_n},
+               {"peak_force_n", r.peak_force_n},
+               {"mean_fx_n", r.mean_fx_n},
+               {"mean_fy_n", r.mean_fy_n},
+               {"mean_teeth_in_cut", r.mean_teeth_in_cut},
+               {"vibration_pp_x_um", m_to_um(r.vibration_pp_x_m)},
+               {"vibration_pp_y_um", m_to_um(r.vibration_pp_y_m)},
+               {"chatter_indicator", r.chatter_indicator},
+               {"growth_per_period", r.growth_per_period},
+               {"growth_rate_per_s", r.growth_rate_per_s},
+               {"growth_settled", r.growth_settled},
+               {"growth_components", r.growth_components},
+               {"status", to_string(r.status)},
+               {"stop_time_s", r.stop_time_s},
+               {"verdict", r.verdict()},
+               {"contact_loss", r.contact_loss},
+               {"chatter", r.chatter},
+               {"surface_location_error_um",
+                r.surface_location_error_m ? json(m_to_um(*r.surface_location_error_m)) : json()},
+               {"slices", r.slices},
+               {"step_s", r.step_s},
+               {"steps", r.steps}};
+  if (predicted) summary["predicted_critical_depth_mm"] = m_to_mm(predicted->boundary.depth_m);
+  json doc{{"command", "simulate"}, {"schema_version", kJsonSchemaVersion},
+           {"case", io::to_json(c)},
+           {"source", c.source},
+           {"spindle_rpm", s.rpm},
+           {"depth_mm", m_to_mm(s.cut.width_m)},
+           {"revolutions", s.options.revolutions},
+           {"force_law", s1 ? "s1" : "mechanistic"},
+           {"summary", std::move(summary)}};
+  return doc;
+}
+
+io::PlotSpec milling_plot(const app::MillingSimulationJobReport& job) {
+  const SimulationSetup& s = job.setup;
+  const MillingSimulationResult& r = job.result;
+  // The steady part: the last summary revolutions.
+  const double from =
+      r.time_s.empty() ? 0.0 : r.time_s.back() - s.options.summary_revolutions * 60.0 / s.rpm;
+  io::PlotSpec spec;
+  spec.title = fmt::format("Force and vibration at {} rpm, depth {} mm (ΔP = {} %)", human(s.rpm),
+                           human(m_to_mm(s.cut.width_m)), human(100.0 * r.force_pulsation, 3));
+  spec.x_label = "time (s)";
+  spec.y_label = "force on the cutter (N)";
+  spec.y2_label = "cutter displacement (µm)";
+  io::PlotSeries fx{"Fx (feed)", {}, {}, "lines"}, fy{"Fy", {}, {}, "lines"},
+      f{"|F|", {}, {}, "lines"}, x{"x (right axis)", {}, {}, "lines", true},
+      y{"y (right axis)", {}, {}, "lines", true};
+  for (std::size_t i = 0; i < r.time_s.size(); ++i) {
+    if (r.time_s[i] < from) continue;
+    for (io::PlotSeries* p : {&fx, &fy, &f, &x, &y}) p->x.push_back(r.time_s[i]);
+    fx.y.push_back(r.fx_n[i]);
+    fy.y.push_back(r.fy_n[i]);
+    f.y.push_back(r.force_n[i]);
+    x.y.push_back(m_to_um(r.x_m[i]));
+    y.y.push_back(m_to_um(r.y_m[i]));
+  }
+  spec.series = {std::move(f), std::move(fx), std::move(fy)};
+  if (!s.cut.modal.modes.empty()) {
+    spec.series.push_back(std::move(x));
+    spec.series.push_back(std::move(y));
+  }
+  return spec;
+}
+
+}  // namespace
+
+int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostream& out,
+                         std::ostream& err) {
+  if (!args.sweep.empty()) return run_sweep(args, c, out, err);
+  if (!args.metric.empty()) throw InvalidInput({"--metric: only with --sweep"}, "command line");
+  const app::MillingSimulationJobReport job = app::simulate_milling_case(c, simulate_request(args));
+  print_milling(c, job, out, err);
+  const MillingSimulationResult& r = job.result;
   io::OutputTransaction outputs;
   if (!args.outputs.csv.empty()) {
     io::CsvWriter csv(outputs.open(args.outputs.csv),
@@ -206,71 +288,8 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
       csv.row({r.time_s[i], r.fx_n[i], r.fy_n[i], r.force_n[i], m_to_um(r.x_m[i]),
                m_to_um(r.y_m[i]), r.teeth_in_cut[i]});
   }
-  if (!args.outputs.json.empty()) {
-    json summary{{"force_pulsation", r.force_pulsation},
-                 {"mean_force_n", r.mean_force_n},
-                 {"min_force_n", r.min_force_n},
-                 {"peak_force_n", r.peak_force_n},
-                 {"mean_fx_n", r.mean_fx_n},
-                 {"mean_fy_n", r.mean_fy_n},
-                 {"mean_teeth_in_cut", r.mean_teeth_in_cut},
-                 {"vibration_pp_x_um", m_to_um(r.vibration_pp_x_m)},
-                 {"vibration_pp_y_um", m_to_um(r.vibration_pp_y_m)},
-                 {"chatter_indicator", r.chatter_indicator},
-                 {"growth_per_period", r.growth_per_period},
-                 {"growth_rate_per_s", r.growth_rate_per_s},
-                 {"growth_settled", r.growth_settled},
-                 {"growth_components", r.growth_components},
-                 {"status", to_string(r.status)},
-                 {"stop_time_s", r.stop_time_s},
-                 {"verdict", r.verdict()},
-                 {"contact_loss", r.contact_loss},
-                 {"chatter", r.chatter},
-                 {"surface_location_error_um",
-                  r.surface_location_error_m ? json(m_to_um(*r.surface_location_error_m)) : json()},
-                 {"slices", r.slices},
-                 {"step_s", r.step_s},
-                 {"steps", r.steps}};
-    if (predicted) summary["predicted_critical_depth_mm"] = m_to_mm(predicted->boundary.depth_m);
-    json doc{{"command", "simulate"}, {"schema_version", kJsonSchemaVersion},
-             {"case", io::to_json(c)},
-             {"source", c.source},
-             {"spindle_rpm", s.rpm},
-             {"depth_mm", m_to_mm(s.cut.width_m)},
-             {"revolutions", s.options.revolutions},
-             {"force_law", s1 ? "s1" : "mechanistic"},
-             {"summary", std::move(summary)}};
-    io::write_json(outputs.open(args.outputs.json), doc);
-  }
-  if (!args.outputs.plot.empty()) {
-    // The steady part: the last summary revolutions.
-    const double from =
-        r.time_s.empty() ? 0.0 : r.time_s.back() - s.options.summary_revolutions * 60.0 / s.rpm;
-    io::PlotSpec spec;
-    spec.title = fmt::format("Force and vibration at {} rpm, depth {} mm (ΔP = {} %)", human(s.rpm),
-                             human(m_to_mm(s.cut.width_m)), human(100.0 * r.force_pulsation, 3));
-    spec.x_label = "time (s)";
-    spec.y_label = "force on the cutter (N)";
-    spec.y2_label = "cutter displacement (µm)";
-    io::PlotSeries fx{"Fx (feed)", {}, {}, "lines"}, fy{"Fy", {}, {}, "lines"},
-        f{"|F|", {}, {}, "lines"}, x{"x (right axis)", {}, {}, "lines", true},
-        y{"y (right axis)", {}, {}, "lines", true};
-    for (std::size_t i = 0; i < r.time_s.size(); ++i) {
-      if (r.time_s[i] < from) continue;
-      for (io::PlotSeries* p : {&fx, &fy, &f, &x, &y}) p->x.push_back(r.time_s[i]);
-      fx.y.push_back(r.fx_n[i]);
-      fy.y.push_back(r.fy_n[i]);
-      f.y.push_back(r.force_n[i]);
-      x.y.push_back(m_to_um(r.x_m[i]));
-      y.y.push_back(m_to_um(r.y_m[i]));
-    }
-    spec.series = {std::move(f), std::move(fx), std::move(fy)};
-    if (!s.cut.modal.modes.empty()) {
-      spec.series.push_back(std::move(x));
-      spec.series.push_back(std::move(y));
-    }
-    io::write_plot(spec, args.outputs.plot, outputs);
-  }
+  if (!args.outputs.json.empty()) io::write_json(outputs.open(args.outputs.json), milling_json(c, job));
+  if (!args.outputs.plot.empty()) io::write_plot(milling_plot(job), args.outputs.plot, outputs);
   commit_outputs(outputs, args.outputs, out);
   return 0;
 }
