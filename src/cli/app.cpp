@@ -1,10 +1,15 @@
 #include "cli/app.hpp"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <exception>
+#include <functional>
+#include <optional>
 #include <iostream>
 
 #include "cli/commands.hpp"
+#include "cutdyn/app/drive.hpp"
+#include "cutdyn/app/simulate.hpp"
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/io/case_file.hpp"
 #include "cutdyn/io/output.hpp"
@@ -37,122 +42,171 @@ bool writes_to_standard_output(const CLI::App& command) {
   return false;
 }
 
-}  // namespace
-
-int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
-  CLI::App app{
-      "cutdyn: machining-process dynamics. Chatter stability lobes, time-domain simulation and\n"
-      "cutting forces for turning, conventional and ultrasonic-vibration-assisted.\n"
-      "Without CASE a command runs its built-in default case (see `cutdyn example --list`).",
-      "cutdyn"};
-  app.set_help_all_flag("--help-all", "print help for every command");
-  bool version = false;
-  app.add_flag("--version", version, "print the version");
-  app.require_subcommand(0, 1);
-
-  // example
-  auto* example = app.add_subcommand("example", "print a built-in case file");
+// The commands' flags, each bound to its arguments; `parsed` names the command that ran.
+struct Commands {
+  LobesArgs lobes;
+  CheckArgs check;
+  SimulateArgs sim;
+  DriveArgs drive;
+  PlanArgs plan;
+  ForceArgs force;
   bool list = false;
   std::string example_name;
-  example->add_flag("--list", list, "list the built-in cases");
-  example->add_option("NAME", example_name, "the case to print");
+  CLI::App *example = nullptr, *lobes_cmd = nullptr, *check_cmd = nullptr, *sim_cmd = nullptr,
+           *drive_cmd = nullptr, *plan_cmd = nullptr, *force_cmd = nullptr;
+  std::function<int(std::ostream&, std::ostream&)> run_monitor;
+};
 
-  // lobes
-  LobesArgs lobes;
-  auto* lobes_cmd =
-      app.add_subcommand("lobes", "stability lobes: critical depth against spindle speed");
-  lobes_cmd->add_option("CASE", lobes.case_path, "case file (TOML)");
-  add_outputs(lobes_cmd, lobes.outputs,
-              "write the lobes as CSV: spindle_rpm,critical_depth_mm,chatter_hz,lobe,...");
-  lobes_cmd->add_option("--method", lobes.method,
-                        std::string(kStabilityMethodNames) +
-                            " (overrides [lobes].method; zero-order and closed-form are one "
-                            "method: in turning the closed form, in milling the averaged "
-                            "solution)");
-  lobes_cmd->add_option("--threads", lobes.threads, "threads (default: all cores)")
+void add_stability_commands(CLI::App& app, Commands& c) {
+  c.lobes_cmd = app.add_subcommand("lobes", "stability lobes: critical depth against spindle speed");
+  CLI::App* lobes = c.lobes_cmd;
+  lobes->add_option("CASE", c.lobes.case_path, "case file (TOML), or a built-in example's name");
+  add_outputs(lobes, c.lobes.outputs,
+              "write the lobes as CSV: spindle_rpm,critical_depth_mm,chatter_hz,lobe,"
+              "bifurcation,beyond_limit (and duty_cycle,conventional_depth_mm,"
+              "conventional_chatter_hz for vibration-assisted turning)");
+  lobes->add_option("--method", c.lobes.method,
+                    std::string(kStabilityMethodNames) +
+                        " (overrides [lobes].method; zero-order and closed-form are one method: "
+                        "in turning the closed form, in milling the averaged solution)");
+  lobes->add_option("--threads", c.lobes.threads, "threads (default: all cores)")
       ->check(CLI::Range(0, 1024));
-  lobes_cmd->add_option("--target-depth-mm", lobes.target_depth_mm,
-                        "list the spindle-speed ranges that are stable at this depth");
+  lobes->add_option("--target-depth-mm", c.lobes.target_depth_mm,
+                    "list the spindle-speed ranges that are stable at this depth and recommend "
+                    "the speed with the widest margin");
 
-  // check
-  CheckArgs check;
-  auto* check_cmd = app.add_subcommand("check", "one point: stable?, margin, chatter frequency");
-  check_cmd->add_option("CASE", check.case_path, "case file (TOML)");
-  check_cmd->add_option("--rpm", check.rpm, "spindle speed (rpm)")->required();
-  check_cmd->add_option("--depth-mm", check.depth_mm, "depth (width) of cut (mm)")->required();
-  check_cmd->add_option("--json", check.json, "write the result as JSON");
-  check_cmd->add_option("--method", check.method, "as for `lobes`");
+  c.check_cmd = app.add_subcommand(
+      "check",
+      "one point: stable?, margin, chatter frequency. Exit status 0 for either verdict (the "
+      "verdict is in the report and in --json \"stable\"), 2 for bad input");
+  CLI::App* check = c.check_cmd;
+  check->add_option("CASE", c.check.case_path, "case file (TOML), or a built-in example's name");
+  check->add_option("--rpm", c.check.rpm, "spindle speed (rpm)")->required();
+  check->add_option("--depth-mm", c.check.depth_mm, "depth (width) of cut (mm)")->required();
+  check->add_option("--json", c.check.json, "write the result as JSON (- for standard output)");
+  check->add_option("--method", c.check.method, "as for `lobes`");
+}
 
-  // simulate
-  SimulateArgs sim;
-  auto* sim_cmd = app.add_subcommand("simulate", "time-domain simulation of the cut");
-  sim_cmd->add_option("CASE", sim.case_path, "case file (TOML)");
-  add_outputs(sim_cmd, sim.outputs,
-              "write the traces as CSV: process,time_s,displacement_um,force_n,chip_thickness_um");
-  sim_cmd->add_option("--rpm", sim.rpm, "spindle speed (rpm), overrides [simulate].rpm");
-  sim_cmd->add_option("--depth-mm", sim.depth_mm,
-                      "depth of cut (mm), overrides [simulate].depth_mm");
-  sim_cmd->add_option("--duration-s", sim.duration_s, "simulated time (s)");
-  sim_cmd->add_option("--sweep", sim.sweep,
-                      "milling: vary one case key over a range, KEY=FROM:STEP:TO (e.g. "
-                      "force_law.t2_s=0:0.05:1), and tabulate the summary at each value");
-  sim_cmd->add_option(
-      "--metric", sim.metric,
-      "with --sweep: the metric to plot (force_pulsation, mean_force_n, "
-      "peak_force_n, mean_teeth_in_cut, vibration_pp_x_um, vibration_pp_y_um, "
-      "chatter_indicator, contact_loss, surface_location_error_um; default force_pulsation)");
-  sim_cmd->add_option("--threads", sim.threads, "with --sweep: threads (default: all cores)")
+void add_simulate_command(CLI::App& app, Commands& c) {
+  c.sim_cmd = app.add_subcommand(
+      "simulate", "time-domain simulation of the cut (turning, milling; sweeps for milling)");
+  CLI::App* sim = c.sim_cmd;
+  sim->add_option("CASE", c.sim.case_path, "case file (TOML), or a built-in example's name");
+  add_outputs(sim, c.sim.outputs,
+              "write the traces as CSV. Turning: process,time_s,displacement_um,force_n,"
+              "chip_thickness_um; milling: time_s,fx_n,fy_n,force_n,x_um,y_um,teeth_in_cut; a "
+              "sweep: the swept key and the metrics");
+  sim->add_option("--rpm", c.sim.rpm, "spindle speed (rpm), overrides [simulate].rpm");
+  sim->add_option("--depth-mm", c.sim.depth_mm, "depth of cut (mm), overrides [simulate].depth_mm");
+  sim->add_option("--duration-s", c.sim.duration_s,
+                  "simulated time (s), overrides [simulate].duration_s (turning) or revolutions "
+                  "(milling)");
+  sim->add_option("--sweep", c.sim.sweep,
+                  "milling: vary one case key over a range, KEY=FROM:STEP:TO (e.g. "
+                  "force_law.t2_s=0:0.05:1 or modes[0].damping_ratio=0.01:0.01:0.05), and "
+                  "tabulate the summary at each value");
+  std::string metrics;
+  for (const std::string& m : app::milling_metric_names()) metrics += (metrics.empty() ? "" : ", ") + m;
+  sim->add_option("--metric", c.sim.metric,
+                  "with --sweep: the metric to plot (" + metrics + "; default force_pulsation)");
+  sim->add_option("--threads", c.sim.threads, "with --sweep: threads (default: all cores)")
       ->check(CLI::Range(0, 1024));
+}
 
-  // drive
-  DriveArgs drive;
-  auto* drive_cmd = app.add_subcommand(
-      "drive",
-      "feed drives under the milling load: torque and speed ripple, kδ, δ, position error");
-  drive_cmd->add_option("CASE", drive.case_path, "case file (TOML) with [[drives]]");
-  add_outputs(drive_cmd, drive.outputs,
+void add_drive_command(CLI::App& app, Commands& c) {
+  c.drive_cmd = app.add_subcommand(
+      "drive", "feed drives under the milling load: torque and speed ripple, kδ, δ, position error");
+  CLI::App* drive = c.drive_cmd;
+  drive->add_option("CASE", c.drive.case_path, "case file (TOML) with [[drives]], or a built-in example's name");
+  add_outputs(drive, c.drive.outputs,
               "write the traces as CSV: axis,time_s,axis_force_n,load_torque_nm,speed_rad_s,"
               "position_error_um,epsilon_um");
-  drive_cmd->add_option("--rpm", drive.rpm, "spindle speed (rpm), overrides [simulate].rpm");
-  drive_cmd->add_option("--depth-mm", drive.depth_mm, "axial depth of cut (mm)");
-  drive_cmd->add_option("--currents", drive.currents,
-                        "write the motor phase currents as CSV: time_s,axis,iu_a,iv_a,iw_a,"
-                        "speed_rad_s,rotor_angle_rad (needs [drives] motor data)");
-  drive_cmd->add_option("--seed", drive.seed,
-                        "seed of the current noise, for every axis (each axis draws its own "
-                        "stream of it); overrides [[drives]] seed")
+  drive->add_option("--rpm", c.drive.rpm, "spindle speed (rpm), overrides [simulate].rpm");
+  drive->add_option("--depth-mm", c.drive.depth_mm, "axial depth of cut (mm)");
+  drive->add_option("--currents", c.drive.currents,
+                    "write the motor phase currents as CSV: time_s,axis,iu_a,iv_a,iw_a,"
+                    "speed_rad_s,rotor_angle_rad (needs [drives] motor data)");
+  drive->add_option("--seed", c.drive.seed,
+                    "seed of the current noise, for every axis (each axis draws its own "
+                    "stream of it); overrides [[drives]] seed")
       ->check(CLI::Range(0, 2147483647));
-  drive_cmd->add_option("--sweep", drive.sweep,
-                        "vary one case key, KEY=FROM:STEP:TO (e.g. simulate.rpm=1000:500:20000)");
-  drive_cmd->add_option("--metric", drive.metric,
-                        "with --sweep: epsilon_um (default), drive_error_um, cutter_error_um, "
-                        "k_delta, static_error, torque_ripple_nm, speed_ripple_rad_s");
-  drive_cmd->add_option("--threads", drive.threads, "with --sweep: threads (default: all cores)")
+  drive->add_option("--sweep", c.drive.sweep,
+                    "vary one case key, KEY=FROM:STEP:TO (e.g. simulate.rpm=1000:500:20000)");
+  std::string metrics;
+  for (const std::string& m : app::drive_metric_names()) metrics += (metrics.empty() ? "" : ", ") + m;
+  drive->add_option("--metric", c.drive.metric,
+                    "with --sweep: " + metrics + " (default epsilon_um)");
+  drive->add_option("--threads", c.drive.threads, "with --sweep: threads (default: all cores)")
       ->check(CLI::Range(0, 1024));
+}
 
-  // plan
-  PlanArgs plan;
-  auto* plan_cmd =
+void add_plan_and_force_commands(CLI::App& app, Commands& c) {
+  c.plan_cmd =
       app.add_subcommand("plan", "two-edge face milling of a large bore: feeds, speeds, quality");
-  plan_cmd->add_option("CASE", plan.case_path, "case file (TOML) with [bore], [cutter], [process]");
-  plan_cmd->add_option("--json", plan.json, "write every quantity and the effective case as JSON");
-  plan_cmd->add_option(
-      "--plot", plan.plot,
-      "the trade-off: main time and straightness against S0 and h (needs [limits])");
-  plan_cmd->add_option("--axial-feed-mm", plan.axial_feed_mm,
-                       "a fixed axial feed S0 (mm per blank revolution) instead of the largest");
+  CLI::App* plan = c.plan_cmd;
+  plan->add_option("CASE", c.plan.case_path, "case file (TOML) with [bore], [cutter], [process]");
+  plan->add_option("--json", c.plan.json, "write every quantity and the effective case as JSON");
+  plan->add_option("--plot", c.plan.plot,
+                   "the trade-off: main time and straightness against S0 and h (needs [limits])");
+  plan->add_option("--axial-feed-mm", c.plan.axial_feed_mm,
+                   "a fixed axial feed S0 (mm per blank revolution) instead of the largest");
 
-  // force
-  ForceArgs force;
-  auto* force_cmd =
-      app.add_subcommand("force", "cutting forces, duty cycle of vibration-assisted cutting");
-  force_cmd->add_option("CASE", force.case_path, "case file (TOML)");
-  force_cmd->add_option("--json", force.json, "write the results as JSON");
-  force_cmd->add_option("--plot", force.plot, "draw the force pulses over three vibration periods");
+  c.force_cmd = app.add_subcommand(
+      "force", "cutting forces of a turning cut; the duty cycle of vibration-assisted cutting");
+  CLI::App* force = c.force_cmd;
+  force->add_option("CASE", c.force.case_path, "case file (TOML), or a built-in example's name");
+  force->add_option("--json", c.force.json, "write the results as JSON");
+  force->add_option("--plot", c.force.plot,
+                    "the force pulses over three vibration periods, or with a [material] the "
+                    "prediction against the uncut chip thickness");
+}
 
-  // monitor calibrate | estimate | teach
-  const auto run_monitor = add_monitor_command(app);
+// `cutdyn example [--list] [NAME]`: the built-in cases, each with its whole description (the
+// comment lines it opens with).
+int run_example(const Commands& c, std::ostream& out) {
+  if (c.list || c.example_name.empty()) {
+    for (const auto& [name, text] : io::examples()) {
+      out << name << "\n";
+      std::size_t at = 0;
+      while (at < text.size() && text.compare(at, 2, "# ") == 0) {
+        const std::size_t end = std::min(text.find('\n', at), text.size());
+        out << "    " << text.substr(at + 2, end - at - 2) << "\n";
+        at = end + 1;
+      }
+    }
+    return 0;
+  }
+  const auto text = io::example_text(c.example_name);
+  if (!text) io::load_example(c.example_name);  // throws the list of names
+  out << *text;
+  return 0;
+}
 
+// Runs the command that was parsed; an output file "-" sends the report to stderr.
+int dispatch(Commands& c, CLI::App& app, std::ostream& out, std::ostream& err) {
+  if (c.example->parsed()) return run_example(c, out);
+  io::OutputTransaction::set_standard_output(&out);
+  struct ResetStandardOutput {
+    ~ResetStandardOutput() { io::OutputTransaction::set_standard_output(nullptr); }
+  } reset_standard_output;
+  std::ostream* report = &out;
+  for (const CLI::App* sub :
+       {c.lobes_cmd, c.check_cmd, c.sim_cmd, c.drive_cmd, c.plan_cmd, c.force_cmd})
+    if (sub->parsed() && writes_to_standard_output(*sub)) report = &err;
+  if (c.lobes_cmd->parsed()) return run_lobes(c.lobes, *report, err);
+  if (c.check_cmd->parsed()) return run_check(c.check, *report, err);
+  if (c.sim_cmd->parsed()) return run_simulate(c.sim, *report, err);
+  if (c.drive_cmd->parsed()) return run_drive(c.drive, *report, err);
+  if (c.plan_cmd->parsed()) return run_plan(c.plan, *report, err);
+  if (c.force_cmd->parsed()) return run_force(c.force, *report, err);
+  if (const int code = c.run_monitor(out, err); code >= 0) return code;
+  err << app.help();
+  return 2;
+}
+
+// Help asked for (exit 0, on stdout), or a parse error (exit 2); nullopt when parsing passed.
+std::optional<int> parse(CLI::App& app, const std::vector<std::string>& args, std::ostream& out,
+                         std::ostream& err) {
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {
     app.parse(reversed);
@@ -176,44 +230,47 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     err << "Run `cutdyn --help` for usage.\n";
     return 2;
   }
+  return std::nullopt;
+}
+
+}  // namespace
+
+int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "cutdyn: machining-process dynamics.\n"
+      "  lobes, check    chatter stability of turning (conventional and ultrasonic-vibration-"
+      "assisted)\n"
+      "                  and milling (zero-order, multi-frequency, full discretization)\n"
+      "  simulate        time-domain simulation of a turning or milling cut; sweeps of any case "
+      "key\n"
+      "  force           cutting forces of a turning cut, given or by Oxley's theory; the duty "
+      "cycle\n"
+      "  drive           feed drives under the milling load: ripple, kδ, position error, "
+      "currents\n"
+      "  monitor         cutting force from servo-motor currents: calibrate, estimate, teach-in\n"
+      "  plan            two-edge face milling of a large bore: feeds, speeds, quality\n"
+      "Without CASE a command runs its built-in default case (see `cutdyn example --list`).",
+      "cutdyn"};
+  app.set_help_all_flag("--help-all", "print help for every command");
+  bool version = false;
+  app.add_flag("--version", version, "print the version");
+  app.require_subcommand(0, 1);
+  Commands c;
+  c.example = app.add_subcommand("example", "print a built-in case file (--list: all, described)");
+  c.example->add_flag("--list", c.list, "list the built-in cases with their descriptions");
+  c.example->add_option("NAME", c.example_name, "the case to print");
+  add_stability_commands(app, c);
+  add_simulate_command(app, c);
+  add_drive_command(app, c);
+  add_plan_and_force_commands(app, c);
+  c.run_monitor = add_monitor_command(app);
+  if (const auto code = parse(app, args, out, err)) return *code;
   if (version) {
     out << "cutdyn " << CUTDYN_VERSION << "\n";
     return 0;
   }
-
   try {
-    if (example->parsed()) {
-      if (list || example_name.empty()) {
-        for (const auto& [name, text] : io::examples()) {
-          // First comment line is the description.
-          std::string first(text.substr(0, text.find('\n')));
-          if (first.rfind("# ", 0) == 0) first = first.substr(2);
-          out << name << "\n    " << first << "\n";
-        }
-        return 0;
-      }
-      const auto text = io::example_text(example_name);
-      if (!text) io::load_example(example_name);  // throws the list of names
-      out << *text;
-      return 0;
-    }
-    // An output file given as "-" goes to standard output; the report then goes to stderr.
-    io::OutputTransaction::set_standard_output(&out);
-    struct ResetStandardOutput {
-      ~ResetStandardOutput() { io::OutputTransaction::set_standard_output(nullptr); }
-    } reset_standard_output;
-    std::ostream* report = &out;
-    for (const CLI::App* sub : {lobes_cmd, check_cmd, sim_cmd, drive_cmd, plan_cmd, force_cmd})
-      if (sub->parsed() && writes_to_standard_output(*sub)) report = &err;
-    if (lobes_cmd->parsed()) return run_lobes(lobes, *report, err);
-    if (check_cmd->parsed()) return run_check(check, *report, err);
-    if (sim_cmd->parsed()) return run_simulate(sim, *report, err);
-    if (drive_cmd->parsed()) return run_drive(drive, *report, err);
-    if (plan_cmd->parsed()) return run_plan(plan, *report, err);
-    if (force_cmd->parsed()) return run_force(force, *report, err);
-    if (const int code = run_monitor(out, err); code >= 0) return code;
-    err << app.help();
-    return 2;
+    return dispatch(c, app, out, err);
   } catch (const InvalidInput& e) {
     const std::string where = e.where().empty() ? "input" : e.where();
     for (const std::string& problem : e.problems())
