@@ -62,6 +62,9 @@ OxleyPrediction predict_with_oxley(const io::Case& c, std::string_view command, 
 TurningModel turning_model(const io::Case& c, std::string_view command) {
   require_turning(c, command);
   Validator v;
+  if (c.modal.modes.empty())
+    v.add("modes: missing (required by `cutdyn " + std::string(command) +
+          "`: at least one [[modes]] table)");
   if (!c.cutting.kt_pa && !c.material)
     v.add("cutting.kf_n_per_mm2: missing (required by `cutdyn " + std::string(command) + "`)");
   if (c.vibration && !c.vibration->duty_cycle && !c.vibration->workpiece_diameter_m)
@@ -92,6 +95,9 @@ MillingModel milling_model(const io::Case& c, std::string_view command) {
   if (c.process != io::Process::kMilling)
     v.add("process = \"" + std::string(io::to_string(c.process)) +
           "\": this is not a milling case");
+  if (c.modal.modes.empty())
+    v.add("modes: missing (required by `cutdyn " + std::string(command) +
+          "`: at least one [[modes]] table)");
   if (!c.cutting.kt_pa)
     v.add("cutting.kt_n_per_mm2: missing (required by `cutdyn " + std::string(command) + "`)");
   if (!c.tool)

@@ -361,7 +361,6 @@ std::vector<Section> make_sections() {
                    "simulate",  "force_law", "drives", "material", "oxley"};
   top.fields = {
       choice("process", {"turning", "milling"})
-          .required()
           .access([](const Case& c, std::size_t) -> std::optional<Value> {
             return Value(std::string(to_string(c.process)));
           },

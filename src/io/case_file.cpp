@@ -665,10 +665,9 @@ Quote file_quote(const toml::table& root, const Problems& problems) {
 void read_modes(Reading& r, const toml::table& root) {
   Problems& problems = r.problems;
   const toml::node* node = root.get("modes");
-  if (node == nullptr) {
-    problems.missing("modes", "required: at least one [[modes]] table");
-    return;
-  }
+  // Optional here: the jobs that need the structure ask for it (a force or a rigid-cutter
+  // simulation does not).
+  if (node == nullptr) return;
   const toml::array* array = node->as_array();
   if (array == nullptr) {
     problems.at("modes", *node,

@@ -75,6 +75,24 @@ INSTANTIATE_TEST_SUITE_P(Examples, StabilityJobs,
                            return n;
                          });
 
+TEST(StabilityJobsInput, EachJobAsksForWhatItUses) {
+  // A case of [material] and [cutting] alone: the force job runs, the lobes job asks for the
+  // structure (and names the command).
+  const io::Case c = io::parse_case(
+      "[material]\nname = \"AISI1045\"\n[cutting]\nspeed_m_per_min = 200\n"
+      "uncut_chip_thickness_mm = 0.15\nwidth_mm = 1.6\nrake_deg = -7\n",
+      "bare.toml");
+  EXPECT_EQ(c.process, io::Process::kTurning);
+  try {
+    run_lobes(c, LobesRequest{});
+    FAIL() << "no error";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("modes: missing (required by `cutdyn lobes`"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(StabilityJobsInput, RequestNamesAppearInTheErrors) {
   const io::Case c = load_case("turning-conventional", "");
   CheckRequest r;

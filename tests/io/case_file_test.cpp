@@ -296,9 +296,11 @@ TEST(CaseFileErrors, SyntaxErrorGivesLineAndColumn) {
 }
 
 TEST(CaseFileErrors, MissingRequiredKeys) {
-  EXPECT_THAT(problems_of(""), ElementsAre("process: missing (required)",
-                                           "modes: missing (required: at least one [[modes]] "
-                                           "table)"));
+  // Neither process (turning by default) nor [[modes]] is required to read a case: each
+  // command asks for what it uses (the stability and simulation jobs for the modes).
+  const Case empty = parse_case("", "test.toml");
+  EXPECT_EQ(empty.process, Process::kTurning);
+  EXPECT_TRUE(empty.modal.modes.empty());
   EXPECT_THAT(problems_of(with("[[modes]]\ndirection = \"x\"\ndamping_ratio = 0.02\n"
                                "stiffness_n_per_m = 1e7\n")),
               ElementsAre("modes[1].natural_hz: missing (required)"));
