@@ -4,7 +4,7 @@
 #include <utility>
 
 #include "cutdyn/core/error.hpp"
-#include "cutdyn/core/parallel.hpp"
+#include "cutdyn/core/detail/parallel.hpp"
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/io/output.hpp"
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "cutdyn/app/text.hpp"
+#include "cutdyn/app/detail/text.hpp"
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
 

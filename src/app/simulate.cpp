@@ -9,9 +9,9 @@
 
 #include "cutdyn/app/case_models.hpp"
 #include "cutdyn/app/stability.hpp"
-#include "cutdyn/app/text.hpp"
+#include "cutdyn/app/detail/text.hpp"
 #include "cutdyn/core/error.hpp"
-#include "cutdyn/core/parallel.hpp"
+#include "cutdyn/core/detail/parallel.hpp"
 #include "cutdyn/core/units.hpp"
 
 namespace cutdyn::app {

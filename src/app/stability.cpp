@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "cutdyn/app/case_models.hpp"
-#include "cutdyn/app/text.hpp"
+#include "cutdyn/app/detail/text.hpp"
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/stability/full_discretization.hpp"

@@ -1,4 +1,4 @@
-#include "cutdyn/app/text.hpp"
+#include "cutdyn/app/detail/text.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -10,7 +10,6 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/milling_setup.hpp"
-#include "cutdyn/core/parallel.hpp"
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/io/output.hpp"
 #include "cutdyn/io/plot.hpp"

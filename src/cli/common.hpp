@@ -13,7 +13,7 @@
 #include "cli/commands.hpp"
 #include "cutdyn/app/case_models.hpp"
 #include "cutdyn/app/stability.hpp"
-#include "cutdyn/app/text.hpp"
+#include "cutdyn/app/detail/text.hpp"
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/forces/oxley.hpp"
 #include "cutdyn/io/case_file.hpp"
@@ -84,6 +84,6 @@ void report_check(const io::Case& c, const CheckArgs& args, const app::CheckJobR
 /// Progress on stderr while it is a terminal ("lobes: 120/200 speeds"); silent otherwise.
 std::function<void(int, int)> progress_reporter(std::ostream& err, std::string label);
 
-using app::human;  // cutdyn/app/text.hpp
+using app::human;  // cutdyn/app/detail/text.hpp
 
 }  // namespace cutdyn::cli

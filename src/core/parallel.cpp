@@ -1,4 +1,4 @@
-#include "cutdyn/core/parallel.hpp"
+#include "cutdyn/core/detail/parallel.hpp"
 
 #include <omp.h>
 

@@ -1,4 +1,4 @@
-#include "cutdyn/core/roots.hpp"
+#include "cutdyn/core/detail/roots.hpp"
 
 #include <cmath>
 #include <limits>

@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include "cutdyn/core/roots.hpp"
+#include "cutdyn/core/detail/roots.hpp"
 #include "cutdyn/core/units.hpp"
 
 namespace cutdyn {

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "cutdyn/core/error.hpp"
-#include "cutdyn/core/roots.hpp"
+#include "cutdyn/core/detail/roots.hpp"
 #include "cutdyn/core/units.hpp"
 
 namespace cutdyn {

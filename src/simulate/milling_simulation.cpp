@@ -7,7 +7,7 @@
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/simulate/growth_estimate.hpp"
-#include "cutdyn/simulate/modal_stepper.hpp"
+#include "cutdyn/simulate/detail/modal_stepper.hpp"
 
 namespace cutdyn {
 namespace {

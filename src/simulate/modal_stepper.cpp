@@ -1,4 +1,4 @@
-#include "cutdyn/simulate/modal_stepper.hpp"
+#include "cutdyn/simulate/detail/modal_stepper.hpp"
 
 #include <unsupported/Eigen/MatrixFunctions>
 

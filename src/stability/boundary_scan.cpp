@@ -1,11 +1,11 @@
-#include "cutdyn/stability/boundary_scan.hpp"
+#include "cutdyn/stability/detail/boundary_scan.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
 
-#include "cutdyn/core/roots.hpp"
+#include "cutdyn/core/detail/roots.hpp"
 
 namespace cutdyn {
 namespace {

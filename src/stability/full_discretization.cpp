@@ -14,7 +14,7 @@
 
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
-#include "cutdyn/stability/boundary_scan.hpp"
+#include "cutdyn/stability/detail/boundary_scan.hpp"
 #include "cutdyn/stability/lobes.hpp"
 #include "cutdyn/stability/multi_frequency.hpp"
 

@@ -7,8 +7,8 @@
 #include <limits>
 
 #include "cutdyn/core/error.hpp"
-#include "cutdyn/core/parallel.hpp"
-#include "cutdyn/core/roots.hpp"
+#include "cutdyn/core/detail/parallel.hpp"
+#include "cutdyn/core/detail/roots.hpp"
 
 namespace cutdyn {
 

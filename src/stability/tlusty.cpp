@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "cutdyn/core/roots.hpp"
+#include "cutdyn/core/detail/roots.hpp"
 #include "cutdyn/core/units.hpp"
 
 namespace cutdyn {

@@ -9,7 +9,7 @@
 
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
-#include "cutdyn/simulate/modal_stepper.hpp"
+#include "cutdyn/simulate/detail/modal_stepper.hpp"
 #include "cutdyn/stability/milling.hpp"
 #include "support/reference_cases.hpp"
 
