@@ -57,22 +57,6 @@ void print_sweep(const app::DriveSweepReport& sweep, const io::Case& c, std::siz
   }
 }
 
-json sweep_json(const app::DriveSweepReport& sweep, const io::Case& c, const std::string& metric) {
-  const auto& names = app::drive_metric_names();
-  json points = json::array();
-  for (std::size_t i = 0; i < sweep.runs.size(); ++i) {
-    json axes = json::array();
-    for (const app::DriveAxisReport& a : sweep.runs[i].axes) {
-      json p{{"axis", a.axis.name}, {"steady_state", a.drive.steady}, {"warnings", a.drive.warnings}};
-      const auto m = app::drive_metrics(a);
-      for (std::size_t k = 0; k < names.size(); ++k) p[names[k]] = m[k];
-      axes.push_back(std::move(p));
-    }
-    points.push_back({{"value", sweep.values[i]}, {"axes", std::move(axes)}});
-  }
-  return {{"command", "drive"}, {"schema_version", kJsonSchemaVersion}, {"case", io::to_json(c)}, {"source", c.source},
-          {"sweep", sweep.key}, {"metric", metric},       {"points", std::move(points)}};
-}
 
 void write_sweep_files(const DriveArgs& args, const app::DriveSweepReport& sweep,
                        const io::Case& c, std::size_t column, io::OutputTransaction& outputs) {
@@ -89,7 +73,7 @@ void write_sweep_files(const DriveArgs& args, const app::DriveSweepReport& sweep
       }
   }
   if (!args.outputs.json.empty())
-    io::write_json(outputs.open(args.outputs.json), sweep_json(sweep, c, names[column]));
+    io::write_json(outputs.open(args.outputs.json), app::to_json(c, sweep, names[column]));
   if (!args.outputs.plot.empty()) {
     io::PlotSpec spec;
     spec.title = fmt::format("{} against {}", names[column], sweep.key);
@@ -156,35 +140,6 @@ void print_run(const app::DriveReport& run, const io::Case& c, std::ostream& out
   }
 }
 
-json run_json(const app::DriveReport& run, const io::Case& c) {
-  json axes = json::array();
-  for (const app::DriveAxisReport& a : run.axes) {
-    const FeedDriveResult& d = a.drive;
-    axes.push_back({{"axis", a.axis.name},
-                    {"feed_speed_mm_per_s", 1e3 * a.feed_speed_m_per_s},
-                    {"commanded_speed_rad_s", d.commanded_speed_rad_s},
-                    {"mean_load_torque_nm", d.mean_load_torque_nm},
-                    {"torque_ripple_nm", d.torque_ripple_nm},
-                    {"mean_speed_rad_s", d.mean_speed_rad_s},
-                    {"speed_ripple_rad_s", d.speed_ripple_rad_s},
-                    {"steady_state", d.steady},
-                    {"steady_from_s", d.steady_from_s},
-                    {"steady_revolutions", d.steady_periods},
-                    {"warnings", d.warnings},
-                    {"k_delta", d.moving ? json(d.k_delta) : json()},
-                    {"k_delta_verdict", d.moving ? json(to_string(d.k_delta_verdict)) : json()},
-                    {"static_error", d.moving ? json(d.static_error) : json()},
-                    {"static_error_ok", d.static_error_ok},
-                    {"drive_error_um", m_to_um(a.drive_pp_m)},
-                    {"cutter_error_um", m_to_um(a.cutter_pp_m)},
-                    {"epsilon_um", m_to_um(a.epsilon_pp_m)}});
-  }
-  return {{"command", "drive"}, {"schema_version", kJsonSchemaVersion},
-          {"case", io::to_json(c)},
-          {"source", c.source},
-          {"spindle_rpm", run.cut.rpm},
-          {"axes", std::move(axes)}};
-}
 
 // The traces of each axis over the last summary revolutions (CSV), and the figure of ε and
 // the motor speed.
@@ -244,7 +199,7 @@ int run_drive(const DriveArgs& args, std::ostream& out, std::ostream& err) {
   io::OutputTransaction outputs;
   write_traces(args, run, outputs);
   if (!args.currents.empty()) app::write_current_log(outputs.open(args.currents), run, c.source);
-  if (!args.outputs.json.empty()) io::write_json(outputs.open(args.outputs.json), run_json(run, c));
+  if (!args.outputs.json.empty()) io::write_json(outputs.open(args.outputs.json), app::to_json(c, run));
   outputs.commit();
   for (const std::string* f :
        {&args.outputs.csv, &args.currents, &args.outputs.json, &args.outputs.plot})

@@ -197,46 +197,6 @@ void print_milling(const io::Case& c, const app::MillingSimulationJobReport& job
 
 }
 
-json milling_json(const io::Case& c, const app::MillingSimulationJobReport& job) {
-  const SimulationSetup& s = job.setup;
-  const MillingSimulationResult& r = job.result;
-  const bool s1 = job.s1_law;
-  const std::optional<MillingBoundary>& predicted = job.predicted;
-  json summary{{"force_pulsation", r.force_pulsation},
-               {"mean_force_n", r.mean_force_n},
-               {"min_force_n", r.min_force_n},
-               {"peak_force_n", r.peak_force_n},
-               {"mean_fx_n", r.mean_fx_n},
-               {"mean_fy_n", r.mean_fy_n},
-               {"mean_teeth_in_cut", r.mean_teeth_in_cut},
-               {"vibration_pp_x_um", m_to_um(r.vibration_pp_x_m)},
-               {"vibration_pp_y_um", m_to_um(r.vibration_pp_y_m)},
-               {"chatter_indicator", r.chatter_indicator},
-               {"growth_per_period", r.growth_per_period},
-               {"growth_rate_per_s", r.growth_rate_per_s},
-               {"growth_settled", r.growth_settled},
-               {"growth_components", r.growth_components},
-               {"status", to_string(r.status)},
-               {"stop_time_s", r.stop_time_s},
-               {"verdict", r.verdict()},
-               {"contact_loss", r.contact_loss},
-               {"chatter", r.chatter},
-               {"surface_location_error_um",
-                r.surface_location_error_m ? json(m_to_um(*r.surface_location_error_m)) : json()},
-               {"slices", r.slices},
-               {"step_s", r.step_s},
-               {"steps", r.steps}};
-  if (predicted) summary["predicted_critical_depth_mm"] = m_to_mm(predicted->boundary.depth_m);
-  json doc{{"command", "simulate"}, {"schema_version", kJsonSchemaVersion},
-           {"case", io::to_json(c)},
-           {"source", c.source},
-           {"spindle_rpm", s.rpm},
-           {"depth_mm", m_to_mm(s.cut.width_m)},
-           {"revolutions", s.options.revolutions},
-           {"force_law", s1 ? "s1" : "mechanistic"},
-           {"summary", std::move(summary)}};
-  return doc;
-}
 
 io::PlotSpec milling_plot(const app::MillingSimulationJobReport& job) {
   const SimulationSetup& s = job.setup;
@@ -287,7 +247,7 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
       csv.row({r.time_s[i], r.fx_n[i], r.fy_n[i], r.force_n[i], m_to_um(r.x_m[i]),
                m_to_um(r.y_m[i]), r.teeth_in_cut[i]});
   }
-  if (!args.outputs.json.empty()) io::write_json(outputs.open(args.outputs.json), milling_json(c, job));
+  if (!args.outputs.json.empty()) io::write_json(outputs.open(args.outputs.json), app::to_json(c, job));
   if (!args.outputs.plot.empty()) io::write_plot(milling_plot(job), args.outputs.plot, outputs);
   commit_outputs(outputs, args.outputs, out);
   return 0;

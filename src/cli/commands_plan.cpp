@@ -66,45 +66,6 @@ void print_plan(const app::PlanJobReport& job, std::ostream& out, std::ostream& 
   }
 }
 
-nlohmann::json plan_json(const io::Case& c, const app::PlanJobReport& job) {
-  const BoreMillingResult& r = job.result;
-  nlohmann::json doc{{"command", "plan"}, {"schema_version", kJsonSchemaVersion},
-                     {"case", io::to_json(c)},
-                     {"source", c.source},
-                     {"q_mm", m_to_mm(r.q_m)},
-                     {"axial_feed_mm", m_to_mm(r.axial_feed_m)},
-                     {"max_axial_feed_mm", m_to_mm(r.max_axial_feed_m)},
-                     {"max_axial_feed_closed_form_mm", m_to_mm(r.max_axial_feed_closed_form_m)},
-                     {"max_axial_feed_printed_form_mm", m_to_mm(r.max_axial_feed_printed_form_m)},
-                     {"printed_form_difference_percent", job.printed_form_difference_percent},
-                     {"inner_depth_mm", m_to_mm(r.inner_depth_m)},
-                     {"outer_depth_mm", m_to_mm(r.outer_depth_m)},
-                     {"balanced_offset_mm", m_to_mm(r.balanced_offset_m)},
-                     {"milling_width_mm", m_to_mm(r.milling_width_m)},
-                     {"straightness_error_mm", m_to_mm(r.straightness_error_m)},
-                     {"faceting_mm", m_to_mm(r.faceting_m)},
-                     {"cutter_rpm", 60.0 * r.cutter_rev_per_s},
-                     {"workpiece_rpm", 60.0 * r.workpiece_rev_per_s},
-                     {"feed_per_tooth_mm", m_to_mm(r.feed_per_tooth_m)},
-                     {"max_chip_thickness_mm", m_to_mm(r.max_chip_thickness_m)},
-                     {"mean_chip_thickness_mm", m_to_mm(r.mean_chip_thickness_m)},
-                     {"contact_arc_mm", m_to_mm(r.contact_arc_m)},
-                     {"chip_width_mm", m_to_mm(r.chip_width_m)},
-                     {"path_per_edge_m", r.path_per_edge_m},
-                     {"edge_width_mm", m_to_mm(r.edge_width_m)},
-                     {"engaged_fraction", r.engaged_fraction},
-                     {"teeth_in_cut", r.teeth_in_cut},
-                     {"total_edge_width_mm", m_to_mm(r.total_edge_width_m)},
-                     {"main_time_min", r.main_time_s / 60.0},
-                     {"removal_rate_cm3_per_min", r.removal_rate_m3_per_s * 6e7},
-                     {"offset_mm", m_to_mm(job.chosen.offset_m)},
-                     {"cutting_speed_m_per_min", 60.0 * job.chosen.cutting_speed_m_per_s},
-                     {"optimised", job.plan.has_value()},
-                     {"accuracy_met", r.accuracy_met},
-                     {"warnings", job.warnings}};
-  if (job.plan) doc["binding_constraints"] = job.plan->binding;
-  return doc;
-}
 
 // t0 against S0 at the chosen h and against h at the chosen S0; Δ1 beside it.
 io::PlotSpec plan_plot(const app::PlanJobReport& job) {
@@ -144,7 +105,7 @@ int run_plan(const PlanArgs& args, std::ostream& out, std::ostream& err) {
   out << "cutdyn plan: " << c.source << "\n";
   print_plan(job, out, err);
   io::OutputTransaction outputs;
-  if (!args.json.empty()) io::write_json(outputs.open(args.json), plan_json(c, job));
+  if (!args.json.empty()) io::write_json(outputs.open(args.json), app::to_json(c, job));
   if (!args.plot.empty()) io::write_plot(plan_plot(job), args.plot, outputs);
   commit_outputs(outputs, {"", args.json, args.plot}, out);
   return 0;

@@ -103,45 +103,6 @@ void print_turning(const io::Case& c, const app::TurningSimulationJobReport& job
 
 }
 
-json turning_json(const io::Case& c, const app::TurningSimulationJobReport& job) {
-  const TurningSimulationOptions& o = job.options;
-  const auto& runs = job.runs;
-  using Run = app::TurningSimulationRun;
-  json results = json::array();
-  for (const Run& r : runs) {
-    const auto& s = r.result;
-    // (none when a runaway stopped the run within its first revolution)
-    const auto& a = s.revolution_amplitude_m;
-    const json first = a.empty() ? json() : json(units::m_to_um(a.front()));
-    const json last = a.empty() ? json() : json(units::m_to_um(a.back()));
-    results.push_back({{"process", r.name},
-                       {"chatter", s.chatter},
-                       {"growth_rate_per_s", s.growth_rate_per_s},
-                       {"growth_settled", s.growth_settled},
-                       {"growth_components", s.growth_components},
-                       {"lost_contact", s.lost_contact},
-                       {"contact_loss_time_s", s.contact_loss_time_s},
-                       {"duty_cycle", s.duty_cycle},
-                       {"static_deflection_um", units::m_to_um(s.static_deflection_m)},
-                       {"verdict", s.verdict()},
-                       {"status", to_string(s.status)},
-                       {"stop_time_s", s.stop_time_s},
-                       {"first_revolution_amplitude_um", first},
-                       {"last_revolution_amplitude_um", last},
-                       {"predicted_critical_depth_mm", m_to_mm(r.predicted.boundary.depth_m)},
-                       {"step_s", s.step_s},
-                       {"steps", s.steps}});
-  }
-  json doc{{"command", "simulate"}, {"schema_version", kJsonSchemaVersion},
-           {"case", io::to_json(c)},
-           {"source", c.source},
-           {"spindle_rpm", o.rpm},
-           {"depth_mm", m_to_mm(o.depth_m)},
-           {"feed_mm", m_to_mm(o.feed_m)},
-           {"duration_s", o.duration_s},
-           {"results", std::move(results)}};
-  return doc;
-}
 
 io::PlotSpec turning_plot(const app::TurningSimulationJobReport& job) {
   const TurningSimulationOptions& o = job.options;
@@ -185,7 +146,7 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
         csv.row({r.name, r.result.time_s[i], units::m_to_um(r.result.displacement_m[i]),
                  r.result.force_n[i], units::m_to_um(r.result.chip_thickness_m[i])});
   }
-  if (!args.outputs.json.empty()) io::write_json(outputs.open(args.outputs.json), turning_json(c, job));
+  if (!args.outputs.json.empty()) io::write_json(outputs.open(args.outputs.json), app::to_json(c, job));
   if (!args.outputs.plot.empty()) io::write_plot(turning_plot(job), args.outputs.plot, outputs);
   commit_outputs(outputs, args.outputs, out);
   return 0;

@@ -41,13 +41,6 @@ void check_output_folder(Validator& v, const char* flag, const std::string& path
     v.add(std::string(flag) + " = " + path + ": the folder " + parent.string() + " does not exist");
 }
 
-nlohmann::json json_document(std::string_view command, const io::Case& c) {
-  return {{"schema_version", kJsonSchemaVersion},
-          {"command", std::string(command)},
-          {"source", c.source},
-          {"case", io::to_json(c)}};
-}
-
 app::RequestNames flag_names() {
   app::RequestNames n;
   n.where = "command line";

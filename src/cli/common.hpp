@@ -12,6 +12,7 @@
 
 #include "cli/commands.hpp"
 #include "cutdyn/app/case_models.hpp"
+#include "cutdyn/app/report_json.hpp"
 #include "cutdyn/app/stability.hpp"
 #include "cutdyn/app/detail/text.hpp"
 #include "cutdyn/core/error.hpp"
@@ -42,10 +43,8 @@ std::string oxley_summary(const io::Case& c, const OxleyPrediction& p);
 /// --duration-s, --method.
 app::RequestNames flag_names();
 
-/// The JSON layout every command shares (docs/json.md): {"schema_version", "command", "source",
-/// "case" (the effective case)}; the command adds its results.
-inline constexpr int kJsonSchemaVersion = 1;
-nlohmann::json json_document(std::string_view command, const io::Case& c);
+using app::json_document;  // the frame of every JSON document (cutdyn/app/report_json.hpp)
+using app::kJsonSchemaVersion;
 
 /// Checks --out/--json/--plot before any work: figure format, existing folders, distinct files.
 void check_outputs(const Outputs& o);

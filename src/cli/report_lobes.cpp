@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <variant>
 
 #include "cli/common.hpp"
 #include "cutdyn/core/units.hpp"
@@ -76,73 +75,6 @@ void print_findings(const app::LobesJobReport& r, std::ostream& out) {
   }
 }
 
-// One row of named values per speed, shared by the CSV and the JSON.
-struct Rows {
-  std::vector<std::string> columns;
-  std::function<std::vector<io::CsvCell>(std::size_t)> row;
-};
-Rows rows_of(const app::LobesJobReport& r) {
-  Rows out;
-  out.columns = {"spindle_rpm", "critical_depth_mm", "chatter_hz",
-                 "lobe",        "bifurcation",       "beyond_limit"};
-  if (r.duty_cycle) out.columns.push_back("duty_cycle");
-  const auto* ref = reference_of(r);
-  if (ref) out.columns.insert(out.columns.end(), {"conventional_depth_mm", "conventional_chatter_hz"});
-  out.row = [&r, ref](std::size_t i) {
-    const LobePoint& p = r.lobes.points[i];
-    std::vector<io::CsvCell> cells{p.rpm,
-                                   m_to_mm(p.boundary.depth_m),
-                                   p.boundary.chatter_hz,
-                                   static_cast<long long>(p.lobe),
-                                   std::string(to_string(p.boundary.bifurcation)),
-                                   static_cast<long long>(p.boundary.found ? 0 : 1)};
-    if (r.duty_cycle) cells.emplace_back(p.duty_cycle);
-    if (ref) {
-      cells.emplace_back(m_to_mm((*ref)[i].depth_m));
-      cells.emplace_back((*ref)[i].chatter_hz);
-    }
-    return cells;
-  };
-  return out;
-}
-
-json lobes_json(const io::Case& c, const app::LobesJobReport& r, const Rows& rows) {
-  const auto& pts = r.lobes.points;
-  json points = json::array();
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    json j = json::object();
-    const auto cells = rows.row(i);
-    for (std::size_t k = 0; k < rows.columns.size(); ++k)
-      std::visit([&](const auto& v) { j[rows.columns[k]] = v; }, cells[k]);
-    j["beyond_limit"] = !pts[i].boundary.found;
-    points.push_back(std::move(j));
-  }
-  json doc = json_document("lobes", c);
-  doc.update({{"method", r.method},
-              {"seconds", r.lobes.seconds},
-              {"evaluations", r.lobes.evaluations},
-              {"lowest",
-               {{"spindle_rpm", pts[r.lowest].rpm},
-                {"critical_depth_mm", m_to_mm(pts[r.lowest].boundary.depth_m)}}},
-              {"points", std::move(points)}});
-  if (r.lobes.status != LobesStatus::kSuccess) doc["warning"] = r.lobes.message;
-  if (!r.warnings.empty()) doc["warnings"] = r.warnings;
-  if (r.target_depth_m) {
-    doc["target_depth_mm"] = m_to_mm(*r.target_depth_m);
-    json ranges = json::array();
-    for (const SpeedRange& s : r.stable_ranges)
-      ranges.push_back({{"rpm_from", s.rpm_from}, {"rpm_to", s.rpm_to}});
-    doc["stable_ranges"] = ranges;
-    if (r.advice.found) {
-      doc["recommended_rpm"] = r.advice.rpm;
-      doc["recommended_margin"] = r.advice.margin;
-      doc["recommended_range"] = {{"rpm_from", r.advice.range.rpm_from},
-                                  {"rpm_to", r.advice.range.rpm_to}};
-    }
-  }
-  return doc;
-}
-
 io::PlotSpec lobes_plot(const app::LobesJobReport& r) {
   const auto& pts = r.lobes.points;
   const auto* ref = reference_of(r);
@@ -183,13 +115,13 @@ void report_lobes(const io::Case& c, const app::LobesJobReport& r, const Outputs
   out << "\n";
   print_table(r, out);
   print_findings(r, out);
-  const Rows rows = rows_of(r);
   io::OutputTransaction outputs;
   if (!files.csv.empty()) {
-    io::CsvWriter csv(outputs.open(files.csv), rows.columns);
-    for (std::size_t i = 0; i < r.lobes.points.size(); ++i) csv.row(rows.row(i));
+    const app::ReportTable table = app::lobes_table(r);
+    io::CsvWriter csv(outputs.open(files.csv), table.columns);
+    for (const auto& row : table.rows) csv.row(row);
   }
-  if (!files.json.empty()) io::write_json(outputs.open(files.json), lobes_json(c, r, rows));
+  if (!files.json.empty()) io::write_json(outputs.open(files.json), app::to_json(c, r));
   if (!files.plot.empty()) io::write_plot(lobes_plot(r), files.plot, outputs);
   commit_outputs(outputs, files, out);
 }

@@ -1,0 +1,45 @@
+// The jobs' reports as JSON: one frame for every command (docs/json.md) — schema_version,
+// command, source and the effective case — and each command's results. What `--json` writes,
+// and what any other front end can send.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "cutdyn/app/drive.hpp"
+#include "cutdyn/app/force.hpp"
+#include "cutdyn/app/plan.hpp"
+#include "cutdyn/app/simulate.hpp"
+#include "cutdyn/app/stability.hpp"
+#include "cutdyn/io/case_file.hpp"
+#include "cutdyn/io/output.hpp"
+
+namespace cutdyn::app {
+
+/// Grows when a key is renamed, removed or changes its meaning (adding keys does not).
+inline constexpr int kJsonSchemaVersion = 1;
+
+/// {"schema_version", "command", "source", "case"}: the frame every document starts from.
+nlohmann::json json_document(std::string_view command, const io::Case& c);
+
+/// A table of named values, one row per point: what a CSV writes and a JSON array holds.
+struct ReportTable {
+  std::vector<std::string> columns;
+  std::vector<std::vector<io::CsvCell>> rows;
+};
+/// The lobes, one row per speed: spindle_rpm, critical_depth_mm, chatter_hz, lobe,
+/// bifurcation, beyond_limit (0/1), and duty_cycle, conventional_depth_mm,
+/// conventional_chatter_hz for vibration-assisted turning.
+ReportTable lobes_table(const LobesJobReport& report);
+
+nlohmann::json to_json(const io::Case& c, const LobesJobReport& report);
+nlohmann::json to_json(const io::Case& c, const TurningSimulationJobReport& report);
+nlohmann::json to_json(const io::Case& c, const MillingSimulationJobReport& report);
+nlohmann::json to_json(const io::Case& c, const PlanJobReport& report);
+nlohmann::json to_json(const io::Case& c, const DriveReport& report);
+/// A sweep of the drives, with the metric it tabulates.
+nlohmann::json to_json(const io::Case& c, const DriveSweepReport& report, const std::string& metric);
+
+}  // namespace cutdyn::app

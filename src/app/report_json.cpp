@@ -1,0 +1,260 @@
+#include "cutdyn/app/report_json.hpp"
+
+#include <cmath>
+#include <variant>
+
+#include "cutdyn/core/units.hpp"
+
+namespace cutdyn::app {
+namespace {
+
+using json = nlohmann::json;
+using units::m_to_mm;
+using units::m_to_um;
+
+const std::vector<CriticalDepth>* reference_of(const LobesJobReport& r) {
+  return r.reference.empty() ? nullptr : &r.reference;
+}
+
+}  // namespace
+
+// One row of named values per speed, shared by the CSV and the JSON.
+ReportTable lobes_table(const LobesJobReport& r) {
+  ReportTable out;
+  out.columns = {"spindle_rpm", "critical_depth_mm", "chatter_hz",
+                 "lobe",        "bifurcation",       "beyond_limit"};
+  if (r.duty_cycle) out.columns.push_back("duty_cycle");
+  const auto* ref = reference_of(r);
+  if (ref) out.columns.insert(out.columns.end(), {"conventional_depth_mm", "conventional_chatter_hz"});
+  for (std::size_t i = 0; i < r.lobes.points.size(); ++i) {
+    const LobePoint& p = r.lobes.points[i];
+    std::vector<io::CsvCell> cells{p.rpm,
+                                   m_to_mm(p.boundary.depth_m),
+                                   p.boundary.chatter_hz,
+                                   static_cast<long long>(p.lobe),
+                                   std::string(to_string(p.boundary.bifurcation)),
+                                   static_cast<long long>(p.boundary.found ? 0 : 1)};
+    if (r.duty_cycle) cells.emplace_back(p.duty_cycle);
+    if (ref) {
+      cells.emplace_back(m_to_mm((*ref)[i].depth_m));
+      cells.emplace_back((*ref)[i].chatter_hz);
+    }
+    out.rows.push_back(std::move(cells));
+  }
+  return out;
+}
+
+json to_json(const io::Case& c, const LobesJobReport& r) {
+  const ReportTable rows = lobes_table(r);
+  const auto& pts = r.lobes.points;
+  json points = json::array();
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    json j = json::object();
+    const auto& cells = rows.rows[i];
+    for (std::size_t k = 0; k < rows.columns.size(); ++k)
+      std::visit([&](const auto& v) { j[rows.columns[k]] = v; }, cells[k]);
+    j["beyond_limit"] = !pts[i].boundary.found;
+    points.push_back(std::move(j));
+  }
+  json doc = json_document("lobes", c);
+  doc.update({{"method", r.method},
+              {"seconds", r.lobes.seconds},
+              {"evaluations", r.lobes.evaluations},
+              {"lowest",
+               {{"spindle_rpm", pts[r.lowest].rpm},
+                {"critical_depth_mm", m_to_mm(pts[r.lowest].boundary.depth_m)}}},
+              {"points", std::move(points)}});
+  if (r.lobes.status != LobesStatus::kSuccess) doc["warning"] = r.lobes.message;
+  if (!r.warnings.empty()) doc["warnings"] = r.warnings;
+  if (r.target_depth_m) {
+    doc["target_depth_mm"] = m_to_mm(*r.target_depth_m);
+    json ranges = json::array();
+    for (const SpeedRange& s : r.stable_ranges)
+      ranges.push_back({{"rpm_from", s.rpm_from}, {"rpm_to", s.rpm_to}});
+    doc["stable_ranges"] = ranges;
+    if (r.advice.found) {
+      doc["recommended_rpm"] = r.advice.rpm;
+      doc["recommended_margin"] = r.advice.margin;
+      doc["recommended_range"] = {{"rpm_from", r.advice.range.rpm_from},
+                                  {"rpm_to", r.advice.range.rpm_to}};
+    }
+  }
+  return doc;
+}
+
+json json_document(std::string_view command, const io::Case& c) {
+  return {{"schema_version", kJsonSchemaVersion},
+          {"command", std::string(command)},
+          {"source", c.source},
+          {"case", io::to_json(c)}};
+}
+
+json to_json(const io::Case& c, const TurningSimulationJobReport& job) {
+  const TurningSimulationOptions& o = job.options;
+  const auto& runs = job.runs;
+  using Run = TurningSimulationRun;
+  json results = json::array();
+  for (const Run& r : runs) {
+    const auto& s = r.result;
+    // (none when a runaway stopped the run within its first revolution)
+    const auto& a = s.revolution_amplitude_m;
+    const json first = a.empty() ? json() : json(units::m_to_um(a.front()));
+    const json last = a.empty() ? json() : json(units::m_to_um(a.back()));
+    results.push_back({{"process", r.name},
+                       {"chatter", s.chatter},
+                       {"growth_rate_per_s", s.growth_rate_per_s},
+                       {"growth_settled", s.growth_settled},
+                       {"growth_components", s.growth_components},
+                       {"lost_contact", s.lost_contact},
+                       {"contact_loss_time_s", s.contact_loss_time_s},
+                       {"duty_cycle", s.duty_cycle},
+                       {"static_deflection_um", units::m_to_um(s.static_deflection_m)},
+                       {"verdict", s.verdict()},
+                       {"status", to_string(s.status)},
+                       {"stop_time_s", s.stop_time_s},
+                       {"first_revolution_amplitude_um", first},
+                       {"last_revolution_amplitude_um", last},
+                       {"predicted_critical_depth_mm", m_to_mm(r.predicted.boundary.depth_m)},
+                       {"step_s", s.step_s},
+                       {"steps", s.steps}});
+  }
+  json doc{{"command", "simulate"}, {"schema_version", kJsonSchemaVersion},
+           {"case", io::to_json(c)},
+           {"source", c.source},
+           {"spindle_rpm", o.rpm},
+           {"depth_mm", m_to_mm(o.depth_m)},
+           {"feed_mm", m_to_mm(o.feed_m)},
+           {"duration_s", o.duration_s},
+           {"results", std::move(results)}};
+  return doc;
+}
+
+json to_json(const io::Case& c, const MillingSimulationJobReport& job) {
+  const MillingSetup& s = job.setup;
+  const MillingSimulationResult& r = job.result;
+  const bool s1 = job.s1_law;
+  const std::optional<MillingBoundary>& predicted = job.predicted;
+  json summary{{"force_pulsation", r.force_pulsation},
+               {"mean_force_n", r.mean_force_n},
+               {"min_force_n", r.min_force_n},
+               {"peak_force_n", r.peak_force_n},
+               {"mean_fx_n", r.mean_fx_n},
+               {"mean_fy_n", r.mean_fy_n},
+               {"mean_teeth_in_cut", r.mean_teeth_in_cut},
+               {"vibration_pp_x_um", m_to_um(r.vibration_pp_x_m)},
+               {"vibration_pp_y_um", m_to_um(r.vibration_pp_y_m)},
+               {"chatter_indicator", r.chatter_indicator},
+               {"growth_per_period", r.growth_per_period},
+               {"growth_rate_per_s", r.growth_rate_per_s},
+               {"growth_settled", r.growth_settled},
+               {"growth_components", r.growth_components},
+               {"status", to_string(r.status)},
+               {"stop_time_s", r.stop_time_s},
+               {"verdict", r.verdict()},
+               {"contact_loss", r.contact_loss},
+               {"chatter", r.chatter},
+               {"surface_location_error_um",
+                r.surface_location_error_m ? json(m_to_um(*r.surface_location_error_m)) : json()},
+               {"slices", r.slices},
+               {"step_s", r.step_s},
+               {"steps", r.steps}};
+  if (predicted) summary["predicted_critical_depth_mm"] = m_to_mm(predicted->boundary.depth_m);
+  json doc{{"command", "simulate"}, {"schema_version", kJsonSchemaVersion},
+           {"case", io::to_json(c)},
+           {"source", c.source},
+           {"spindle_rpm", s.rpm},
+           {"depth_mm", m_to_mm(s.cut.width_m)},
+           {"revolutions", s.options.revolutions},
+           {"force_law", s1 ? "s1" : "mechanistic"},
+           {"summary", std::move(summary)}};
+  return doc;
+}
+
+json to_json(const io::Case& c, const PlanJobReport& job) {
+  const BoreMillingResult& r = job.result;
+  json doc{{"command", "plan"}, {"schema_version", kJsonSchemaVersion},
+                     {"case", io::to_json(c)},
+                     {"source", c.source},
+                     {"q_mm", m_to_mm(r.q_m)},
+                     {"axial_feed_mm", m_to_mm(r.axial_feed_m)},
+                     {"max_axial_feed_mm", m_to_mm(r.max_axial_feed_m)},
+                     {"max_axial_feed_closed_form_mm", m_to_mm(r.max_axial_feed_closed_form_m)},
+                     {"max_axial_feed_printed_form_mm", m_to_mm(r.max_axial_feed_printed_form_m)},
+                     {"printed_form_difference_percent", job.printed_form_difference_percent},
+                     {"inner_depth_mm", m_to_mm(r.inner_depth_m)},
+                     {"outer_depth_mm", m_to_mm(r.outer_depth_m)},
+                     {"balanced_offset_mm", m_to_mm(r.balanced_offset_m)},
+                     {"milling_width_mm", m_to_mm(r.milling_width_m)},
+                     {"straightness_error_mm", m_to_mm(r.straightness_error_m)},
+                     {"faceting_mm", m_to_mm(r.faceting_m)},
+                     {"cutter_rpm", 60.0 * r.cutter_rev_per_s},
+                     {"workpiece_rpm", 60.0 * r.workpiece_rev_per_s},
+                     {"feed_per_tooth_mm", m_to_mm(r.feed_per_tooth_m)},
+                     {"max_chip_thickness_mm", m_to_mm(r.max_chip_thickness_m)},
+                     {"mean_chip_thickness_mm", m_to_mm(r.mean_chip_thickness_m)},
+                     {"contact_arc_mm", m_to_mm(r.contact_arc_m)},
+                     {"chip_width_mm", m_to_mm(r.chip_width_m)},
+                     {"path_per_edge_m", r.path_per_edge_m},
+                     {"edge_width_mm", m_to_mm(r.edge_width_m)},
+                     {"engaged_fraction", r.engaged_fraction},
+                     {"teeth_in_cut", r.teeth_in_cut},
+                     {"total_edge_width_mm", m_to_mm(r.total_edge_width_m)},
+                     {"main_time_min", r.main_time_s / 60.0},
+                     {"removal_rate_cm3_per_min", r.removal_rate_m3_per_s * 6e7},
+                     {"offset_mm", m_to_mm(job.chosen.offset_m)},
+                     {"cutting_speed_m_per_min", 60.0 * job.chosen.cutting_speed_m_per_s},
+                     {"optimised", job.plan.has_value()},
+                     {"accuracy_met", r.accuracy_met},
+                     {"warnings", job.warnings}};
+  if (job.plan) doc["binding_constraints"] = job.plan->binding;
+  return doc;
+}
+
+json to_json(const io::Case& c, const DriveReport& run) {
+  json axes = json::array();
+  for (const DriveAxisReport& a : run.axes) {
+    const FeedDriveResult& d = a.drive;
+    axes.push_back({{"axis", a.axis.name},
+                    {"feed_speed_mm_per_s", 1e3 * a.feed_speed_m_per_s},
+                    {"commanded_speed_rad_s", d.commanded_speed_rad_s},
+                    {"mean_load_torque_nm", d.mean_load_torque_nm},
+                    {"torque_ripple_nm", d.torque_ripple_nm},
+                    {"mean_speed_rad_s", d.mean_speed_rad_s},
+                    {"speed_ripple_rad_s", d.speed_ripple_rad_s},
+                    {"steady_state", d.steady},
+                    {"steady_from_s", d.steady_from_s},
+                    {"steady_revolutions", d.steady_periods},
+                    {"warnings", d.warnings},
+                    {"k_delta", d.moving ? json(d.k_delta) : json()},
+                    {"k_delta_verdict", d.moving ? json(to_string(d.k_delta_verdict)) : json()},
+                    {"static_error", d.moving ? json(d.static_error) : json()},
+                    {"static_error_ok", d.static_error_ok},
+                    {"drive_error_um", m_to_um(a.drive_pp_m)},
+                    {"cutter_error_um", m_to_um(a.cutter_pp_m)},
+                    {"epsilon_um", m_to_um(a.epsilon_pp_m)}});
+  }
+  return {{"command", "drive"}, {"schema_version", kJsonSchemaVersion},
+          {"case", io::to_json(c)},
+          {"source", c.source},
+          {"spindle_rpm", run.cut.rpm},
+          {"axes", std::move(axes)}};
+}
+
+json to_json(const io::Case& c, const DriveSweepReport& sweep, const std::string& metric) {
+  const auto& names = drive_metric_names();
+  json points = json::array();
+  for (std::size_t i = 0; i < sweep.runs.size(); ++i) {
+    json axes = json::array();
+    for (const DriveAxisReport& a : sweep.runs[i].axes) {
+      json p{{"axis", a.axis.name}, {"steady_state", a.drive.steady}, {"warnings", a.drive.warnings}};
+      const auto m = drive_metrics(a);
+      for (std::size_t k = 0; k < names.size(); ++k) p[names[k]] = m[k];
+      axes.push_back(std::move(p));
+    }
+    points.push_back({{"value", sweep.values[i]}, {"axes", std::move(axes)}});
+  }
+  return {{"command", "drive"}, {"schema_version", kJsonSchemaVersion}, {"case", io::to_json(c)}, {"source", c.source},
+          {"sweep", sweep.key}, {"metric", metric},       {"points", std::move(points)}};
+}
+
+}  // namespace cutdyn::app
