@@ -82,6 +82,94 @@ json to_json(const io::Case& c, const LobesJobReport& r) {
   return doc;
 }
 
+json to_json(const io::Case& c, const CheckJobReport& r) {
+  const CriticalDepth& b = r.boundary;
+  json doc{{"command", "check"}, {"schema_version", kJsonSchemaVersion},         {"case", io::to_json(c)},
+                     {"source", c.source},         {"method", r.method},
+                     {"spindle_rpm", r.rpm},    {"depth_mm", m_to_mm(r.depth_m)},
+                     {"stable", r.stable},         {"critical_depth_mm", m_to_mm(b.depth_m)},
+                     {"beyond_limit", !b.found},   {"margin", nullptr},
+                     {"chatter_hz", b.chatter_hz}, {"bifurcation", to_string(b.bifurcation)},
+                     {"lobe", r.lobe}};
+  if (r.margin) doc["margin"] = *r.margin;
+  if (b.truncated) doc["warning"] = "the method could not cover every mode at this speed";
+  if (r.duty_cycle) doc["duty_cycle"] = *r.duty_cycle;
+  if (r.conventional)
+    doc["conventional"] = {{"critical_depth_mm", m_to_mm(r.conventional->boundary.depth_m)},
+                           {"chatter_hz", r.conventional->boundary.chatter_hz},
+                           {"stable", r.conventional->stable}};
+  if (!r.warnings.empty()) doc["warnings"] = r.warnings;
+  return doc;
+}
+
+namespace {
+
+json oxley_json(const io::Case& c, const OxleyPrediction& p) {
+  const WorkMaterial& m = *c.material;
+  const OxleyState& s = p.result.state;
+  return {{"material", m.name},
+          {"shear_angle_deg", units::rad_to_deg(s.phi_rad)},
+          {"chip_thickness_mm", m_to_mm(s.chip_thickness_m)},
+          {"chip_ratio", p.result.chip_ratio},
+          {"strain_rate_constant", s.c0},
+          {"secondary_zone_ratio", s.delta},
+          {"contact_length_mm", m_to_mm(s.contact_length_m)},
+          {"friction_angle_deg", units::rad_to_deg(s.friction_angle_rad)},
+          {"shear_plane_temperature_c", s.temperature_ab_c},
+          {"interface_temperature_c", s.temperature_interface_c},
+          {"shear_plane_strain_rate_per_s", s.strain_rate_ab_per_s},
+          {"shear_plane_flow_stress_mpa", s.shear_flow_stress_pa / 1e6},
+          {"interface_strain_rate_per_s", s.strain_rate_interface_per_s},
+          {"warnings", p.result.warnings}};
+}
+
+json vibration_json(const io::VibrationSection& v, const DutyCycle& dc) {
+  const double T = dc.period_s;
+  json vib = {{"duty_cycle", dc.ratio},
+              {"period_s", T},
+              {"contact_time_s", dc.ratio * T},
+              {"separation_time_s", (1.0 - dc.ratio) * T},
+              {"separates", dc.separates}};
+  if (v.amplitude_m && !v.duty_cycle) {
+    vib["critical_speed_m_per_min"] = units::m_per_s_to_m_per_min(dc.critical_speed_m_per_s);
+    vib["rho"] = dc.rho;
+    if (dc.separates) {
+      vib["separation_phase_deg"] = units::rad_to_deg(dc.separation_phase_rad);
+      vib["contact_phase_deg"] = units::rad_to_deg(dc.contact_phase_rad);
+    }
+  }
+  return vib;
+  return vib;
+}
+
+}  // namespace
+
+json to_json(const io::Case& c, const ForceJobReport& r) {
+  const PulsedForces& f = r.forces;
+  json oxley;
+  if (r.oxley) oxley = oxley_json(c, *r.oxley);
+  json vib;
+  if (c.vibration) vib = vibration_json(*c.vibration, r.duty_cycle);
+  json doc{{"command", "force"}, {"schema_version", kJsonSchemaVersion},
+           {"case", io::to_json(c)},
+           {"source", c.source},
+           {"kc_n_per_mm2", units::pa_to_n_per_mm2(r.kc_pa)},
+           {"kt_n_per_mm2", units::pa_to_n_per_mm2(r.kt_pa)},
+           {"coefficients", r.oxley ? "oxley" : "given"},
+           {"cutting_force_n", f.peak_cutting_n},
+           {"thrust_force_n", f.peak_thrust_n},
+           {"mean_cutting_force_n", f.mean_cutting_n},
+           {"mean_thrust_force_n", f.mean_thrust_n},
+           {"duty_cycle", r.duty_cycle.ratio}};
+  if (!vib.is_null()) doc["vibration"] = vib;
+  if (r.oxley) {
+    doc["shear_angle_deg"] = oxley["shear_angle_deg"];
+    doc["chip_thickness_mm"] = oxley["chip_thickness_mm"];
+    doc["oxley"] = oxley;
+  }
+  return doc;
+}
+
 json json_document(std::string_view command, const io::Case& c) {
   return {{"schema_version", kJsonSchemaVersion},
           {"command", std::string(command)},

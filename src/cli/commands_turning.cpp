@@ -155,7 +155,7 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
 namespace {
 
 // The Oxley lines of the force report (text) and their JSON.
-nlohmann::json report_oxley(const io::Case& c, const app::OxleyPrediction& p, std::ostream& out) {
+void print_oxley(const io::Case& c, const app::OxleyPrediction& p, std::ostream& out) {
   const WorkMaterial& m = *c.material;
   const OxleyState& s = p.result.state;
   out << "  " << oxley_summary(c, p) << "\n";
@@ -171,25 +171,12 @@ nlohmann::json report_oxley(const io::Case& c, const app::OxleyPrediction& p, st
   out << "    flow stress in shear: shear plane " << human(s.shear_flow_stress_pa / 1e6)
       << " MPa at strain rate " << human(s.strain_rate_ab_per_s, 3) << " 1/s\n";
   for (const std::string& warning : p.result.warnings) out << "    warning: " << warning << "\n";
-  return {{"material", m.name},
-          {"shear_angle_deg", units::rad_to_deg(s.phi_rad)},
-          {"chip_thickness_mm", m_to_mm(s.chip_thickness_m)},
-          {"chip_ratio", p.result.chip_ratio},
-          {"strain_rate_constant", s.c0},
-          {"secondary_zone_ratio", s.delta},
-          {"contact_length_mm", m_to_mm(s.contact_length_m)},
-          {"friction_angle_deg", units::rad_to_deg(s.friction_angle_rad)},
-          {"shear_plane_temperature_c", s.temperature_ab_c},
-          {"interface_temperature_c", s.temperature_interface_c},
-          {"shear_plane_strain_rate_per_s", s.strain_rate_ab_per_s},
-          {"shear_plane_flow_stress_mpa", s.shear_flow_stress_pa / 1e6},
-          {"interface_strain_rate_per_s", s.strain_rate_interface_per_s},
-          {"warnings", p.result.warnings}};
+
 }
 
 // The vibration lines of the force report (text) and their JSON.
-nlohmann::json report_vibration(const io::VibrationSection& v, const DutyCycle& dc,
-                                std::ostream& out) {
+void print_vibration(const io::VibrationSection& v, const DutyCycle& dc,
+                     std::ostream& out) {
   const double T = dc.period_s;
   out << "  vibration " << human(v.frequency_hz) << " Hz";
   if (v.amplitude_m) {
@@ -206,20 +193,7 @@ nlohmann::json report_vibration(const io::VibrationSection& v, const DutyCycle& 
   } else if (!dc.separates) {
     out << "  no separation: the cutting speed is at or above 2πfA\n";
   }
-  json vib = {{"duty_cycle", dc.ratio},
-              {"period_s", T},
-              {"contact_time_s", dc.ratio * T},
-              {"separation_time_s", (1.0 - dc.ratio) * T},
-              {"separates", dc.separates}};
-  if (v.amplitude_m && !v.duty_cycle) {
-    vib["critical_speed_m_per_min"] = units::m_per_s_to_m_per_min(dc.critical_speed_m_per_s);
-    vib["rho"] = dc.rho;
-    if (dc.separates) {
-      vib["separation_phase_deg"] = units::rad_to_deg(dc.separation_phase_rad);
-      vib["contact_phase_deg"] = units::rad_to_deg(dc.contact_phase_rad);
-    }
-  }
-  return vib;
+
 }
 
 // Oxley's prediction around the cut: forces and shear angle against the uncut chip thickness.
@@ -280,42 +254,21 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream& err) {
   const app::ForceJobReport r = app::run_force(c);
   const PulsedForces& f = r.forces;
   out << "cutdyn force: " << c.source << "\n";
-  json oxley_json;
-  if (r.oxley) oxley_json = report_oxley(c, *r.oxley, out);
+  if (r.oxley) print_oxley(c, *r.oxley, out);
   out << "  Kc = " << human(units::pa_to_n_per_mm2(r.kc_pa))
       << " N/mm², Kt = " << human(units::pa_to_n_per_mm2(r.kt_pa))
       << " N/mm²; h = " << human(m_to_mm(r.uncut_chip_thickness_m))
       << " mm, w = " << human(m_to_mm(r.width_m)) << " mm";
   if (r.speed_m_per_s) out << ", v = " << human(units::m_per_s_to_m_per_min(*r.speed_m_per_s)) << " m/min";
   out << "\n";
-  json vib;
-  if (c.vibration) vib = report_vibration(*c.vibration, r.duty_cycle, out);
+  if (c.vibration) print_vibration(*c.vibration, r.duty_cycle, out);
   out << "  cutting force " << human(f.peak_cutting_n) << " N while cutting, mean "
       << human(f.mean_cutting_n) << " N\n";
   out << "  thrust force  " << human(f.peak_thrust_n) << " N while cutting, mean "
       << human(f.mean_thrust_n) << " N\n";
 
   io::OutputTransaction outputs;
-  if (!args.json.empty()) {
-    json doc{{"command", "force"}, {"schema_version", kJsonSchemaVersion},
-             {"case", io::to_json(c)},
-             {"source", c.source},
-             {"kc_n_per_mm2", units::pa_to_n_per_mm2(r.kc_pa)},
-             {"kt_n_per_mm2", units::pa_to_n_per_mm2(r.kt_pa)},
-             {"coefficients", r.oxley ? "oxley" : "given"},
-             {"cutting_force_n", f.peak_cutting_n},
-             {"thrust_force_n", f.peak_thrust_n},
-             {"mean_cutting_force_n", f.mean_cutting_n},
-             {"mean_thrust_force_n", f.mean_thrust_n},
-             {"duty_cycle", r.duty_cycle.ratio}};
-    if (!vib.is_null()) doc["vibration"] = vib;
-    if (r.oxley) {
-      doc["shear_angle_deg"] = oxley_json["shear_angle_deg"];
-      doc["chip_thickness_mm"] = oxley_json["chip_thickness_mm"];
-      doc["oxley"] = oxley_json;
-    }
-    io::write_json(outputs.open(args.json), doc);
-  }
+  if (!args.json.empty()) io::write_json(outputs.open(args.json), app::to_json(c, r));
   if (!args.plot.empty())
     io::write_plot(r.oxley && !r.vibration ? oxley_plot(c, r) : pulse_plot(r), args.plot, outputs);
   outputs.commit();

@@ -103,22 +103,7 @@ void report_check(const io::Case& c, const CheckArgs& args, const app::CheckJobR
   for (const std::string& w : r.warnings) out << "  warning: " << w << "\n";
   if (args.json.empty()) return;
   io::OutputTransaction outputs;
-  nlohmann::json doc{{"command", "check"}, {"schema_version", kJsonSchemaVersion},         {"case", io::to_json(c)},
-                     {"source", c.source},         {"method", r.method},
-                     {"spindle_rpm", args.rpm},    {"depth_mm", args.depth_mm},
-                     {"stable", r.stable},         {"critical_depth_mm", units::m_to_mm(b.depth_m)},
-                     {"beyond_limit", !b.found},   {"margin", nullptr},
-                     {"chatter_hz", b.chatter_hz}, {"bifurcation", to_string(b.bifurcation)},
-                     {"lobe", r.lobe}};
-  if (r.margin) doc["margin"] = *r.margin;
-  if (b.truncated) doc["warning"] = "the method could not cover every mode at this speed";
-  if (r.duty_cycle) doc["duty_cycle"] = *r.duty_cycle;
-  if (r.conventional)
-    doc["conventional"] = {{"critical_depth_mm", units::m_to_mm(r.conventional->boundary.depth_m)},
-                           {"chatter_hz", r.conventional->boundary.chatter_hz},
-                           {"stable", r.conventional->stable}};
-  if (!r.warnings.empty()) doc["warnings"] = r.warnings;
-  io::write_json(outputs.open(args.json), doc);
+  io::write_json(outputs.open(args.json), app::to_json(c, r));
   outputs.commit();
   out << "  wrote " << args.json << "\n";
 }

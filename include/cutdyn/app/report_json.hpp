@@ -35,8 +35,10 @@ struct ReportTable {
 ReportTable lobes_table(const LobesJobReport& report);
 
 nlohmann::json to_json(const io::Case& c, const LobesJobReport& report);
+nlohmann::json to_json(const io::Case& c, const CheckJobReport& report);
 nlohmann::json to_json(const io::Case& c, const TurningSimulationJobReport& report);
 nlohmann::json to_json(const io::Case& c, const MillingSimulationJobReport& report);
+nlohmann::json to_json(const io::Case& c, const ForceJobReport& report);
 nlohmann::json to_json(const io::Case& c, const PlanJobReport& report);
 nlohmann::json to_json(const io::Case& c, const DriveReport& report);
 /// A sweep of the drives, with the metric it tabulates.
