@@ -3,6 +3,7 @@
 // builds the cut from the flags and renders the Report.
 #include <fmt/format.h>
 
+#include <cctype>
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
@@ -58,6 +59,45 @@ void print_sweep(const app::DriveSweepReport& sweep, const io::Case& c, std::siz
 }
 
 
+// A metric's axis in a figure: its name in words, the unit it is drawn in ("" for a
+// number without one) and the factor from the metric's value to that unit.
+struct MetricAxis {
+  std::string name, unit;
+  double scale = 1.0;
+  std::string label() const { return unit.empty() ? name : name + " (" + unit + ")"; }
+};
+
+MetricAxis drive_metric_axis(const std::string& metric) {
+  if (metric == "epsilon_um") return {"relative motion error ε, peak to peak", "µm"};
+  if (metric == "drive_error_um") return {"table position error, peak to peak", "µm"};
+  if (metric == "cutter_error_um") return {"cutter deflection along the axis, peak to peak", "µm"};
+  if (metric == "k_delta") return {"speed non-uniformity kδ", ""};
+  if (metric == "static_error") return {"static speed error δ", "%", 100.0};
+  if (metric == "torque_ripple_nm") return {"load torque ripple ±ΔMc", "N·m"};
+  if (metric == "speed_ripple_rad_s") return {"motor speed ripple ±ΔΩ", "rad/s"};
+  return {metric, ""};
+}
+
+// The metric of each axis against the swept key.
+io::PlotSpec sweep_plot(const app::DriveSweepReport& sweep, const io::Case& c, std::size_t column) {
+  const MetricAxis axis = drive_metric_axis(app::drive_metric_names()[column]);
+  io::PlotSpec spec;
+  std::string what = axis.name;
+  what[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(what[0])));
+  spec.title = fmt::format("{} over a sweep of {}", what, sweep.key);
+  spec.x_label = io::case_key_label(c, sweep.key);
+  spec.y_label = axis.label();
+  for (std::size_t k = 0; k < sweep.runs.front().axes.size(); ++k) {
+    io::PlotSeries series{"axis " + sweep.runs.front().axes[k].axis.name, {}, {}, "linespoints"};
+    for (std::size_t i = 0; i < sweep.runs.size(); ++i) {
+      series.x.push_back(sweep.values[i]);
+      series.y.push_back(axis.scale * app::drive_metrics(sweep.runs[i].axes[k])[column]);
+    }
+    spec.series.push_back(std::move(series));
+  }
+  return spec;
+}
+
 void write_sweep_files(const DriveArgs& args, const app::DriveSweepReport& sweep,
                        const io::Case& c, std::size_t column, io::OutputTransaction& outputs) {
   const auto& names = app::drive_metric_names();
@@ -74,21 +114,8 @@ void write_sweep_files(const DriveArgs& args, const app::DriveSweepReport& sweep
   }
   if (!args.outputs.json.empty())
     io::write_json(outputs.open(args.outputs.json), app::to_json(c, sweep, names[column]));
-  if (!args.outputs.plot.empty()) {
-    io::PlotSpec spec;
-    spec.title = fmt::format("{} against {}", names[column], sweep.key);
-    spec.x_label = sweep.key;
-    spec.y_label = names[column];
-    for (std::size_t k = 0; k < sweep.runs.front().axes.size(); ++k) {
-      io::PlotSeries series{"axis " + sweep.runs.front().axes[k].axis.name, {}, {}, "linespoints"};
-      for (std::size_t i = 0; i < sweep.runs.size(); ++i) {
-        series.x.push_back(sweep.values[i]);
-        series.y.push_back(app::drive_metrics(sweep.runs[i].axes[k])[column]);
-      }
-      spec.series.push_back(std::move(series));
-    }
-    io::write_plot(spec, args.outputs.plot, outputs);
-  }
+  if (!args.outputs.plot.empty())
+    io::write_plot(sweep_plot(sweep, c, column), args.outputs.plot, outputs);
 }
 
 int run_sweep(const DriveArgs& args, const io::Case& c, std::ostream& out, std::ostream& err) {
@@ -141,8 +168,43 @@ void print_run(const app::DriveReport& run, const io::Case& c, std::ostream& out
 }
 
 
-// The traces of each axis over the last summary revolutions (CSV), and the figure of ε and
-// the motor speed.
+// Over the last summary revolutions, two panels: ε of each axis, and its motor speed about
+// the mean (the speed ripple), on its own axis.
+io::PlotFigure traces_plot(const app::DriveReport& run) {
+  const auto in_traces = [&](double t) { return t >= run.traces_from_s - 1e-12; };
+  io::PlotFigure figure;
+  const double revolutions = run.cut.options.summary_revolutions;
+  figure.title = fmt::format(
+      "Feed drives at {} rpm over the last {}", human(run.cut.rpm),
+      revolutions == 1.0 ? std::string("revolution") : human(revolutions) + " revolutions");
+  io::PlotSpec error, speed;
+  error.title = "Relative motion error ε (table position error + cutter deflection)";
+  error.x_label = speed.x_label = "time (s)";
+  error.y_label = "ε along the axis (µm)";
+  speed.title = "Motor speed ripple: speed minus its mean";
+  speed.y_label = "motor speed − mean (rad/s)";
+  for (const app::DriveAxisReport& a : run.axes) {
+    const FeedDriveResult& d = a.drive;
+    io::PlotSeries e, w;
+    e.title = fmt::format("axis {}: ε {} µm peak to peak", a.axis.name,
+                          human(m_to_um(a.epsilon_pp_m), 3));
+    w.title = fmt::format("axis {}: mean {} rad/s, ripple ±{} rad/s", a.axis.name,
+                          human(d.mean_speed_rad_s), human(d.speed_ripple_rad_s, 3));
+    for (std::size_t i = 0; i < d.time_s.size(); ++i) {
+      if (!in_traces(d.time_s[i])) continue;
+      e.x.push_back(d.time_s[i]);
+      e.y.push_back(m_to_um(a.epsilon_m[i]));
+      w.x.push_back(d.time_s[i]);
+      w.y.push_back(d.speed_rad_s[i] - d.mean_speed_rad_s);
+    }
+    error.series.push_back(std::move(e));
+    speed.series.push_back(std::move(w));
+  }
+  figure.panels = {std::move(error), std::move(speed)};
+  return figure;
+}
+
+// The traces of each axis over the last summary revolutions (CSV), and their figure.
 void write_traces(const DriveArgs& args, const app::DriveReport& run,
                   io::OutputTransaction& outputs) {
   const auto in_traces = [&](double t) { return t >= run.traces_from_s - 1e-12; };
@@ -157,26 +219,7 @@ void write_traces(const DriveArgs& args, const app::DriveReport& run,
                    a.drive.load_torque_nm[i], a.drive.speed_rad_s[i],
                    m_to_um(a.drive.position_error_m[i]), m_to_um(a.epsilon_m[i])});
   }
-  if (args.outputs.plot.empty()) return;
-  io::PlotSpec spec;
-  spec.title = fmt::format("Relative motion error at {} rpm", human(run.cut.rpm));
-  spec.x_label = "time (s)";
-  spec.y_label = "error along the axis (µm)";
-  spec.y2_label = "motor speed (rad/s)";
-  for (const app::DriveAxisReport& a : run.axes) {
-    io::PlotSeries e{"ε, axis " + a.axis.name, {}, {}, "lines"};
-    io::PlotSeries w{"speed, axis " + a.axis.name, {}, {}, "lines", true};
-    for (std::size_t i = 0; i < a.drive.time_s.size(); ++i) {
-      if (!in_traces(a.drive.time_s[i])) continue;
-      e.x.push_back(a.drive.time_s[i]);
-      e.y.push_back(m_to_um(a.epsilon_m[i]));
-      w.x.push_back(a.drive.time_s[i]);
-      w.y.push_back(a.drive.speed_rad_s[i]);
-    }
-    spec.series.push_back(std::move(e));
-    spec.series.push_back(std::move(w));
-  }
-  io::write_plot(spec, args.outputs.plot, outputs);
+  if (!args.outputs.plot.empty()) io::write_plot(traces_plot(run), args.outputs.plot, outputs);
 }
 
 }  // namespace

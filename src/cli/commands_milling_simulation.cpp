@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -68,6 +69,56 @@ std::string shout(std::string verdict) {
 
 // ---- sweeps ------------------------------------------------------------------------------
 
+// A metric's axis in a figure: its name in words, the unit it is drawn in ("" for a
+// number without one) and the factor from the metric's value to that unit.
+struct MetricAxis {
+  std::string name, unit;
+  double scale = 1.0;
+  std::string label() const { return unit.empty() ? name : name + " (" + unit + ")"; }
+};
+
+MetricAxis milling_metric_axis(const std::string& metric) {
+  if (metric == "force_pulsation") return {"force pulsation ΔP", "%", 100.0};
+  if (metric == "mean_force_n") return {"mean force |F|", "N"};
+  if (metric == "peak_force_n") return {"peak force |F|", "N"};
+  if (metric == "min_force_n") return {"smallest force |F|", "N"};
+  if (metric == "mean_teeth_in_cut") return {"mean teeth in cut", ""};
+  if (metric == "vibration_pp_x_um") return {"vibration in x, peak to peak", "µm"};
+  if (metric == "vibration_pp_y_um") return {"vibration in y, peak to peak", "µm"};
+  if (metric == "chatter_indicator") return {"chatter indicator", ""};
+  if (metric == "contact_loss") return {"out of the cut inside the window", "%", 100.0};
+  if (metric == "surface_location_error_um") return {"surface location error", "µm"};
+  return {metric, ""};
+}
+
+// The metric against the swept key, the runs that chatter marked.
+io::PlotSpec sweep_plot(const io::Case& c, const app::MillingSweepJobReport& job,
+                        std::size_t column) {
+  const std::string& metric = app::milling_metric_names()[column];
+  const MetricAxis axis = milling_metric_axis(metric);
+  io::PlotSpec spec;
+  std::string what = axis.name;
+  what[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(what[0])));
+  spec.title = fmt::format("{} over a sweep of {}", what, job.sweep.key);
+  spec.x_label = io::case_key_label(c, job.sweep.key);
+  spec.y_label = axis.label();
+  io::PlotSeries line{axis.name, {}, {}, "linespoints"};
+  io::PlotSeries chatter{"chatter (vibration grows)", {}, {}, "marker"};
+  for (std::size_t i = 0; i < job.results.size(); ++i) {
+    const double m = app::milling_metrics(job.results[i])[column];
+    if (std::isnan(m)) continue;
+    line.x.push_back(job.sweep.values[i]);
+    line.y.push_back(axis.scale * m);
+    if (job.results[i].chatter) {
+      chatter.x.push_back(job.sweep.values[i]);
+      chatter.y.push_back(axis.scale * m);
+    }
+  }
+  spec.series.push_back(std::move(line));
+  if (!chatter.x.empty()) spec.series.push_back(std::move(chatter));
+  return spec;
+}
+
 int run_sweep(const SimulateArgs& args, const io::Case& c, std::ostream& out, std::ostream& err) {
   const auto& names = app::milling_metric_names();
   const std::size_t column = metric_column(args.metric, "force_pulsation", names);
@@ -127,21 +178,8 @@ int run_sweep(const SimulateArgs& args, const io::Case& c, std::ostream& out, st
              {"sweep", sweep.key},    {"metric", metric},       {"points", std::move(points)}};
     io::write_json(outputs.open(args.outputs.json), doc);
   }
-  if (!args.outputs.plot.empty()) {
-    io::PlotSpec spec;
-    spec.title = fmt::format("{} against {}", metric, sweep.key);
-    spec.x_label = sweep.key;
-    spec.y_label = metric;
-    io::PlotSeries series{metric, {}, {}, "linespoints"};
-    for (std::size_t i = 0; i < results.size(); ++i) {
-      const double m = metrics(results[i])[column];
-      if (std::isnan(m)) continue;
-      series.x.push_back(sweep.values[i]);
-      series.y.push_back(m);
-    }
-    spec.series.push_back(std::move(series));
-    io::write_plot(spec, args.outputs.plot, outputs);
-  }
+  if (!args.outputs.plot.empty())
+    io::write_plot(sweep_plot(c, job, column), args.outputs.plot, outputs);
   commit_outputs(outputs, args.outputs, out);
   return 0;
 }
@@ -198,36 +236,72 @@ void print_milling(const io::Case& c, const app::MillingSimulationJobReport& job
 }
 
 
-io::PlotSpec milling_plot(const app::MillingSimulationJobReport& job) {
+// Points per series of the whole run: enough for the envelope of every tooth pass in a
+// figure a few thousand pixels wide.
+constexpr std::size_t kEnvelopeBuckets = 2000;
+// One colour per direction on both panels (x and Fx, y and Fy); |F| in black.
+constexpr const char* kXColour = "#0072B2";
+constexpr const char* kYColour = "#D55E00";
+constexpr const char* kForceColour = "#000000";
+
+// Two panels: the cutter's displacement over the whole run in each direction that has modes
+// (so that growth or decay shows), and the forces over the last summary revolutions, whose
+// window the first panel marks.
+io::PlotFigure milling_plot(const app::MillingSimulationJobReport& job) {
   const SimulationSetup& s = job.setup;
   const MillingSimulationResult& r = job.result;
-  // The steady part: the last summary revolutions.
+  const double summary_s = s.options.summary_revolutions * 60.0 / s.rpm;
   const double from =
-      r.time_s.empty() ? 0.0 : r.time_s.back() - s.options.summary_revolutions * 60.0 / s.rpm;
-  io::PlotSpec spec;
-  spec.title = fmt::format("Force and vibration at {} rpm, depth {} mm (ΔP = {} %)", human(s.rpm),
-                           human(m_to_mm(s.cut.width_m)), human(100.0 * r.force_pulsation, 3));
-  spec.x_label = "time (s)";
-  spec.y_label = "force on the cutter (N)";
-  spec.y2_label = "cutter displacement (µm)";
-  io::PlotSeries fx{"Fx (feed)", {}, {}, "lines"}, fy{"Fy", {}, {}, "lines"},
-      f{"|F|", {}, {}, "lines"}, x{"x (right axis)", {}, {}, "lines", true},
-      y{"y (right axis)", {}, {}, "lines", true};
+      r.time_s.empty() ? 0.0 : std::max(r.time_s.front(), r.time_s.back() - summary_s);
+  const std::string revolutions = human(s.options.summary_revolutions);
+  const bool runaway = r.status == SimulationStatus::kRunaway;
+  const auto has_modes = [&](Direction d) {
+    return std::any_of(s.cut.modal.modes.begin(), s.cut.modal.modes.end(),
+                       [d](const Mode& m) { return m.direction == d; });
+  };
+
+  io::PlotFigure figure;
+  figure.title =
+      fmt::format("Milling at {} rpm, depth {} mm: ΔP = {} %, {}", human(s.rpm),
+                  human(m_to_mm(s.cut.width_m)), human(100.0 * r.force_pulsation, 3), r.verdict());
+
+  io::PlotSpec whole;
+  whole.x_label = "time (s)";
+  whole.title = runaway ? "Cutter displacement until the runaway stopped the run"
+                        : "Cutter displacement over the whole run";
+  whole.y_label = "cutter displacement (µm)";
+  io::PlotSeries x{"x (feed)", r.time_s, {}, "lines", false, kXColour},
+      y{"y", r.time_s, {}, "lines", false, kYColour};
   for (std::size_t i = 0; i < r.time_s.size(); ++i) {
-    if (r.time_s[i] < from) continue;
-    for (io::PlotSeries* p : {&fx, &fy, &f, &x, &y}) p->x.push_back(r.time_s[i]);
-    fx.y.push_back(r.fx_n[i]);
-    fy.y.push_back(r.fy_n[i]);
-    f.y.push_back(r.force_n[i]);
     x.y.push_back(m_to_um(r.x_m[i]));
     y.y.push_back(m_to_um(r.y_m[i]));
   }
-  spec.series = {std::move(f), std::move(fx), std::move(fy)};
-  if (!s.cut.modal.modes.empty()) {
-    spec.series.push_back(std::move(x));
-    spec.series.push_back(std::move(y));
+  // A case has modes (the loader requires them), but not always in both directions.
+  if (has_modes(Direction::kX)) whole.series.push_back(io::envelope(x, kEnvelopeBuckets));
+  if (has_modes(Direction::kY)) whole.series.push_back(io::envelope(y, kEnvelopeBuckets));
+  whole.x_marks.push_back({from, "last " + revolutions + " rev (below)"});
+
+  io::PlotSpec last;
+  last.title = fmt::format(
+      "Force on the cutter over the last {}{}",
+      s.options.summary_revolutions == 1.0 ? "revolution" : revolutions + " revolutions",
+      runaway ? " before the stop" : "");
+  last.x_label = "time (s)";
+  last.y_label = "force on the cutter (N)";
+  io::PlotSeries lf{"|F|", {}, {}, "lines", false, kForceColour},
+      lfx{"Fx (feed)", {}, {}, "lines", false, kXColour},
+      lfy{"Fy", {}, {}, "lines", false, kYColour};
+  for (std::size_t i = 0; i < r.time_s.size(); ++i) {
+    if (r.time_s[i] < from) continue;
+    for (io::PlotSeries* p : {&lf, &lfx, &lfy}) p->x.push_back(r.time_s[i]);
+    lf.y.push_back(r.force_n[i]);
+    lfx.y.push_back(r.fx_n[i]);
+    lfy.y.push_back(r.fy_n[i]);
   }
-  return spec;
+  for (io::PlotSeries* p : {&lf, &lfx, &lfy})
+    last.series.push_back(io::envelope(*p, kEnvelopeBuckets));
+  figure.panels = {std::move(whole), std::move(last)};
+  return figure;
 }
 
 }  // namespace

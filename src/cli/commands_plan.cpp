@@ -2,6 +2,7 @@
 // docs/models/bore-milling.md).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -67,27 +68,61 @@ void print_plan(const app::PlanJobReport& job, std::ostream& out, std::ostream& 
 }
 
 
-// t0 against S0 at the chosen h and against h at the chosen S0; Δ1 beside it.
-io::PlotSpec plan_plot(const app::PlanJobReport& job) {
+constexpr const char* kChosenColour = "#000000";  // the plan's point, black on both panels
+constexpr const char* kDelta1Colour = "#D55E00";  // Δ1 and its limit, solid and dashed
+
+// Two panels: t0 and Δ1 against the axial feed S0 at the chosen h, with the limit
+// Δ1 = k·t; t0 against the offset h at the chosen S0. Each marks the chosen point.
+io::PlotFigure plan_plot(const app::PlanJobReport& job) {
   const app::PlanTradeOff& t = *job.trade_off;
-  io::PlotSpec spec;
-  spec.title = fmt::format("Main time against the axial feed (h = {} mm) and the offset",
-                           mm(job.chosen.offset_m));
-  spec.x_label = "axial feed S0 (mm) | offset h (mm)";
-  spec.y_label = "main time t0 (min; infeasible points left out)";
-  spec.y2_label = "straightness error Δ1 (mm)";
-  const auto series = [](const app::PlanCurve& curve, const char* name, double y_scale, bool y2) {
-    io::PlotSeries s{name, {}, {}, "lines", y2};
+  const BoreMillingCase& b = job.chosen;
+  const BoreMillingResult& r = job.result;
+  const double s0 = m_to_mm(r.axial_feed_m), h = m_to_mm(b.offset_m);
+  const double t0 = r.main_time_s / 60.0;
+  const double limit = m_to_mm(b.accuracy_coefficient * b.allowance_m);
+  const auto series = [](const app::PlanCurve& curve, std::string name, double y_scale, bool y2) {
+    io::PlotSeries s{std::move(name), {}, {}, "lines", y2};
     for (std::size_t i = 0; i < curve.x.size(); ++i) {
       s.x.push_back(m_to_mm(curve.x[i]));
       s.y.push_back(curve.y[i] * y_scale);
     }
     return s;
   };
-  spec.series = {series(t.time_against_feed, "t0 against S0", 1.0 / 60.0, false),
-                 series(t.time_against_offset, "t0 against h", 1.0 / 60.0, false),
-                 series(t.straightness_against_feed, "Δ1 against S0 (right)", 1e3, true)};
-  return spec;
+  const std::string point = fmt::format("S0 = {} mm, h = {} mm, t0 = {} min", mm(r.axial_feed_m),
+                                        mm(b.offset_m), human(t0, 4));
+  const std::string chosen = "chosen: " + point;
+  io::PlotFigure figure;
+  figure.title = "Main time t0 of the bore around the plan: " + point;
+
+  io::PlotSpec feed;
+  feed.title = fmt::format("Against the axial feed S0, at h = {} mm (infeasible feeds left out)",
+                           mm(b.offset_m));
+  feed.x_label = "axial feed S0 (mm)";
+  feed.y_label = "main time t0 (min, logarithmic)";
+  feed.y_log = true;  // t0 ∝ 1/S0: hours at the smallest feeds, minutes near the plan
+  feed.y2_label = "straightness error Δ1 (mm)";
+  feed.series.push_back(series(t.time_against_feed, "t0", 1.0 / 60.0, false));
+  feed.series.push_back(series(t.straightness_against_feed, "Δ1 (right axis)", 1e3, true));
+  feed.series.back().color = kDelta1Colour;
+  const std::vector<double>& fx = feed.series.back().x;
+  if (!fx.empty()) {
+    const auto [lo, hi] = std::minmax_element(fx.begin(), fx.end());
+    const std::string title = fmt::format("limit Δ1 = k·t = {} mm (right axis)", human(limit, 4));
+    feed.series.push_back(
+        io::PlotSeries{title, {*lo, *hi}, {limit, limit}, "dashed", true, kDelta1Colour});
+  }
+  feed.series.push_back(io::PlotSeries{chosen, {s0}, {t0}, "marker", false, kChosenColour});
+  feed.x_marks.push_back({s0, fmt::format("S0 = {} mm", mm(r.axial_feed_m))});
+
+  io::PlotSpec offset;
+  offset.title = fmt::format("Against the offset h, at S0 = {} mm", mm(r.axial_feed_m));
+  offset.x_label = "offset h (mm)";
+  offset.y_label = "main time t0 (min)";
+  offset.series.push_back(series(t.time_against_offset, "t0", 1.0 / 60.0, false));
+  offset.series.push_back(io::PlotSeries{chosen, {h}, {t0}, "marker", false, kChosenColour});
+  offset.x_marks.push_back({h, fmt::format("h = {} mm", mm(b.offset_m))});
+  figure.panels = {std::move(feed), std::move(offset)};
+  return figure;
 }
 
 }  // namespace

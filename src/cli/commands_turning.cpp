@@ -117,7 +117,7 @@ io::PlotSpec turning_plot(const app::TurningSimulationJobReport& job) {
     const Run& r = *it;
     io::PlotSeries s{r.name, r.result.time_s, {}, "lines"};
     for (double y : r.result.displacement_m) s.y.push_back(units::m_to_um(y));
-    spec.series.push_back(std::move(s));
+    spec.series.push_back(io::envelope(s, 2000));  // the whole run, thinned to its envelope
   }
   return spec;
 }
@@ -209,8 +209,10 @@ io::PlotSpec oxley_plot(const io::Case& c, const app::ForceJobReport& r) {
   spec.y_min = 0.0;
   const double h = m_to_mm(r.uncut_chip_thickness_m);
   io::PlotSeries fc{"cutting force", {}, {}, "linespoints"},
-      ft{"thrust force", {}, {}, "linespoints"}, phi{"shear angle", {}, {}, "linespoints", true},
-      here{"this cut", {h, h}, {r.forces.peak_cutting_n, r.forces.peak_thrust_n}, "points"};
+      ft{"thrust force", {}, {}, "linespoints"},
+      phi{"shear angle (right axis)", {}, {}, "linespoints", true},
+      here{"this cut", {h, h}, {r.forces.peak_cutting_n, r.forces.peak_thrust_n}, "marker"};
+  here.color = "#000000";  // the cut itself, black on both force curves
   for (const app::ChipThicknessPoint& p : r.around) {
     for (io::PlotSeries* series : {&fc, &ft, &phi})
       series->x.push_back(m_to_mm(p.uncut_chip_thickness_m));

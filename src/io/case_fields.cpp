@@ -214,6 +214,10 @@ class Row {
     f_.process_doc = text;
     return *this;
   }
+  Row& label(std::string_view text) {
+    f_.label = text;
+    return *this;
+  }
   Row& meaning(std::string_view text) {
     f_.meaning = text;
     return *this;
@@ -389,6 +393,7 @@ std::vector<Section> make_sections() {
                     return {};
                   }),
       number("natural_hz", kHzAsRadPerS, kPositive)
+          .label("natural frequency")
           .required()
           .access([](const Case& c, std::size_t i) -> std::optional<Value> {
             if (i >= c.modal.modes.size()) return std::nullopt;
@@ -400,6 +405,7 @@ std::vector<Section> make_sections() {
                     return {};
                   }),
       number("damping_ratio", kNone, closed_open(0.0, 1.0))
+          .label("damping ratio ζ")
           .required()
           .access([](const Case& c, std::size_t i) -> std::optional<Value> {
             if (i >= c.modal.modes.size()) return std::nullopt;
@@ -411,9 +417,11 @@ std::vector<Section> make_sections() {
                     return {};
                   }),
       number("stiffness_n_per_m", unit("N/m"), kPositive)
+          .label("modal stiffness")
           .deflt("one of the two")
           .member(mode, &Mode::stiffness_n_per_m),
       number("mass_kg", unit("kg"), kPositive)
+          .label("modal mass")
           .deflt("one of the two")
           .meaning("stiffness k = m·(2π·natural_hz)²")
           .no_echo()
@@ -437,53 +445,64 @@ std::vector<Section> make_sections() {
   cut.echo_empty = false;
   cut.fields = {
       number("kt_n_per_mm2", kNPerMm2, kPositive)
+          .label("tangential cutting coefficient Kt")
           .uses(Uses::kMilling)
           .deflt("optional")
           .process("milling; turning: the old name of `kf_n_per_mm2` (a warning)")
           .meaning("tangential coefficient")
           .member(cutting, &CuttingSection::kt_pa),
       number("kf_n_per_mm2", kNPerMm2, kPositive)
+          .label("feed-direction cutting coefficient Kf")
           .uses(Uses::kTurning)
           .deflt("optional")
           .meaning("feed-direction (thrust) coefficient")
           .member(cutting, &CuttingSection::kt_pa),
       number("kc_n_per_mm2", kNPerMm2, kPositive)
+          .label("cutting-direction coefficient Kc")
           .uses(Uses::kTurning)
           .meaning("cutting-direction coefficient (`cutdyn force`)")
           .member(cutting, &CuttingSection::kc_pa),
       number("kr_n_per_mm2", kNPerMm2, kNonNegative)
+          .label("radial cutting coefficient Kr")
           .uses(Uses::kMilling)
           .meaning("radial coefficient")
           .member(cutting, &CuttingSection::kr_pa),
       number("speed_m_per_min", kMPerMin, kPositive)
+          .label("cutting speed")
           .uses(Uses::kTurning)
           .member(cutting, &CuttingSection::speed_m_per_s),
       number("uncut_chip_thickness_mm", kMm, kPositive)
+          .label("feed per revolution")
           .uses(Uses::kTurning)
           .meaning("feed per revolution")
           .member(cutting, &CuttingSection::uncut_chip_thickness_m),
       number("width_mm", kMm, kPositive)
+          .label("depth of cut")
           .uses(Uses::kTurning)
           .meaning("depth of cut")
           .member(cutting, &CuttingSection::width_m),
       number("kte_n_per_mm", kNPerMm, kNonNegative)
+          .label("tangential edge coefficient Kte")
           .uses(Uses::kMilling)
           .deflt("0")
           .meaning("simulation: tangential edge coefficient (force per unit axial depth); not "
                    "with `[force_law]`")
           .member(cutting, &CuttingSection::kte_n_per_m),
       number("kre_n_per_mm", kNPerMm, kNonNegative)
+          .label("radial edge coefficient Kre")
           .uses(Uses::kMilling)
           .deflt("0")
           .meaning("simulation: radial edge coefficient; not with `[force_law]`")
           .member(cutting, &CuttingSection::kre_n_per_m),
       number("rake_deg", kDeg, open(-45.0, 45.0))
+          .label("rake angle")
           .uses(Uses::kTurning)
           .process("turning, with `[material]`")
           .deflt("required with `[material]`")
           .meaning("tool rake angle (Oxley)")
           .member(cutting, &CuttingSection::rake_rad),
       number("workpiece_temperature_c", kCelsius, make_range(-273.15, true, kInf, true))
+          .label("workpiece temperature")
           .uses(Uses::kTurning)
           .process("turning, with `[material]`")
           .deflt("the material's Johnson–Cook reference temperature")
@@ -519,16 +538,34 @@ std::vector<Section> make_sections() {
   Section jc;
   jc.name = "material.johnson_cook";
   jc.fields = {
-      number("a_mpa", kMpa, kPositive).required().member(johnson_cook, &JohnsonCook::a_pa),
-      number("b_mpa", kMpa, kNonNegative).required().member(johnson_cook, &JohnsonCook::b_pa),
-      number("n", kNone, closed_open(0.0, 1.0)).required().member(johnson_cook, &JohnsonCook::n),
-      number("c", kNone, closed_open(0.0, 1.0)).required().member(johnson_cook, &JohnsonCook::c),
-      number("m", kNone, open_closed(0.0, 10.0)).required().member(johnson_cook, &JohnsonCook::m),
+      number("a_mpa", kMpa, kPositive)
+          .label("Johnson–Cook yield stress A")
+          .required()
+          .member(johnson_cook, &JohnsonCook::a_pa),
+      number("b_mpa", kMpa, kNonNegative)
+          .label("Johnson–Cook hardening modulus B")
+          .required()
+          .member(johnson_cook, &JohnsonCook::b_pa),
+      number("n", kNone, closed_open(0.0, 1.0))
+          .label("Johnson–Cook hardening exponent n")
+          .required()
+          .member(johnson_cook, &JohnsonCook::n),
+      number("c", kNone, closed_open(0.0, 1.0))
+          .label("Johnson–Cook strain-rate coefficient C")
+          .required()
+          .member(johnson_cook, &JohnsonCook::c),
+      number("m", kNone, open_closed(0.0, 10.0))
+          .label("Johnson–Cook thermal exponent m")
+          .required()
+          .member(johnson_cook, &JohnsonCook::m),
       number("reference_strain_rate_per_s", unit("1/s"), kPositive)
+          .label("reference strain rate")
           .member(johnson_cook, &JohnsonCook::reference_strain_rate_per_s),
       number("reference_temperature_c", kCelsius, make_range(-273.15, true, kInf, true))
+          .label("reference temperature")
           .member(johnson_cook, &JohnsonCook::reference_temperature_c),
       number("melting_temperature_c", kCelsius, make_range(-273.15, true, kInf, true))
+          .label("melting temperature")
           .required()
           .meaning("above the reference temperature")
           .member(johnson_cook, &JohnsonCook::melting_temperature_c)};
@@ -540,20 +577,25 @@ std::vector<Section> make_sections() {
   th.name = "material.thermal";
   th.fields = {
       number("density_kg_per_m3", unit("kg/m³"), kPositive)
+          .label("work-material density")
           .required()
           .member(thermal, &ThermalProperties::density_kg_per_m3),
       number("specific_heat_j_per_kg_k", unit("J/(kg·K)"), kPositive)
+          .label("specific heat")
           .required()
           .meaning("S0")
           .member(thermal, &ThermalProperties::specific_heat_j_per_kg_k),
       number("specific_heat_slope_j_per_kg_k2", unit("J/(kg·K²)"), kAny)
+          .label("specific-heat slope")
           .meaning("S1; S(T) > 0 from Tr to Tm")
           .member(thermal, &ThermalProperties::specific_heat_slope_j_per_kg_k2),
       number("conductivity_w_per_m_k", unit("W/(m·K)"), kPositive)
+          .label("thermal conductivity")
           .required()
           .meaning("K0")
           .member(thermal, &ThermalProperties::conductivity_w_per_m_k),
       number("conductivity_slope_w_per_m_k2", unit("W/(m·K²)"), kAny)
+          .label("conductivity slope")
           .meaning("K1; K(T) > 0 from Tr to Tm")
           .member(thermal, &ThermalProperties::conductivity_slope_w_per_m_k2)};
   th.count = if_present(&Case::material);
@@ -564,17 +606,25 @@ std::vector<Section> make_sections() {
   ox.name = "oxley";
   ox.fields = {
       number("c0_min", kNone, kPositive)
+          .label("smallest strain-rate constant C0")
           .meaning("less than `c0_max`: range of the strain-rate constant C0")
           .member(oxley, &OxleyOptions::c0_min),
-      number("c0_max", kNone, kPositive).member(oxley, &OxleyOptions::c0_max),
+      number("c0_max", kNone, kPositive)
+          .label("largest strain-rate constant C0")
+          .member(oxley, &OxleyOptions::c0_max),
       number("delta_min", kNone, open(0.0, 1.0))
+          .label("smallest δ")
           .meaning("less than `delta_max`: range of δ")
           .member(oxley, &OxleyOptions::delta_min),
-      number("delta_max", kNone, open(0.0, 1.0)).member(oxley, &OxleyOptions::delta_max),
+      number("delta_max", kNone, open(0.0, 1.0))
+          .label("largest δ")
+          .member(oxley, &OxleyOptions::delta_max),
       number("eta", kNone, open_closed(0.0, 1.0))
+          .label("shear-plane temperature factor η")
           .meaning("shear-plane temperature factor η")
           .member(oxley, &OxleyOptions::eta),
       number("psi", kNone, open_closed(0.0, 1.0))
+          .label("interface temperature factor ψ")
           .meaning("interface temperature factor ψ")
           .member(oxley, &OxleyOptions::psi)};
   ox.count = [](const Case& c) -> std::size_t { return c.material ? 1 : 0; };
@@ -584,9 +634,16 @@ std::vector<Section> make_sections() {
   Section tl;
   tl.name = "tool";
   tl.fields = {
-      integer("teeth", 1, 200).required().member(tool, &ToolSection::teeth),
-      number("diameter_mm", kMm, kPositive).required().member(tool, &ToolSection::diameter_m),
+      integer("teeth", 1, 200)
+          .label("number of teeth")
+          .required()
+          .member(tool, &ToolSection::teeth),
+      number("diameter_mm", kMm, kPositive)
+          .label("cutter diameter")
+          .required()
+          .member(tool, &ToolSection::diameter_m),
       number("helix_deg", kDeg, closed_open(0.0, 90.0))
+          .label("helix angle")
           .meaning("with a helix the stability methods cut the flute into axial slices "
                    "(docs/models/milling-stability.md)")
           .member(tool, &ToolSection::helix_rad),
@@ -626,6 +683,7 @@ std::vector<Section> make_sections() {
   op.name = "operation";
   op.fields = {
       number("radial_immersion", unit("– (a_e/D)"), open_closed(0.0, 1.0))
+          .label("radial immersion a_e/D")
           .member(operation, &OperationSection::radial_immersion),
       choice("direction", {"down", "up"})
           .access([](const Case& c, std::size_t) -> std::optional<Value> {
@@ -638,14 +696,17 @@ std::vector<Section> make_sections() {
                     return {};
                   }),
       number("feed_per_tooth_mm", kMm, kPositive)
+          .label("feed per tooth")
           .deflt("required by `cutdyn simulate`")
           .member(operation, &OperationSection::feed_per_tooth_m),
       number("entry_deg", kDeg, closed(0.0, 180.0))
+          .label("entry angle")
           .deflt("from the immersion")
           .meaning("the engagement window itself (angles clockwise from +y), instead of "
                    "`radial_immersion` and `direction`; give both, entry < exit")
           .member(operation, &OperationSection::entry_rad),
       number("exit_deg", kDeg, closed(0.0, 180.0))
+          .label("exit angle")
           .deflt("from the immersion")
           .meaning("greater than `entry_deg`")
           .member(operation, &OperationSection::exit_rad)};
@@ -657,23 +718,29 @@ std::vector<Section> make_sections() {
   fl.name = "force_law";
   fl.fields = {
       number("c_n_per_mm", kNPerMm, kNonNegative)
+          .label("cutting stiffness c")
           .required()
           .meaning("cutting stiffness c of the engaged flute: P = c·U")
           .member(force_law, &ForceLawSection::c_n_per_m),
       number("t2_s", unit("s"), kNonNegative)
+          .label("chip-formation time constant T2")
           .meaning("chip-formation time constant T2 (T2·dU/dt + U = X)")
           .member(force_law, &ForceLawSection::t2_s),
       number("p0_n", unit("N"), kNonNegative)
+          .label("flank contact force P0")
           .meaning("flank contact force P0 (F = P0·e^(−X/T1))")
           .member(force_law, &ForceLawSection::p0_n),
       number("t1_mm", kMm, kPositive)
+          .label("flank contact length T1")
           .deflt("1000 (none)")
           .meaning("T1")
           .member(force_law, &ForceLawSection::t1_m),
       number("phi_rez_deg", kDeg, closed(-90.0, 90.0))
+          .label("cutting-force angle φrez")
           .meaning("cutting force from the tangent (towards the centre)")
           .member(force_law, &ForceLawSection::phi_rez_rad),
       number("phi_skv_deg", kDeg, closed(-90.0, 90.0))
+          .label("contact-force angle φskv")
           .meaning("contact force from the tangent")
           .member(force_law, &ForceLawSection::phi_skv_rad)};
   fl.count = if_present(&Case::force_law);
@@ -729,28 +796,34 @@ std::vector<Section> make_sections() {
                     return {};
                   }),
       number("lead_mm", kMm, kPositive)
+          .label("ball-screw lead")
           .required_if([](const Case& c, std::size_t i) { return !is_lever(c, i); })
           .echo_if([](const Case& c, std::size_t i) { return !is_lever(c, i); })
           .deflt("required for a ball screw")
           .member(transmission, &Transmission::lead_m),
       number("efficiency", kNone, open_closed(0.0, 1.0))
+          .label("transmission efficiency")
           .echo_if([](const Case& c, std::size_t i) { return !is_lever(c, i); })
           .member(transmission, &Transmission::efficiency),
       number("gear_ratio", kNone, kPositive)
+          .label("gear ratio")
           .echo_if([](const Case& c, std::size_t i) { return !is_lever(c, i); })
           .meaning("motor speed / screw speed")
           .member(transmission, &Transmission::gear_ratio),
       number("output_diameter_mm", kMm, kPositive)
+          .label("lever output diameter")
           .required_if(is_lever)
           .echo_if(is_lever)
           .deflt("required for a lever")
           .meaning("d of eq. 12")
           .member(transmission, &Transmission::output_diameter_m),
       number("ratio", kNone, kPositive)
+          .label("lever ratio iΣ")
           .echo_if(is_lever)
           .meaning("iΣ of eq. 12")
           .member(transmission, &Transmission::ratio),
       number("idle_torque_nm", unit("N·m"), kAny)
+          .label("idle torque")
           .meaning("Mc0")
           .member(transmission, &Transmission::idle_torque_nm),
       choice("model", {"static", "dynamic"})
@@ -768,41 +841,49 @@ std::vector<Section> make_sections() {
       number("stiffness_nm_s_per_rad", unit("N·m·s/rad"),
              {-kInf, true, kInf, true, true,
               "must not be 0 (|β|, the slope of the characteristic)"})
+          .label("drive stiffness |β|")
           .required_if([](const Case& c, std::size_t i) { return !is_dynamic(c, i); })
           .echo_if([](const Case& c, std::size_t i) { return !is_dynamic(c, i); })
           .deflt("required for static")
           .meaning("β (its magnitude is used)")
           .member(drive, &FeedDrive::stiffness_nm_s_per_rad),
       number("inertia_kg_m2", unit("kg·m²"), kPositive)
+          .label("drive inertia")
           .required_if(is_dynamic)
           .echo_if(is_dynamic)
           .deflt("required for dynamic")
           .meaning("motor + load at the motor")
           .member(drive, &FeedDrive::inertia_kg_m2),
       number("viscous_nm_s_per_rad", unit("N·m·s/rad"), kNonNegative)
+          .label("viscous friction")
           .echo_if(is_dynamic)
           .member(drive, &FeedDrive::viscous_nm_s_per_rad),
       number("kp_nm_s_per_rad", unit("N·m·s/rad"), kPositive)
+          .label("speed-loop gain Kp")
           .required_if(is_dynamic)
           .echo_if(is_dynamic)
           .deflt("required for dynamic")
           .meaning("speed-loop gain")
           .member(drive, &FeedDrive::kp_nm_s_per_rad),
       number("ki_nm_per_rad", unit("N·m/rad"), kNonNegative)
+          .label("speed-loop gain Ki")
           .required_if(is_dynamic)
           .echo_if(is_dynamic)
           .deflt("required for dynamic")
           .meaning("speed-loop gain")
           .member(drive, &FeedDrive::ki_nm_per_rad),
       number("torque_limit_nm", unit("N·m"), kNonNegative)
+          .label("torque limit")
           .echo_if(is_dynamic)
           .deflt("0 (none)")
           .member(drive, &FeedDrive::torque_limit_nm),
       integer("pole_pairs", 1, 100)
+          .label("motor pole pairs")
           .required_if(has_motor)
           .deflt("with the motor")
           .member(motor, &PmsmMotor::pole_pairs, kNeedsMotor),
       number("torque_constant_nm_per_a", unit("N·m/A"), kPositive)
+          .label("motor torque constant")
           .required_if(has_motor)
           .deflt("with the motor")
           .meaning("in `current_measure`'s measure")
@@ -818,6 +899,7 @@ std::vector<Section> make_sections() {
                     return {};
                   }),
       number("current_noise_a", unit("A"), kNonNegative)
+          .label("current noise σ")
           .meaning("σ of white noise per phase")
           .member(motor, &PmsmMotor::noise_a, kNeedsMotor),
       Row("current_offset_a", Type::kNumbers, unit("A"))
@@ -838,6 +920,7 @@ std::vector<Section> make_sections() {
                     return {};
                   }),
       integer("seed", 0, 2147483647)
+          .label("noise seed")
           .meaning("with the motor; the seed of the current noise. Each axis draws its own "
                    "stream of it (mixed with its index in `[[drives]]`), so axes are "
                    "independent even with the same seed; `cutdyn drive --seed N` overrides it "
@@ -851,15 +934,19 @@ std::vector<Section> make_sections() {
   vib.name = "vibration";
   vib.fields = {
       number("frequency_hz", unit("Hz"), kPositive)
+          .label("vibration frequency")
           .required()
           .member(vibration, &VibrationSection::frequency_hz),
       number("amplitude_um", kUm, kPositive)
+          .label("vibration amplitude")
           .deflt("required unless `duty_cycle` is given")
           .member(vibration, &VibrationSection::amplitude_m),
       number("workpiece_diameter_mm", kMm, kPositive)
+          .label("workpiece diameter")
           .meaning("the duty cycle then follows from the cutting speed at each spindle speed")
           .member(vibration, &VibrationSection::workpiece_diameter_m),
       number("duty_cycle", kNone, open_closed(0.0, 1.0))
+          .label("duty cycle")
           .meaning("a fixed duty cycle r")
           .member(vibration, &VibrationSection::duty_cycle)};
   vib.count = if_present(&Case::vibration);
@@ -869,12 +956,18 @@ std::vector<Section> make_sections() {
   Section lb;
   lb.name = "lobes";
   lb.fields = {
-      number("rpm_min", unit("rpm"), kPositive).member(lobes, &LobesSection::rpm_min),
+      number("rpm_min", unit("rpm"), kPositive)
+          .label("lowest spindle speed")
+          .member(lobes, &LobesSection::rpm_min),
       number("rpm_max", unit("rpm"), kPositive)
+          .label("highest spindle speed")
           .meaning("greater than `rpm_min`")
           .member(lobes, &LobesSection::rpm_max),
-      integer("rpm_steps", 2, 100000).member(lobes, &LobesSection::rpm_steps),
+      integer("rpm_steps", 2, 100000)
+          .label("spindle speeds")
+          .member(lobes, &LobesSection::rpm_steps),
       number("depth_max_mm", kMm, open_closed(0.0, 10000.0))
+          .label("depth limit")
           .member(lobes, &LobesSection::depth_max_m),
       choice("method", {"auto", "zero-order", "closed-form", "multi-frequency",
                         "full-discretization", "full-discretization-dense"})
@@ -891,11 +984,13 @@ std::vector<Section> make_sections() {
                     return {};
                   }),
       integer("harmonics", 0, 50)
+          .label("least harmonics kept")
           .meaning("multi-frequency: the least number of harmonics kept each side (more are "
                    "used until the window covers every mode and the contact pulse; "
                    "docs/models/milling-stability.md)")
           .member(lobes, &LobesSection::harmonics),
       integer("steps_per_period", 0, 100000)
+          .label("steps per period")
           .meaning("full discretization, 0 = automatic")
           .member(lobes, &LobesSection::steps_per_period),
       boolean("refine")
@@ -910,19 +1005,27 @@ std::vector<Section> make_sections() {
   sim.name = "simulate";
   sim.process_column = true;
   sim.fields = {
-      number("rpm", unit("rpm"), kPositive).member(simulate, &SimulateSection::rpm),
-      number("depth_mm", kMm, kPositive).member(simulate, &SimulateSection::depth_m),
+      number("rpm", unit("rpm"), kPositive)
+          .label("spindle speed")
+          .member(simulate, &SimulateSection::rpm),
+      number("depth_mm", kMm, kPositive)
+          .label("depth of cut")
+          .member(simulate, &SimulateSection::depth_m),
       number("duration_s", unit("s"), open_closed(0.0, 1000.0))
+          .label("simulated time")
           .uses(Uses::kTurning)
           .member(simulate, &SimulateSection::duration_s),
       number("initial_displacement_um", kUm, kPositive)
+          .label("initial displacement")
           .uses(Uses::kTurning)
           .member(simulate, &SimulateSection::initial_displacement_m),
       number("revolutions", kNone, closed(1.0, 1e6))
+          .label("revolutions simulated")
           .uses(Uses::kMilling)
           .meaning("`--duration-s` sets it from the speed")
           .member(simulate, &SimulateSection::revolutions),
       number("summary_revolutions", kNone, kPositive)
+          .label("revolutions summarised")
           .uses(Uses::kMilling)
           .meaning("at most `revolutions`; the last ones, for the summary (ΔP, means, chatter "
                    "indicator)")
@@ -932,10 +1035,12 @@ std::vector<Section> make_sections() {
           .meaning("false: the chip comes from the feed alone (force studies)")
           .member(simulate, &SimulateSection::regenerative),
       integer("steps_per_tooth", 8, 100000)
+          .label("steps per tooth")
           .uses(Uses::kMilling)
           .meaning("raised with regeneration to 64 steps per shortest mode period")
           .member(simulate, &SimulateSection::steps_per_tooth),
       integer("slices", 0, 10000)
+          .label("axial slices")
           .uses(Uses::kMilling)
           .meaning("axial slices of a helical flute, 0 = automatic (one angle step of lag each)")
           .member(simulate, &SimulateSection::slices),
@@ -953,14 +1058,17 @@ std::vector<Section> make_sections() {
   bo.plan = true;
   bo.fields = {
       number("diameter_mm", kMm, kPositive)
+          .label("bore diameter d")
           .required()
           .meaning("d, the machined bore")
           .member(bore, &BoreMillingCase::bore_diameter_m),
       number("length_mm", kMm, kPositive)
+          .label("bore length L")
           .required()
           .meaning("L")
           .member(bore, &BoreMillingCase::length_m),
       number("allowance_mm", kMm, kPositive)
+          .label("allowance t")
           .required()
           .meaning("less than the bore's radius; t, radial")
           .member(bore, &BoreMillingCase::allowance_m)};
@@ -973,21 +1081,29 @@ std::vector<Section> make_sections() {
   cu.plan = true;
   cu.fields = {
       number("diameter_mm", kMm, kPositive)
+          .label("cutter diameter D")
           .required()
           .meaning("less than `bore.diameter_mm`; D")
           .member(bore, &BoreMillingCase::cutter_diameter_m),
-      integer("teeth", 1, 500).required().meaning("z").member(bore, &BoreMillingCase::teeth),
+      integer("teeth", 1, 500)
+          .label("number of teeth z")
+          .required()
+          .meaning("z")
+          .member(bore, &BoreMillingCase::teeth),
       number("offset_mm", kMm, kAny)
+          .label("offset h")
           .required()
           .meaning("h; −h is the mirror image of +h; the cutter must fit (D/2 + \\|h\\| < d/2); "
                    "at h* = (2dt − t²)/(8D) the edge sets share the allowance evenly "
                    "(docs/models/bore-milling.md)")
           .member(bore, &BoreMillingCase::offset_m),
       number("lead_angle_deg", kDeg, open_closed(0.0, 90.0))
+          .label("lead angle φ")
           .required()
           .meaning("φ")
           .member(bore, &BoreMillingCase::lead_angle_rad),
       number("inclination_deg", kDeg, open(-90.0, 90.0))
+          .label("inclination λ")
           .meaning("λ")
           .member(bore, &BoreMillingCase::inclination_rad)};
   cu.count = if_present(&Case::bore);
@@ -999,20 +1115,24 @@ std::vector<Section> make_sections() {
   pr.plan = true;
   pr.fields = {
       number("cutting_speed_m_per_min", kPlanMPerMin, kPositive)
+          .label("cutting speed v")
           .required()
           .meaning("v")
           .member(bore, &BoreMillingCase::cutting_speed_m_per_s),
       number("mean_chip_thickness_mm", kMm, kPositive)
+          .label("mean chip thickness a_cp")
           .required()
           .meaning("a_cp")
           .member(bore, &BoreMillingCase::mean_chip_thickness_m),
       number("accuracy_coefficient", kNone,
              {kAccuracyCoefficientMin, false, kAccuracyCoefficientMax, false, false,
               "must be from 0.005 (finishing) to 0.1 (roughing), the source's range of k"})
+          .label("accuracy coefficient k")
           .required()
           .meaning("k: Δ1 ≤ k·t (the source's range: 0.1 roughing … 0.005 finishing)")
           .member(bore, &BoreMillingCase::accuracy_coefficient),
       number("axial_feed_mm", kMm, kPositive)
+          .label("axial feed S0")
           .deflt("the largest")
           .meaning("a fixed S0")
           .member(whole, &Case::axial_feed_m)};
@@ -1025,28 +1145,35 @@ std::vector<Section> make_sections() {
   li.plan = true;
   li.fields = {
       number("offset_min_mm", kMm, kAny)
+          .label("smallest offset h")
           .required()
           .meaning("the range of h for the optimiser, taken as \\|h\\| and kept below "
                    "(dt − t²)/(2D), where both edge sets cut")
           .member(limits, &BoreMillingLimits::offset_min_m),
       number("offset_max_mm", kMm, kAny)
+          .label("largest offset h")
           .required()
           .meaning("at least `offset_min_mm`")
           .member(limits, &BoreMillingLimits::offset_max_m),
       number("cutting_speed_max_m_per_min", kPlanMPerMin, kPositive)
+          .label("highest cutting speed")
           .required()
           .member(limits, &BoreMillingLimits::cutting_speed_max_m_per_s),
       number("cutter_rpm_max", kRpmAsRevPerS, kPositive)
+          .label("highest cutter speed")
           .required()
           .member(limits, &BoreMillingLimits::cutter_rev_per_s_max),
       number("workpiece_rpm_max", kRpmAsRevPerS, kPositive)
+          .label("highest workpiece speed")
           .required()
           .member(limits, &BoreMillingLimits::workpiece_rev_per_s_max),
       number("faceting_max_mm", kMm, kPositive)
+          .label("largest faceting Δ2")
           .required()
           .meaning("Δ2")
           .member(limits, &BoreMillingLimits::faceting_max_m),
       number("max_chip_thickness_mm", kMm, kPositive)
+          .label("largest chip thickness a_max")
           .required()
           .meaning("a_max")
           .member(limits, &BoreMillingLimits::max_chip_thickness_m)};
@@ -1145,6 +1272,28 @@ const Section* find_section(std::string_view name, bool plan) {
   for (const Section& s : case_sections())
     if (s.name == name && s.plan == plan) return &s;
   return nullptr;
+}
+
+std::string key_axis_label(const Case& c, std::string_view key) {
+  const std::size_t dot = key.rfind('.');
+  const std::string_view name = dot == std::string_view::npos ? key : key.substr(dot + 1);
+  std::string_view table = dot == std::string_view::npos ? std::string_view{} : key.substr(0, dot);
+  std::string_view element;  // "modes[1]" for an array section
+  if (!table.empty() && table.back() == ']' && table.find('[') != std::string_view::npos) {
+    element = table;
+    table = table.substr(0, table.find('['));
+  }
+  const Section* section = find_section(table, c.process == Process::kBoreMilling);
+  const Field* field = section ? section->find(name) : nullptr;
+  if (section && c.process != Process::kBoreMilling)
+    if (const Alias* a = section->alias(name, c.process)) field = section->find(a->canonical);
+  if (field == nullptr) return std::string(key);
+  const std::string_view unit = field->unit.text;
+  const bool ratio = unit.empty() || unit.rfind("–", 0) == 0;  // "–", "– (a_e/D)"
+  std::string text = field->label.empty() ? std::string(key) : std::string(field->label);
+  if (!field->label.empty() && !element.empty()) text += ", " + std::string(element);
+  if (!ratio) text += " (" + std::string(unit) + ")";
+  return text;
 }
 
 std::string key_table_markdown(const Section& s) {

@@ -81,6 +81,9 @@ struct Field {
   // Case when empty), the process cell (generated from `uses` when empty), and the meaning
   // after the range in the rule cell.
   std::string_view default_doc, process_doc, meaning;
+  // What a number key is, in a few words, for a figure's axis ("spindle speed"); the axis
+  // adds the unit (key_axis_label).
+  std::string_view label;
 
   bool numeric() const { return type == Type::kNumber || type == Type::kInteger; }
   bool used_in(Process process) const;
@@ -128,6 +131,13 @@ std::string number_text(double value);
 double tidy_number(double value);
 /// The value as the user would write it: "30", "0.05", "true", "\"down\"", "[120, 240]".
 std::string value_text(const Field& field, const Value& value);
+
+/// The axis label of a number key (a TOML path as `with_value` takes it) in the case's
+/// tables: its label in words and its unit, "spindle speed (rpm)", "damping ratio ζ" (no
+/// unit for a ratio), with the element of an array section, "natural frequency, modes[1]
+/// (Hz)"; an alias takes its field's label. The key itself, with its unit when known, when
+/// the key has no label or is not in the tables.
+std::string key_axis_label(const Case& c, std::string_view key);
 
 /// The markdown key table of a section, as in docs/case-files.md.
 std::string key_table_markdown(const Section& section);

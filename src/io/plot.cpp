@@ -21,6 +21,7 @@
 #include <system_error>
 #include <vector>
 
+#include "case_fields.hpp"
 #include "cutdyn/core/error.hpp"
 
 namespace cutdyn::io {
@@ -30,21 +31,28 @@ namespace {
 
 struct FigureFormat {
   std::string_view extension;
-  std::string_view terminal;  // the gnuplot `set terminal` arguments
+  std::string_view terminal;  // the gnuplot terminal
+  double width, height;       // of a figure of one panel
+  std::string_view unit;      // of the size: "" (pixels) or "in"
+  std::string_view options;   // the `set terminal` arguments after the size
 };
 
 // Sizes chosen for a readable figure on screen (svg, png) and in a document (pdf).
 constexpr FigureFormat kFormats[] = {
-    {".svg", "svg size 900,600 dynamic enhanced font 'Sans,12' background rgb 'white'"},
-    {".png", "pngcairo size 1200,800 enhanced font 'Sans,12'"},
-    {".pdf", "pdfcairo size 7in,4.5in enhanced font 'Sans,10'"},
+    {".svg", "svg", 900, 600, "", "dynamic enhanced font 'Sans,12' background rgb 'white'"},
+    {".png", "pngcairo", 1200, 800, "", "enhanced font 'Sans,12'"},
+    {".pdf", "pdfcairo", 7, 4.5, "in", "enhanced font 'Sans,10'"},
 };
+
+// Each panel after the first adds this share of a one-panel figure's height.
+constexpr double kPanelHeight = 0.6;
 
 // Okabe-Ito colours: distinct for colour-blind readers and in greyscale print.
 constexpr std::string_view kPalette[] = {"#0072B2", "#D55E00", "#009E73", "#CC79A7",
                                          "#E69F00", "#56B4E9", "#000000"};
 
-constexpr std::string_view kStyles[] = {"lines", "points", "linespoints", "stable-region"};
+constexpr std::string_view kStyles[] = {"lines",         "points", "linespoints",
+                                        "stable-region", "dashed", "marker"};
 
 const FigureFormat* find_format(const fs::path& figure) {
   std::string extension = figure.extension().string();
@@ -54,6 +62,15 @@ const FigureFormat* find_format(const fs::path& figure) {
     if (format.extension == extension) return &format;
   }
   return nullptr;
+}
+
+// The `set terminal` arguments for a figure of `panels` panels.
+std::string terminal(const FigureFormat& format, std::size_t panels) {
+  const double height =
+      format.height * (1.0 + kPanelHeight * static_cast<double>(panels > 0 ? panels - 1 : 0));
+  const std::string unit(format.unit);
+  return std::string(format.terminal) + " size " + format_number(format.width) + unit + "," +
+         format_number(std::round(height * 10.0) / 10.0) + unit + " " + std::string(format.options);
 }
 
 // A gnuplot double-quoted string holding `text` literally. Backquotes must be escaped:
@@ -101,7 +118,7 @@ std::string comment(std::string_view text) {
 
 std::string data_value(double value) { return std::isfinite(value) ? format_number(value) : "NaN"; }
 
-void check_spec(const PlotSpec& spec) {
+void check_panel(const PlotSpec& spec) {
   if (spec.series.empty()) throw std::logic_error("write_plot: no series to plot");
   for (const PlotSeries& series : spec.series) {
     if (series.x.size() != series.y.size()) {
@@ -109,10 +126,21 @@ void check_spec(const PlotSpec& spec) {
                              std::to_string(series.x.size()) + " x values but " +
                              std::to_string(series.y.size()) + " y values");
     }
-    if (std::find(std::begin(kStyles), std::end(kStyles), series.style) == std::end(kStyles)) {
-      throw std::logic_error("write_plot: series \"" + series.title + "\" has unknown style \"" +
-                             series.style + "\" (use lines, points, linespoints or stable-region)");
+    const bool hex_colour = series.color.size() == 7 && series.color[0] == '#' &&
+                            std::all_of(series.color.begin() + 1, series.color.end(),
+                                        [](unsigned char c) { return std::isxdigit(c) != 0; });
+    if (!series.color.empty() && !hex_colour) {
+      throw std::logic_error("write_plot: series \"" + series.title + "\" has colour \"" +
+                             series.color + "\" (use #rrggbb)");
     }
+    if (std::find(std::begin(kStyles), std::end(kStyles), series.style) == std::end(kStyles)) {
+      throw std::logic_error(
+          "write_plot: series \"" + series.title + "\" has unknown style \"" + series.style +
+          "\" (use lines, points, linespoints, stable-region, dashed or marker)");
+    }
+  }
+  for (const PlotMark& mark : spec.x_marks) {
+    if (!std::isfinite(mark.x)) throw std::logic_error("write_plot: non-finite x mark");
   }
   for (const std::optional<double>& bound : {spec.y_min, spec.y_max}) {
     if (bound && !std::isfinite(*bound)) throw std::logic_error("write_plot: non-finite y range");
@@ -123,6 +151,11 @@ void check_spec(const PlotSpec& spec) {
   if (spec.y_log && spec.y_min && !(*spec.y_min > 0.0)) {
     throw std::logic_error("write_plot: a logarithmic y axis needs y_min > 0");
   }
+}
+
+void check_figure(const PlotFigure& figure) {
+  if (figure.panels.empty()) throw std::logic_error("write_plot: no panel to draw");
+  for (const PlotSpec& panel : figure.panels) check_panel(panel);
 }
 
 bool has_finite_point(const PlotSpec& spec) {
@@ -138,46 +171,53 @@ std::string bound(const std::optional<double>& value) {
   return value ? format_number(*value) : std::string("*");
 }
 
-void write_data(std::ostream& out, const PlotSpec& spec, const std::string& figure_name,
+void write_data(std::ostream& out, const PlotFigure& figure, const std::string& figure_name,
                 const std::string& script_name) {
-  if (!spec.title.empty()) out << "# " << comment(spec.title) << '\n';
+  if (!figure.title.empty()) out << "# " << comment(figure.title) << '\n';
   out << "# Data for " << comment(figure_name) << ", drawn by " << comment(script_name)
       << ": one block per series\n"
       << "# (gnuplot `index 0`, `index 1`, ...), blocks separated by two blank lines;"
          " NaN marks a missing value.\n";
-  const std::string x_name = spec.x_label.empty() ? "x" : comment(spec.x_label);
-  const std::string y_name = spec.y_label.empty() ? "y" : comment(spec.y_label);
-  for (std::size_t s = 0; s < spec.series.size(); ++s) {
-    const PlotSeries& series = spec.series[s];
-    if (s > 0) out << "\n\n";
-    out << "# " << (series.title.empty() ? "series " + std::to_string(s) : comment(series.title))
-        << '\n';
-    out << "# columns: 1 = " << x_name << ", 2 = " << y_name << '\n';
-    // An empty block would vanish between the separators and shift every later index.
-    if (series.x.empty()) out << "NaN NaN\n";
-    for (std::size_t i = 0; i < series.x.size(); ++i) {
-      out << data_value(series.x[i]) << ' ' << data_value(series.y[i]) << '\n';
+  const bool panels = figure.panels.size() > 1;
+  std::size_t block = 0;
+  for (std::size_t p = 0; p < figure.panels.size(); ++p) {
+    const PlotSpec& spec = figure.panels[p];
+    const std::string x_name = spec.x_label.empty() ? "x" : comment(spec.x_label);
+    for (std::size_t s = 0; s < spec.series.size(); ++s, ++block) {
+      const PlotSeries& series = spec.series[s];
+      if (block > 0) out << "\n\n";
+      if (panels && s == 0) {
+        out << "# panel " << p + 1 << " of " << figure.panels.size()
+            << (spec.title.empty() ? std::string() : ": " + comment(spec.title)) << '\n';
+      }
+      if (s == 0) {
+        for (const PlotMark& mark : spec.x_marks)
+          out << "# mark at " << x_name << " = " << data_value(mark.x) << ": "
+              << comment(mark.label) << '\n';
+      }
+      const std::string& y_label = series.y2 ? spec.y2_label : spec.y_label;
+      const std::string y_name = y_label.empty() ? "y" : comment(y_label);
+      out << "# " << (series.title.empty() ? "series " + std::to_string(s) : comment(series.title))
+          << '\n';
+      out << "# columns: 1 = " << x_name << ", 2 = " << y_name << '\n';
+      // An empty block would vanish between the separators and shift every later index.
+      if (series.x.empty()) out << "NaN NaN\n";
+      for (std::size_t i = 0; i < series.x.size(); ++i) {
+        out << data_value(series.x[i]) << ' ' << data_value(series.y[i]) << '\n';
+      }
     }
   }
 }
 
-void write_script(std::ostream& out, const PlotSpec& spec, const FigureFormat& format,
-                  const std::string& figure_name, const std::string& data_name,
-                  const std::string& script_name) {
-  out << "# " << (spec.title.empty() ? std::string("cutdyn figure") : comment(spec.title))
-      << "\n#\n"
-      << "# Written by cutdyn. Draws " << comment(figure_name) << " from " << comment(data_name)
-      << " (one block per series, read\n"
-      << "# with `index 0`, `index 1`, ...). Restyle as you like, then run `gnuplot "
-      << comment(script_name) << "` in this folder.\n\n";
-
-  out << "set encoding utf8\n"
-      << "set terminal " << format.terminal << '\n'
-      << "set output " << quote(figure_name) << '\n'
-      << "data = " << quote(data_name) << "\n\n";
-
-  out << "# Title and axes\n"
-      << "set title " << label(spec.title) << '\n'
+// The settings and the plot command of one panel; its series are the data's blocks from
+// `first_block` on. In a figure of several panels, `reset` clears what the panel before
+// set.
+void write_panel(std::ostream& out, const PlotSpec& spec, std::size_t first_block, bool reset) {
+  if (reset) {
+    out << "unset arrow\nunset label\nunset logscale\nunset y2tics\nunset y2label\n"
+        << "unset mytics\n";
+  }
+  out << "set title " << label(spec.title) << '\n'
       << "set xlabel " << label(spec.x_label) << '\n'
       << "set ylabel " << label(spec.y_label) << '\n';
   const bool any_data = has_finite_point(spec);
@@ -205,16 +245,54 @@ void write_script(std::ostream& out, const PlotSpec& spec, const FigureFormat& f
       std::any_of(spec.series.begin(), spec.series.end(), [](const PlotSeries& p) { return p.y2; });
   if (right_axis) {
     out << "set y2label " << label(spec.y2_label) << '\n' << "set y2tics\n";
-    if (!any_data) out << "set y2range [0:1]\n";
+    if (any_data) {
+      out << "set y2range [*:*]\n";
+    } else {
+      out << "set y2range [0:1]\n";
+    }
+  }
+  if (any_data && std::any_of(spec.series.begin(), spec.series.end(),
+                              [](const PlotSeries& p) { return p.style == "marker"; })) {
+    out << "set offsets graph 0.02, graph 0.02, 0, 0  # room for a marker at either end\n";
+  } else if (reset) {
+    out << "set offsets 0, 0, 0, 0\n";
   }
   out << "set tics nomirror out\n"
       << "set border " << (right_axis ? 11 : 3) << " linewidth 1.2\n"
-      << "set key top left reverse Left opaque box linecolor rgb '#bbbbbb' samplen 3 spacing "
-         "1.3\n\n";
+      << "# The key below the axes, never over the data\n"
+      << "set key outside below center horizontal reverse Left nobox samplen 3 spacing 1.2 "
+         "width 2\n";
+  if (any_data && !spec.x_marks.empty()) {
+    // A label beside its line, on the side with more room.
+    double lo = INFINITY, hi = -INFINITY;
+    for (const PlotSeries& series : spec.series) {
+      for (std::size_t i = 0; i < series.x.size(); ++i) {
+        if (!std::isfinite(series.x[i]) || !std::isfinite(series.y[i])) continue;
+        lo = std::min(lo, series.x[i]);
+        hi = std::max(hi, series.x[i]);
+      }
+    }
+    out << "# Marks: vertical lines with their labels (on a white box, readable over data)\n"
+        << "set style textbox opaque noborder\n";
+    for (const PlotMark& mark : spec.x_marks) {
+      const std::string x = format_number(mark.x);
+      out << "set arrow from first " << x << ", graph 0 to first " << x
+          << ", graph 1 nohead dashtype 2 linecolor rgb '#444444' linewidth 1.5 front\n";
+      if (!mark.label.empty()) {
+        const bool right_half = mark.x > 0.5 * (lo + hi);
+        out << "set label " << label(mark.label) << " at first " << x
+            << ", graph 1 offset character " << (right_half ? "-0.5" : "0.5") << ", character -1 "
+            << (right_half ? "right" : "left") << " front boxed textcolor rgb '#222222'\n";
+      }
+    }
+  }
+  out << '\n';
 
   out << "# One colour per series\n";
   for (std::size_t s = 0; s < spec.series.size(); ++s) {
-    out << "set style line " << s + 1 << " linecolor rgb '" << kPalette[s % std::size(kPalette)]
+    const std::string_view colour =
+        spec.series[s].color.empty() ? kPalette[s % std::size(kPalette)] : spec.series[s].color;
+    out << "set style line " << s + 1 << " linecolor rgb '" << colour
         << "' linewidth 2 pointtype 7 pointsize 0.8\n";
   }
   out << "# Stable regions: a light, transparent fill beneath the boundary line\n"
@@ -223,8 +301,8 @@ void write_script(std::ostream& out, const PlotSpec& spec, const FigureFormat& f
   std::vector<std::string> items;
   for (std::size_t s = 0; s < spec.series.size(); ++s) {
     const PlotSeries& series = spec.series[s];
-    const std::string source =
-        "data index " + std::to_string(s) + " using 1:2" + (series.y2 ? " axes x1y2" : "");
+    const std::string source = "data index " + std::to_string(first_block + s) + " using 1:2" +
+                               (series.y2 ? " axes x1y2" : "");
     const std::string line_style = " linestyle " + std::to_string(s + 1);
     const std::string title = series.title.empty() ? " notitle" : " title " + label(series.title);
     if (series.style == "stable-region") {
@@ -233,6 +311,10 @@ void write_script(std::ostream& out, const PlotSpec& spec, const FigureFormat& f
       items.push_back(source + " with filledcurves " + (spec.y_log ? "x1" : "y1=0") + line_style +
                       title);
       items.push_back(source + " with lines" + line_style + " notitle");
+    } else if (series.style == "dashed") {
+      items.push_back(source + " with lines" + line_style + " dashtype 2" + title);
+    } else if (series.style == "marker") {
+      items.push_back(source + " with points" + line_style + " pointtype 7 pointsize 2.2" + title);
     } else {
       items.push_back(source + " with " + series.style + line_style + title);
     }
@@ -242,7 +324,48 @@ void write_script(std::ostream& out, const PlotSpec& spec, const FigureFormat& f
     if (i > 0) out << ", \\\n     ";
     out << items[i];
   }
-  out << "\n\nunset output\n";
+  out << "\n";
+}
+
+void write_script(std::ostream& out, const PlotFigure& figure, const FigureFormat& format,
+                  const std::string& figure_name, const std::string& data_name,
+                  const std::string& script_name) {
+  out << "# " << (figure.title.empty() ? std::string("cutdyn figure") : comment(figure.title))
+      << "\n#\n"
+      << "# Written by cutdyn. Draws " << comment(figure_name) << " from " << comment(data_name)
+      << " (one block per series, read\n"
+      << "# with `index 0`, `index 1`, ...). Restyle as you like, then run `gnuplot "
+      << comment(script_name) << "` in this folder.\n\n";
+
+  out << "set encoding utf8\n"
+      << "set terminal " << terminal(format, figure.panels.size()) << '\n'
+      << "set output " << quote(figure_name) << '\n'
+      << "data = " << quote(data_name) << "\n\n";
+
+  if (figure.panels.size() == 1) {
+    out << "# Title and axes\n";
+    write_panel(out, figure.panels.front(), 0, false);
+  } else {
+    const bool right_axis =
+        std::any_of(figure.panels.begin(), figure.panels.end(), [](const PlotSpec& panel) {
+          return std::any_of(panel.series.begin(), panel.series.end(),
+                             [](const PlotSeries& p) { return p.y2; });
+        });
+    out << "# " << figure.panels.size() << " panels, top to bottom, under one title; fixed "
+        << "side margins line their axes up\n"
+        << "set multiplot layout " << figure.panels.size() << ",1 title " << label(figure.title)
+        << " font ',14'\n"
+        << "set lmargin 12\n"
+        << "set rmargin " << (right_axis ? 12 : 4) << "\n";
+    std::size_t block = 0;
+    for (std::size_t p = 0; p < figure.panels.size(); ++p) {
+      out << "\n# Panel " << p + 1 << ": " << comment(figure.panels[p].title) << '\n';
+      write_panel(out, figure.panels[p], block, p > 0);
+      block += figure.panels[p].series.size();
+    }
+    out << "unset multiplot\n";
+  }
+  out << "\nunset output\n";
 }
 
 void write_file(const fs::path& path, const fs::path& figure,
@@ -339,9 +462,50 @@ void check_figure_path(const fs::path& figure) {
   throw InvalidInput({problem}, figure.string());
 }
 
+std::string case_key_label(const Case& c, std::string_view key) {
+  return detail::key_axis_label(c, key);
+}
+
+PlotSeries envelope(const PlotSeries& series, std::size_t buckets) {
+  const std::size_t n = series.x.size();
+  if (buckets == 0 || n <= 2 * buckets || series.y.size() != n) return series;
+  PlotSeries thin = series;
+  thin.x.clear();
+  thin.y.clear();
+  const auto keep = [&](std::size_t i) {
+    thin.x.push_back(series.x[i]);
+    thin.y.push_back(series.y[i]);
+  };
+  for (std::size_t b = 0; b < buckets; ++b) {
+    const std::size_t from = b * n / buckets, to = (b + 1) * n / buckets;
+    std::optional<std::size_t> lo, hi, gap;
+    for (std::size_t i = from; i < to; ++i) {
+      const double y = series.y[i];
+      if (!std::isfinite(y) || !std::isfinite(series.x[i])) {
+        if (!gap) gap = i;
+        continue;
+      }
+      if (!lo || y < series.y[*lo]) lo = i;
+      if (!hi || y > series.y[*hi]) hi = i;
+    }
+    // The kept samples in their order: the lowest, the highest and the first gap.
+    std::vector<std::size_t> kept;
+    for (const std::optional<std::size_t>& i : {lo, hi, gap})
+      if (i) kept.push_back(*i);
+    std::sort(kept.begin(), kept.end());
+    kept.erase(std::unique(kept.begin(), kept.end()), kept.end());
+    for (std::size_t i : kept) keep(i);
+  }
+  return thin;
+}
+
 void write_plot(const PlotSpec& spec, const fs::path& figure, OutputTransaction& outputs) {
+  write_plot(PlotFigure{spec.title, {spec}}, figure, outputs);
+}
+
+void write_plot(const PlotFigure& spec, const fs::path& figure, OutputTransaction& outputs) {
   check_figure_path(figure);
-  check_spec(spec);
+  check_figure(spec);
   const FigureFormat& format = *find_format(figure);
 
   const std::optional<fs::path> gnuplot = find_program("gnuplot");
