@@ -1,4 +1,4 @@
-// Milling stability (issue 3): the Insperger–Stépán slotting lobes at full-discretization
+// Milling stability: the Insperger–Stépán slotting lobes at full-discretization
 // accuracy, as `cutdyn lobes` computes them, against the straightforward method of the
 // published MATLAB scripts — a 200 speed × 100 depth grid with the dense transition matrix's
 // eigenvalues at every point — measured in the same run. docs/benchmarks.md.

@@ -1,4 +1,5 @@
-// Milling time-domain simulation (issue 4): slice-force evaluations per second per core, and
+// Milling time-domain simulation: slice-force evaluations per second per core (the target: tens
+// of millions), and
 // the ratio against a plain loop over the same slices as textbook codes write it (angle,
 // window and trigonometry per slice and step, Euler steps for the structure), measured in
 // the same run. docs/benchmarks.md.

@@ -1,4 +1,4 @@
-// Monitor estimation (issue 5): cutting force from servo-motor currents, in samples per second
+// Monitor estimation: cutting force from servo-motor currents, in samples per second
 // per core, from memory and from CSV text, and the ratio against the straightforward way
 // (ε from a raw difference; iostream parsing and writing), measured in the same run.
 // docs/benchmarks.md.

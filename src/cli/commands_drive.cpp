@@ -1,4 +1,4 @@
-// `cutdyn drive`: the feed drives under the simulated milling load (models.md S1.7;
+// `cutdyn drive`: the feed drives under the simulated milling load ([Ermolaev2020];
 // docs/models/feed-drive.md). The job is the library's (cutdyn/app/drive.hpp); this file
 // builds the cut from the flags and renders the Report.
 #include <fmt/format.h>

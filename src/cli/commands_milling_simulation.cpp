@@ -1,5 +1,5 @@
-// `cutdyn simulate` for milling: the time-domain simulation of models.md S1
-// (docs/models/milling-simulation.md).
+// `cutdyn simulate` for milling: the time-domain simulation, force laws after
+// [Ermolaev2020] (docs/models/milling-simulation.md).
 #include <fmt/format.h>
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// `cutdyn plan`: two-edge face milling of a large bore (models.md S2;
+// `cutdyn plan`: two-edge face milling of a large bore ([Zenkin2012];
 // docs/models/bore-milling.md).
 #include <fmt/format.h>
 

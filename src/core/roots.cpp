@@ -6,7 +6,7 @@
 
 namespace cutdyn {
 
-// Brent (1973), "Algorithms for Minimization without Derivatives", ch. 4 (zero).
+// [Brent1973], "Algorithms for Minimization without Derivatives", ch. 4 (zero).
 std::optional<RootResult> brent_root(const std::function<double(double)>& f, double a, double b,
                                      double x_tol, int max_evaluations) {
   const double fa = f(a);
@@ -75,7 +75,7 @@ std::optional<RootResult> brent_root(const std::function<double(double)>& f, dou
   return RootResult{b, fb, evaluations, false};
 }
 
-// Brent (1973), ch. 5 (localmin).
+// [Brent1973, ch. 5] (localmin).
 MinimumResult brent_minimum(const std::function<double(double)>& f, double a, double b,
                             double x_tol, int max_evaluations) {
   const double golden = 0.5 * (3.0 - std::sqrt(5.0));

@@ -812,9 +812,9 @@ void read_table(Reading& r, const toml::table& root, std::string_view name, Rule
   report_unknown(r, s, *table, 0);
 }
 
-// A `cutdyn plan` case: [bore], [cutter] and the [process] table (models.md S2; product.md).
-// A [process] TABLE marks it: TOML cannot hold both it and the `process = "..."` key of the
-// dynamics cases (docs/case-files.md).
+// A `cutdyn plan` case: [bore], [cutter] and the [process] table ([Zenkin2012];
+// docs/models/bore-milling.md, keys in docs/case-files.md). A [process] TABLE marks it: TOML cannot
+// hold both it and the `process = "..."` key of the dynamics cases (docs/case-files.md).
 void read_plan(Reading& r, const toml::table& root, const Quote& quote) {
   Problems& problems = r.problems;
   Case& c = r.c;

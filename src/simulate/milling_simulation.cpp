@@ -18,7 +18,8 @@ using units::kTwoPi;
 // Unit force directions on the cutter for a tooth at angle θ (clockwise from +y): t̂ opposes
 // the tooth's motion, r̂ points to the cutter's centre; d(α) = cos α·t̂ + sin α·r̂ is the
 // direction α from the tangent, (−cos u, sin u) with u = θ − α. With a spread L (the S1 closed
-// form) it is averaged over the lags φω in [0, L] (models.md S1.3, with the 1/φN decision):
+// form) it is averaged over the lags φω in [0, L] ([Ermolaev2020] eqs. 8–9, divided by L: the
+// decision of docs/models/milling-simulation.md, "Force laws"):
 // cos u → cos u·sin L/L + sin u·(1 − cos L)/L, sin u → sin u·sin L/L − cos u·(1 − cos L)/L.
 // Evaluated from sin θ and cos θ, which the simulation tabulates per angle bin.
 class Direction2 {

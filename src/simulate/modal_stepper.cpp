@@ -9,7 +9,7 @@ ModalStepper::ModalStepper(const ModalModel& model, const std::vector<Direction>
     : step_s_(step_s) {
   const auto ss = modal_state_space(model, directions);
   const auto d = ss.A.rows(), r = ss.B.cols();
-  // [Van Loan 1978, thm. 1]: exp([[A, B, 0], [0, 0, I], [0, 0, 0]]·h) holds Φ, ∫e^(As)ds·B and
+  // [VanLoan1978, thm. 1]: exp([[A, B, 0], [0, 0, I], [0, 0, 0]]·h) holds Φ, ∫e^(As)ds·B and
   // ∫e^(A(h−s))·B·s ds; with the middle block scaled by h the last one is Γ1 directly.
   Eigen::MatrixXd aug = Eigen::MatrixXd::Zero(d + 2 * r, d + 2 * r);
   aug.topLeftCorner(d, d) = ss.A * step_s;

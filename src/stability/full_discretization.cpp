@@ -27,7 +27,7 @@ using units::kTwoPi;
 
 // Exact integrals of one step [Ding2010, eqs. 8–12]: Φ0 = e^(Ah), and the weights W0, W1
 // of the step's start and end values of a linearly interpolated forcing, from one matrix
-// exponential of the block matrix [[A, I, 0], [0, 0, I], [0, 0, 0]]·h (Van Loan 1978).
+// exponential of the block matrix [[A, I, 0], [0, 0, I], [0, 0, 0]]·h [VanLoan1978].
 struct StepMatrices {
   Eigen::MatrixXd phi0;  // d×d
   Eigen::MatrixXd w0E;   // W0·E, d×r

@@ -183,7 +183,7 @@ TEST_F(Cli, ForceReportsTheSourceTable1Values) {
 }
 
 TEST_F(Cli, ForcePredictsTheCoefficientsFromTheMaterial) {
-  // product.md's `cutdyn force` case: AISI 1045, 200 m/min, 0.15 mm, 1.6 mm, rake −7°.
+  // The example oxley-aisi1045: AISI 1045, 200 m/min, 0.15 mm, 1.6 mm, rake −7°.
   const Result r =
       cutdyn({"force", "oxley-aisi1045", "--json", path("f.json"), "--plot", path("f.png")});
   ASSERT_EQ(r.code, 0) << r.err;
@@ -261,7 +261,8 @@ TEST_F(Cli, RejectsMaterialProblems) {
                   "outside the theory's validity");
 }
 
-// One test per kind of bad input in product.md: exit 2, the key named, no output file.
+// One test per kind of bad input (a missing key, a wrong type, a value out of range, an
+// unknown key, a bad process): exit 2, the key named, no output file.
 TEST_F(Cli, RejectsMissingKey) {
   const auto file = variant("kf_n_per_mm2 = 850", "");
   expect_rejected({"lobes", file, "--out", path("o.csv")}, "cutting.kf_n_per_mm2: missing");
@@ -488,8 +489,8 @@ TEST_F(Cli, MillingSimulationOfTheS1Preset) {
 }
 
 TEST_F(Cli, MillingSweepTabulatesTheMetricOverTheRange) {
-  // force_law.t2_s = 0, 0.1, ..., 0.3 on the S1 preset: each row equals a single run of the
-  // case with that value, and the CSV has every metric.
+  // force_law.t2_s = 0, 0.1, ..., 0.3 on the ermolaev2020 preset: each row equals a single run of
+  // the case with that value, and the CSV has every metric.
   const Result r =
       cutdyn({"simulate", "ermolaev2020", "--sweep", "force_law.t2_s=0:0.1:0.3", "--json",
               path("w.json"), "--out", path("w.csv"), "--plot", path("w.png")});
@@ -636,9 +637,10 @@ TEST_F(Cli, DriveCurrentsAndSweepAndBadDrives) {
 }
 
 TEST_F(Cli, DriveSummariesAreOfTheSteadyStateAndSayWhenItIsNotReached) {
-  // The x axis as a dynamic P-only loop (the issue's case: the mean speed far below the
-  // commanded one). Steady state of J·dΩ/dt = Kp·(Ω0 − Ω) − Mc − b·Ω: Ω̄ = (Kp·Ω0 − Mc̄)/(Kp + b),
-  // so δ = (Ω0 − Ω̄)/Ω0 from the reported mean load torque (Ω0 = 2.5 rad/s).
+  // The x axis as a dynamic P-only loop (the case that once reported a static error of 0: the mean
+  // speed far below the commanded one). Steady state of J·dΩ/dt = Kp·(Ω0 − Ω) − Mc − b·Ω:
+  // Ω̄ = (Kp·Ω0 − Mc̄)/(Kp + b), so δ = (Ω0 − Ω̄)/Ω0 from the reported mean load torque
+  // (Ω0 = 2.5 rad/s).
   std::string text(*io::example_text("ermolaev2020"));
   const std::string stat = "model = \"static\"\nstiffness_nm_s_per_rad = -10000  # beta\n";
   ASSERT_NE(text.find(stat), std::string::npos);
@@ -726,8 +728,8 @@ TEST_F(Cli, DriveCurrentNoiseSeed) {
 }
 
 TEST_F(Cli, PlanReportsTheBoreMillingQuantities) {
-  // product.md's example without [limits] (no optimisation) against the library; the JSON has
-  // the keys the issue fixes.
+  // The example bore-plan without [limits] (no optimisation) against the library; the JSON has
+  // the keys of docs/models/bore-milling.md.
   std::string plain(*io::example_text("bore-plan"));
   plain.erase(plain.find("[limits]"));
   const Result r = cutdyn({"plan", write("plain.toml", plain), "--json", path("p.json")});

@@ -1,6 +1,6 @@
 // `cutdyn lobes` and `cutdyn check` tell one story: every method, every way of giving the
-// cut and every depth asked give the same critical depth at a speed (issue "no silent wrong
-// answers", items 1, 4 and 5).
+// cut and every depth asked give the same critical depth at a speed (no result may be
+// silently wrong).
 #include <gtest/gtest.h>
 
 #include <fstream>

@@ -1,5 +1,5 @@
-// The whole chain of issue 5: a simulated cut (S1 simulation) → the feed drive under its load
-// → the motor's phase currents with noise → calibration on simulated idle and loaded runs →
+// The whole chain from the cut to the monitor: a simulated milling cut → the feed drive under its
+// load → the motor's phase currents with noise → calibration on simulated idle and loaded runs →
 // the force estimated from the currents, against the force the cut really put on the axis.
 #include <gtest/gtest.h>
 

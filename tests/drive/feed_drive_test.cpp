@@ -148,7 +148,8 @@ TEST(FeedDrive, NonuniformityIsRangeOverMeanAsEquationOnePrintsIt) {
   EXPECT_DOUBLE_EQ(nonuniformity(0.0, 1.0), 2.0);
   EXPECT_DOUBLE_EQ(nonuniformity(5.0, 5.0), 0.0);
   EXPECT_DOUBLE_EQ(nonuniformity(-3.0, 1.0), 2.0);  // no forward mean: beyond every limit
-  // The case: a half-range kδ of 0.207 ("marginal") is 0.413 by eq. 1, beyond 0.4.
+  // The case that was reported wrongly: a half-range kδ of 0.207 ("marginal") is 0.413 by eq. 1,
+  // beyond 0.4.
   const double wmin = 1.0, wmax = wmin * (1 + 0.207) / (1 - 0.207);
   EXPECT_NEAR((wmax - wmin) / (wmax + wmin), 0.207, 1e-12);
   EXPECT_NEAR(nonuniformity(wmin, wmax), 0.414, 1e-12);
@@ -315,7 +316,7 @@ TEST(FeedDrive, PonlyLoopSummariesAreOfTheDetectedSteadyState) {
   EXPECT_FALSE(whole.steady_checked);
   ASSERT_EQ(whole.warnings.size(), 1u);
   EXPECT_NE(whole.warnings[0].find("steady state not checked"), std::string::npos);
-  EXPECT_GT(whole.speed_ripple_rad_s, 2.5 * amplitude);  // the issue's ±0.60 against ±0.17
+  EXPECT_GT(whole.speed_ripple_rad_s, 2.5 * amplitude);  // the former ±0.60 against ±0.17
 }
 
 TEST(FeedDrive, SoftPiLoopSummariesAreOfTheDetectedSteadyStateOrWarn) {

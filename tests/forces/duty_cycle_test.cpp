@@ -99,7 +99,7 @@ TEST(PulsedForces, MeanIsDutyCycleTimesPeak) {
   const PulsedForces f = pulsed_forces(2.1e9, 1.2e9, 0.15e-3, 0.2e-3, r);
   EXPECT_NEAR(f.peak_cutting_n, 63.0, 1e-9);
   EXPECT_NEAR(f.peak_thrust_n, 36.0, 1e-9);
-  EXPECT_NEAR(f.mean_cutting_n, 25.8, 0.05);  // models.md S4.1: r·K·h·w = 25.8 N, 14.7 N
+  EXPECT_NEAR(f.mean_cutting_n, 25.8, 0.05);  // r·K·h·w = 25.8 N, 14.7 N: docs/models/turning.md §2
   EXPECT_NEAR(f.mean_thrust_n, 14.7, 0.05);
 }
 

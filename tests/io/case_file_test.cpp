@@ -19,7 +19,7 @@ namespace {
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 
-// The S4 table-2 structure (Chikishev & Gasparyan 2018): 228.8 Hz, 2.26e8 N/m, zeta = 0.01.
+// The table-2 structure of [Chikishev2018]: 228.8 Hz, 2.26e8 N/m, zeta = 0.01.
 constexpr const char* kMinimal = R"(
 process = "turning"
 [[modes]]

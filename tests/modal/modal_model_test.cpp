@@ -11,7 +11,7 @@
 namespace cutdyn {
 namespace {
 
-// S4 table-2 structure: 228.8 Hz, 2.26e8 N/m, zeta = 0.01.
+// The table-2 structure of [Chikishev2018]: 228.8 Hz, 2.26e8 N/m, zeta = 0.01.
 Mode table2_mode() { return Mode{Direction::kX, units::hz_to_rad_per_s(228.8), 0.01, 2.26e8}; }
 
 TEST(Frf, StaticAndResonantValuesOfOneMode) {

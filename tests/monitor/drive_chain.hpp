@@ -1,6 +1,7 @@
-// Current logs from the drive library for the monitor tests: a simulated milling cut (S1
-// simulation), the feed drive of one axis under it (PI speed loop), and the motor's phase
-// currents (motor_currents), with the electrical rotor angle the currents were made with.
+// Current logs from the drive library for the monitor tests: a simulated milling cut
+// (docs/models/milling-simulation.md), the feed drive of one axis under it (PI speed loop), and the
+// motor's phase currents (motor_currents), with the electrical rotor angle the currents were made
+// with.
 #pragma once
 
 #include <cmath>

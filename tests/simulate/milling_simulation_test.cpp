@@ -41,10 +41,10 @@ MillingSimulationOptions short_run() {
 }
 
 TEST(MillingSimulation, UniformCutHasNoForcePulsation) {
-  // S1 eq. 6: with B·z·tanβ/(π·d) = q an integer the flute covers q pitches and the total
-  // force of the mechanistic law without edge terms is constant (ΔP < 1e-3, here to
-  // rounding); for q = 0.5 and 1.3 it pulsates clearly. Four teeth, d = 20 mm, β = 30°,
-  // quarter immersion (up-milling), so that the teeth's windows do not overlap.
+  // [Ermolaev2020] eq. 6: with B·z·tanβ/(π·d) = q an integer the flute covers q pitches and the
+  // total force of the mechanistic law without edge terms is constant (ΔP < 1e-3, here to
+  // rounding); for q = 0.5 and 1.3 it pulsates clearly. Four teeth, d = 20 mm, β = 30°, quarter
+  // immersion (up-milling), so that the teeth's windows do not overlap.
   for (double q : {1.0, 2.0, 0.5, 1.3}) {
     MillingCut c = force_study(4, 0.0, 0.5 * kPi);
     c.helix_rad = units::deg_to_rad(30.0);
@@ -59,8 +59,8 @@ TEST(MillingSimulation, UniformCutHasNoForcePulsation) {
 }
 
 TEST(MillingSimulation, PulsationIsFullBelowOneToothInCutAndFallsWithTeethAndAngle) {
-  // S1 fig. 6b: straight teeth, down-milling with contact angle ψ. While the mean number of
-  // teeth in cut z·ψ/2π is below one there are instants with no tooth in cut: ΔP = 100 %.
+  // [Ermolaev2020] fig. 6b: straight teeth, down-milling with contact angle ψ. While the mean
+  // number of teeth in cut z·ψ/2π is below one there are instants with no tooth in cut: ΔP = 100 %.
   // Above, ΔP falls as z grows (compared at z and 2z) and as ψ grows at fixed z.
   double previous_at_z8 = 2.0;
   for (double psi_deg : {60.0, 90.0, 120.0, 150.0}) {
@@ -82,9 +82,9 @@ TEST(MillingSimulation, PulsationIsFullBelowOneToothInCutAndFallsWithTeethAndAng
 }
 
 TEST(MillingSimulation, ClosedFormHelixAgreesWithSlicesWhenEverySliceIsInCut) {
-  // S1 eqs. 8–9 average the force direction over the flute's lag with the leading section's
-  // chip and window. With a force that does not depend on the chip (edge coefficients only)
-  // the two forms agree at every instant when each tooth's slices are all in or all out of
+  // [Ermolaev2020] eqs. 8–9 average the force direction over the flute's lag with the leading
+  // section's chip and window. With a force that does not depend on the chip (edge coefficients
+  // only) the two forms agree at every instant when each tooth's slices are all in or all out of
   // the window. Slotting, 2 teeth, lag 20°.
   MillingCut c = force_study(2, 0.0, kPi);
   c.law = MechanisticForceLaw{0.0, 0.0, 2e4, 1e4};
@@ -194,7 +194,8 @@ TEST(MillingSimulation, ConfirmsTheLobesAtThreeSpeeds) {
 
 TEST(MillingSimulation, ConfirmsTheHelicalAndUnevenPitchLobes) {
   // Two independent models of the same cutters: the slices and stored surfaces of the
-  // simulation against the stability model's axial slices and delay terms (issue 3).
+  // simulation against the stability model's axial slices and delay terms
+  // (docs/models/milling-stability.md, "Helical cutters" and "Uneven pitch").
   // (a) 4 teeth, 45° helix, a/D = 0.5, structure 30× stiffer (critical depths of 2–18 mm, so
   //     the flute's lag matters); (b) 4 teeth, 70°/110° pitch, slotting. Stable at 0.9×, chatter
   //     at 1.1×. (With uneven pitch at partial immersion the forced vibration alone throws the
@@ -372,8 +373,8 @@ TEST(MillingSimulation, FirstOrderHoldStepIsExactForALinearForce) {
 }
 
 TEST(MillingSimulation, ErmolaevPresetPulsationFirstFallsThenRisesWithTheLag) {
-  // S1 fig. 6a with the preset of S1.5 (five teeth, φN = π/6, s_z = 1 relative unit): ΔP
-  // falls from T2 = 0 to a minimum near 0.05 s and rises above it by T2 = 0.3 s.
+  // [Ermolaev2020] fig. 6a with the preset ermolaev2020 (five teeth, φN = π/6, s_z = 1 relative
+  // unit): ΔP falls from T2 = 0 to a minimum near 0.05 s and rises above it by T2 = 0.3 s.
   const auto pulsation = [](double t2) {
     MillingCut c;
     c.teeth = 5;

@@ -13,7 +13,7 @@
 namespace cutdyn {
 namespace {
 
-// Conventional turning, table 2 of the S4 source, by Tlusty's closed form.
+// Conventional turning, table 2 of [Chikishev2018], by Tlusty's closed form.
 LobePoint table2_point(double rpm) {
   TurningStabilityOptions o;
   o.method = TurningMethod::kClosedForm;

@@ -202,7 +202,7 @@ TEST(MillingLobes, UnstableIslandAtLowImmersionIsNotSkipped) {
 
 TEST(MillingLobes, TurningIsTheSpecialCaseOfTheSameMachinery) {
   // The solver the milling lobes use (period map, Arnoldi radius, coarse scan and Brent) on
-  // the turning system of the foundation issue (one mode, constant coefficient): the
+  // the turning system of table 2 of [Chikishev2018] (one mode, constant coefficient): the
   // critical depth agrees with Tlusty's closed form to 0.5 % (the step error is about 0.1 %).
   const TurningModel t = testing::table2_conventional();
   for (double rpm : {2900.0, 3500.0, 4200.0, 5000.0}) {

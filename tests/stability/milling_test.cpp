@@ -190,8 +190,8 @@ TEST(Milling, ArnoldiSpectralRadiusEqualsTheDenseOne) {
 }
 
 TEST(Milling, DefaultStepIsConvergedWithinHalfAPercent) {
-  // The default step (1/64 of the structural period) against half of it, slotting, by the
-  // Arnoldi radius: the critical depth moves by less than 0.5 % (issue 3's criterion).
+  // The default step (1/64 of the structural period) against half of it, slotting, by the Arnoldi
+  // radius: the critical depth moves by less than 0.5 % (the accuracy asked of the default).
   const MillingModel m = benchmark(1.0);
   for (double rpm : {5000.0, 11000.0, 21000.0}) {
     const DelayedSystem s = milling_system(m, rpm);

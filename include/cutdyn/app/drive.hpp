@@ -1,4 +1,4 @@
-// The drive job (models.md S1.7; docs/models/feed-drive.md): the case's feed drives under the
+// The drive job ([Ermolaev2020]; docs/models/feed-drive.md): the case's feed drives under the
 // force of its simulated milling cut. The cut is simulated over its whole length; each
 // [[drives]] axis takes its share of the feed and the projection of the cutter's force, and is
 // summarised over its periodic steady state at the spindle revolution. A front end builds

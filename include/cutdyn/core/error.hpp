@@ -1,7 +1,7 @@
 // Errors and input validation.
 //
-// Three kinds of failure (docs/architecture): programming errors are assertions; invalid
-// input throws cutdyn::InvalidInput listing every problem found; numerical trouble in a
+// Three kinds of failure, handled the same way everywhere: programming errors are assertions;
+// invalid input throws cutdyn::InvalidInput listing every problem found; numerical trouble in a
 // valid run is reported in a result's status, never thrown.
 #pragma once
 

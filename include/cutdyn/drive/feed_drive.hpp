@@ -1,10 +1,10 @@
-// Feed drives under the cutting load (models.md S1.7; docs/models/feed-drive.md).
+// Feed drives under the cutting load ([Ermolaev2020]; docs/models/feed-drive.md).
 //
 // A feed axis moves the cutter relative to the workpiece along its direction n (feed: +x). The
-// cut resists that motion with Fn = −F·n, F the force on the cutter (eq. 11 as a projection,
-// the decision of models.md: in up-milling Fn > 0, in down-milling the cut can pull the axis,
-// Fn < 0). The transmission turns Fn into the load torque on the motor shaft, lever-arm form
-// Mc = (d/2)·iΣ·Fn + Mc0 (eq. 12) or ball-screw form Mc = Fn·p/(2π·η·i) + Mc0, with the idle
+// cut resists that motion with Fn = −F·n, F the force on the cutter (eq. 11 as a projection, a
+// decision of docs/models/feed-drive.md: in up-milling Fn > 0, in down-milling the cut can pull
+// the axis, Fn < 0). The transmission turns Fn into the load torque on the motor shaft, lever-arm
+// form Mc = (d/2)·iΣ·Fn + Mc0 (eq. 12) or ball-screw form Mc = Fn·p/(2π·η·i) + Mc0, with the idle
 // torque Mc0 opposing the motion; a load that aids the motion (Fn < 0) back-drives the screw and
 // passes through the back-driving efficiency η' = 2 − 1/η instead: Mc = Fn·p·η'/(2π·i) + Mc0.
 // Two drive models:

@@ -1,5 +1,5 @@
 // Oxley's predictive machining theory for orthogonal cutting, extended to the Johnson–Cook
-// flow stress [Oxley1989; Adibi-Sedeh2003; Lalwani2009]; docs/models/oxley.md.
+// flow stress [Oxley1989; AdibiSedeh2003; Lalwani2009]; docs/models/oxley.md.
 //
 // A parallel-sided primary shear zone of thickness l/C0 around the shear plane AB (length
 // l = t1/sinφ) and a secondary zone of thickness δ·t2 along the tool–chip interface. For a

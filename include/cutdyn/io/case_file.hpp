@@ -53,7 +53,7 @@ struct CuttingSection {
                                                   // material's Johnson–Cook reference
 };
 
-/// [force_law]: the S1 force law of milling (models.md S1.1) for `cutdyn simulate`; without
+/// [force_law]: the S1 force law of milling ([Ermolaev2020]) for `cutdyn simulate`; without
 /// it the simulation uses the mechanistic law of [cutting].
 struct ForceLawSection {
   double c_n_per_m = 0.0;    // c_n_per_mm: cutting stiffness of the engaged flute
@@ -113,7 +113,7 @@ struct SimulateSection {
   bool regenerative = true;          // false: chip from the feed alone (force studies)
   int steps_per_tooth = 256;
   int slices = 0;                  // 0: automatic
-  bool closed_form_helix = false;  // S1 eqs. 8–9 instead of slices
+  bool closed_form_helix = false;  // [Ermolaev2020] eqs. 8–9 instead of slices
 };
 
 struct Case {

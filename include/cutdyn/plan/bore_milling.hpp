@@ -1,9 +1,9 @@
-// Two-edge face milling of large bores [Zenkin & Shchelupova 2012]: kinematics and quality,
-// models.md S2; docs/models/bore-milling.md.
+// Two-edge face milling of large bores [Zenkin2012]: kinematics and quality;
+// docs/models/bore-milling.md.
 //
 // A face mill of diameter D whose knives cut with an outer and an inner edge machines the bore
 // of diameter d of a ring blank turning at n_o; the cutter turns at n_u and feeds axially by S0
-// per blank revolution. The equations (1)–(14) of models.md S2 are evaluated with every square
+// per blank revolution. The equations (1)–(14) of [Zenkin2012] are evaluated with every square
 // root and arcsine checked: an input outside a formula's domain throws cutdyn::InvalidInput
 // naming the condition and the inputs, never NaN.
 #pragma once
@@ -50,7 +50,8 @@ struct BoreEdgeSplit {
 };
 BoreEdgeSplit bore_edge_split(const BoreMillingCase& c);
 
-/// Everything of S2 at the axial feed `S0` (SI; speeds in rev/s, times in s).
+/// Every quantity of the plan (docs/models/bore-milling.md) at the axial feed `S0` (SI; speeds in
+/// rev/s, times in s).
 struct BoreMillingResult {
   double q_m = 0.0;                           // (1) corrected: width of the cut of one pass
   double axial_feed_m = 0.0;                  // S0 used
@@ -96,7 +97,7 @@ double max_axial_feed_closed_form(const BoreMillingCase& c);
 /// (4) as printed, with the d²k²t² term (too large: +0.05 … +41 %, √2 at h = 0).
 double max_axial_feed_printed_form(const BoreMillingCase& c);
 
-/// All of S2 at S0 = `axial_feed_m` (0: the largest, max_axial_feed). Checks S0 < q (an
+/// The whole plan at S0 = `axial_feed_m` (0: the largest, max_axial_feed). Checks S0 < q (an
 /// error); a given S0 that breaks Δ1 <= k·t is computed and warned about. The
 /// blank speed n_o is (8)'s for the case's a_cp, or `workpiece_rev_per_s` if given (then a_cp
 /// is (7)'s for it).

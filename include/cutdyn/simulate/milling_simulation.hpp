@@ -1,4 +1,4 @@
-// Time-domain simulation of milling (models.md S1.1–S1.6; docs/models/milling-simulation.md).
+// Time-domain simulation of milling ([Ermolaev2020]; docs/models/milling-simulation.md).
 //
 // z teeth (even or uneven pitch), each cut into N axial slices lagging the tooth tip by
 // their share of the helix lag φN = 2B·tanβ/d; every slice has its own engagement window and
@@ -23,9 +23,9 @@
 
 namespace cutdyn {
 
-/// S1 law (models.md S1.1–S1.2): P = c·U with T2·dU/dt + U = X (the chip thickness), the
-/// flank contact force F = P0·e^(−X/T1); P at the angle φrez and F at φskv from the tangent
-/// (towards the cutter's centre).
+/// S1 law ([Ermolaev2020]; docs/models/milling-simulation.md, "Force laws"): P = c·U with
+/// T2·dU/dt + U = X (the chip thickness), the flank contact force F = P0·e^(−X/T1); P at the angle
+/// φrez and F at φskv from the tangent (towards the cutter's centre).
 struct ErmolaevForceLaw {
   double c_n_per_m = 0.0;  // cutting stiffness of the whole engaged flute, N/m
   double t2_s = 0.0;       // chip-formation time constant (0: no lag)
@@ -70,7 +70,7 @@ struct MillingSimulationOptions {
   double revolutions = 30.0;         // simulated
   double summary_revolutions = 2.0;  // the last ones, for the summary
   int slices = 0;  // 0: automatic — slice lag = one angle step (≤ 1000 slices, ≤ 8e6 slice-bins)
-  bool closed_form_helix = false;    // S1 eqs. 8–9 instead of slices
+  bool closed_form_helix = false;    // [Ermolaev2020] eqs. 8–9 instead of slices
   int max_recorded_samples = 20000;  // traces are thinned to at most this many samples
   /// Displacement added in x and y at t = 0 to the periodic forced vibration, as a fraction of
   /// the feed per tooth (> 0): the disturbance whose growth or decay decides chatter.

@@ -1,5 +1,5 @@
 // First-order full discretization of the periodic delayed system (delayed_system.hpp)
-// [Ding, Zhu, Zhang, Ding 2010, IJMTM 50:502–509]; docs/models/turning.md §5.
+// [Ding2010]; docs/models/turning.md §5.
 //
 // One period T is cut into steps t0 = 0 < t1 < ... < tn = T, with nodes on every jump of
 // H(t). On step j (length hj) the structure is integrated exactly and the cutting term is

@@ -3,7 +3,7 @@
 //
 //   auto                  turning: the closed form without vibration, else the full
 //                         discretization; milling: the full discretization
-//   zero-order            milling: the averaged (zero-order) solution [Altintas & Budak];
+//   zero-order            milling: the averaged (zero-order) solution [Altintas1995];
 //                         turning: the closed form, which is the zero-order solution there
 //                         (exact for conventional turning, the averaged theory with vibration)
 //   closed-form           the same as zero-order, in both processes

@@ -1,9 +1,10 @@
-// Regenerative chatter in milling [Altintas & Budak 1995; Insperger & Stépán 2004;
-// Ding et al. 2010]; docs/models/milling-stability.md.
+// Regenerative chatter in milling [Altintas1995; Insperger2004; Ding2010];
+// docs/models/milling-stability.md.
 //
-// Tooth j of z sits at the angle φj(t) = Ω·t + 2πj/z, measured clockwise from the +y axis
-// (models.md S1.2). In cut (φst < φj < φex) it takes the chip h = Δx·sin φj + Δy·cos φj
-// (Δ = r(t) − r(t − τ), r the cutter's displacement) and pushes the cutter with
+// Tooth j of z sits at the angle φj(t) = Ω·t + 2πj/z, measured clockwise from the +y axis (as in
+// the milling simulation, docs/models/milling-simulation.md). In cut (φst < φj < φex) it takes the
+// chip h = Δx·sin φj + Δy·cos φj (Δ = r(t) − r(t − τ), r the cutter's displacement) and pushes the
+// cutter with
 //     Fx = −Ft·cos φj − Fr·sin φj,   Fy = Ft·sin φj − Fr·cos φj,   Ft = Kt·a·h, Fr = Kr·a·h.
 // Summed over the teeth: F = (a/2)·Kt·A(t)·Δ with Altintas' directional matrix A(t), so the
 // neutral description has H(t) = −(Kt/2)·A(t), period and delay τ = 60/(n·z).

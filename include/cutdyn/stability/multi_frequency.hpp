@@ -1,6 +1,6 @@
 // Frequency-domain stability of the periodic delayed system (delayed_system.hpp): the
 // multi-frequency (Hill) solution and, with no harmonics, the averaged (zero-order) one
-// [Budak & Altintas 1998; Merdol & Altintas 2004]; docs/models/milling-stability.md.
+// [Budak1998; Merdol2004]; docs/models/milling-stability.md.
 //
 // A solution on the boundary is y(t) = Σp Yp·exp(i(ω + pΩ)t), Ω = 2π/T. Substituting in the
 // system gives, for the harmonics p, q of a window,

@@ -1,5 +1,5 @@
 // Conventional (constant-coefficient) regenerative chatter of one direction, exactly:
-// Tlusty's closed form for a linear modal structure [Tlusty; Altintas2012, ch. 3].
+// Tlusty's closed form for a linear modal structure [Tlusty1963; Altintas2012, ch. 3].
 //
 // With the direct FRF G(ω) of the modes in the modelled direction and the cutting
 // coefficient K (N/m²), the boundary 1 + K·w·G(ω)·(1 − e^(−iωτ)) = 0 gives

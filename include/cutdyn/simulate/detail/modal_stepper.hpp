@@ -1,4 +1,4 @@
-// Exact discrete-time steps of the structure's modes over a step h (Van Loan 1978):
+// Exact discrete-time steps of the structure's modes over a step h [VanLoan1978]:
 //
 //   zero-order hold (force constant over the step):
 //     x(t + h) = Φ·x(t) + Γ·F,               Φ = e^(A·h),  Γ = ∫0^h e^(A·s) ds·B;
