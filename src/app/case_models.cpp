@@ -20,10 +20,10 @@ io::Case load_case(const std::string& path, std::string_view default_example) {
 
 void require_turning(const io::Case& c, std::string_view command) {
   if (c.process != io::Process::kTurning) {
-    throw InvalidInput({"process = \"" + std::string(io::to_string(c.process)) +
-                        "\": the turning model of `cutdyn " + std::string(command) +
-                        "` needs a turning case"},
-                       c.source);
+    throw InvalidInput(
+        {"process = \"" + std::string(io::to_string(c.process)) +
+         "\": the turning model of `cutdyn " + std::string(command) + "` needs a turning case"},
+        c.source);
   }
 }
 

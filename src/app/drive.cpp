@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <utility>
 
-#include "cutdyn/core/error.hpp"
 #include "cutdyn/core/detail/parallel.hpp"
+#include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/io/output.hpp"
 
@@ -132,7 +132,7 @@ const std::vector<std::string>& drive_metric_names() {
 
 std::vector<double> drive_metrics(const DriveAxisReport& a) {
   return {m_to_um(a.epsilon_pp_m),   m_to_um(a.drive_pp_m), m_to_um(a.cutter_pp_m),
-          a.drive.k_delta,           a.drive.static_error, a.drive.torque_ripple_nm,
+          a.drive.k_delta,           a.drive.static_error,  a.drive.torque_ripple_nm,
           a.drive.speed_ripple_rad_s};
 }
 

@@ -11,8 +11,9 @@ namespace {
 void require_keys(const io::Case& c) {
   Validator v;
   if (c.process == io::Process::kMilling)
-    v.add("process = \"milling\": `cutdyn force` computes the forces of an orthogonal (turning) "
-          "cut; the milling forces come from `cutdyn simulate`");
+    v.add(
+        "process = \"milling\": `cutdyn force` computes the forces of an orthogonal (turning) "
+        "cut; the milling forces come from `cutdyn simulate`");
   const auto need = [&](const std::optional<double>& x, const char* key) {
     if (!x) v.add(std::string("cutting.") + key + ": missing (required by `cutdyn force`)");
   };
@@ -64,8 +65,8 @@ ForceJobReport run_force(const io::Case& c) {
   r.uncut_chip_thickness_m = *c.cutting.uncut_chip_thickness_m;
   r.width_m = *c.cutting.width_m;
   r.speed_m_per_s = c.cutting.speed_m_per_s;
-  r.forces = pulsed_forces(r.kc_pa, r.kt_pa, r.uncut_chip_thickness_m, r.width_m,
-                           r.duty_cycle.ratio);
+  r.forces =
+      pulsed_forces(r.kc_pa, r.kt_pa, r.uncut_chip_thickness_m, r.width_m, r.duty_cycle.ratio);
   if (r.oxley && !c.vibration) r.around = around(c, *r.oxley);
   return r;
 }

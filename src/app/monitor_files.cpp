@@ -203,7 +203,8 @@ json calibration_json(const std::map<std::string, CalibratedAxis>& axes) {
     json a = axis_json(axis.calibration);
     if (axis.idle) {
       a["idle_fit"] = fit_json(axis.idle->report);
-      if (!axis.idle->report.warnings.empty()) a["idle_fit"]["warnings"] = axis.idle->report.warnings;
+      if (!axis.idle->report.warnings.empty())
+        a["idle_fit"]["warnings"] = axis.idle->report.warnings;
     }
     if (axis.load) {
       a["load_fit"] = fit_json(axis.load->report);
@@ -283,8 +284,7 @@ LogInput::LogInput(const std::string& path) : buffer_(new char[kChunk]) {
   }
   name_ = path;
   fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd_ < 0)
-    throw InvalidInput({"cannot read: " + std::generic_category().message(errno)}, path);
+  if (fd_ < 0) throw InvalidInput({"cannot read: " + std::generic_category().message(errno)}, path);
   own_ = true;
 }
 

@@ -45,14 +45,14 @@ void BadLines::finish(std::size_t good) {
 
 InvalidInput measure_mismatch(const std::string& file, std::size_t line, const std::string& axis,
                               CurrentMeasure logged, CurrentMeasure calibration) {
-  return InvalidInput({"line " + std::to_string(line) + ": axis " + axis +
-                       ": the currents were logged with measure = " +
-                       std::string(to_string(logged)) + ", the calibration's measure is " +
-                       std::string(to_string(calibration)) +
-                       ": KT holds for one measure only (they differ by √2); calibrate with "
-                       "--measure " + std::string(to_string(logged)) +
-                       " or log the calibration's measure"},
-                      file);
+  return InvalidInput(
+      {"line " + std::to_string(line) + ": axis " + axis +
+       ": the currents were logged with measure = " + std::string(to_string(logged)) +
+       ", the calibration's measure is " + std::string(to_string(calibration)) +
+       ": KT holds for one measure only (they differ by √2); calibrate with "
+       "--measure " +
+       std::string(to_string(logged)) + " or log the calibration's measure"},
+      file);
 }
 
 std::map<std::string, AxisRun> read_log(const std::string& path, const std::string& force_column,
@@ -124,9 +124,9 @@ void EstimateStream::estimate(const CurrentRow& r, Axis& a) {
   }
   ForceEstimate estimate;
   try {
-    estimate = e.update(r.time_s, r.iu_a, r.iv_a, r.iw_a, r.speed_rad_s,
-                        parser_.has_rotor_angle() ? std::optional<double>(r.rotor_angle_rad)
-                                                  : std::nullopt);
+    estimate = e.update(
+        r.time_s, r.iu_a, r.iv_a, r.iw_a, r.speed_rad_s,
+        parser_.has_rotor_angle() ? std::optional<double>(r.rotor_angle_rad) : std::nullopt);
   } catch (const InvalidInput& x) {
     // The bandwidth against the log's sampling (the only check of update).
     std::vector<std::string> problems;

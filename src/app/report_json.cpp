@@ -25,7 +25,8 @@ ReportTable lobes_table(const LobesJobReport& r) {
                  "lobe",        "bifurcation",       "beyond_limit"};
   if (r.duty_cycle) out.columns.push_back("duty_cycle");
   const auto* ref = reference_of(r);
-  if (ref) out.columns.insert(out.columns.end(), {"conventional_depth_mm", "conventional_chatter_hz"});
+  if (ref)
+    out.columns.insert(out.columns.end(), {"conventional_depth_mm", "conventional_chatter_hz"});
   for (std::size_t i = 0; i < r.lobes.points.size(); ++i) {
     const LobePoint& p = r.lobes.points[i];
     std::vector<io::CsvCell> cells{p.rpm,
@@ -84,13 +85,20 @@ json to_json(const io::Case& c, const LobesJobReport& r) {
 
 json to_json(const io::Case& c, const CheckJobReport& r) {
   const CriticalDepth& b = r.boundary;
-  json doc{{"command", "check"}, {"schema_version", kJsonSchemaVersion},         {"case", io::to_json(c)},
-                     {"source", c.source},         {"method", r.method},
-                     {"spindle_rpm", r.rpm},    {"depth_mm", m_to_mm(r.depth_m)},
-                     {"stable", r.stable},         {"critical_depth_mm", m_to_mm(b.depth_m)},
-                     {"beyond_limit", !b.found},   {"margin", nullptr},
-                     {"chatter_hz", b.chatter_hz}, {"bifurcation", to_string(b.bifurcation)},
-                     {"lobe", r.lobe}};
+  json doc{{"command", "check"},
+           {"schema_version", kJsonSchemaVersion},
+           {"case", io::to_json(c)},
+           {"source", c.source},
+           {"method", r.method},
+           {"spindle_rpm", r.rpm},
+           {"depth_mm", m_to_mm(r.depth_m)},
+           {"stable", r.stable},
+           {"critical_depth_mm", m_to_mm(b.depth_m)},
+           {"beyond_limit", !b.found},
+           {"margin", nullptr},
+           {"chatter_hz", b.chatter_hz},
+           {"bifurcation", to_string(b.bifurcation)},
+           {"lobe", r.lobe}};
   if (r.margin) doc["margin"] = *r.margin;
   if (b.truncated) doc["warning"] = "the method could not cover every mode at this speed";
   if (r.duty_cycle) doc["duty_cycle"] = *r.duty_cycle;
@@ -150,7 +158,8 @@ json to_json(const io::Case& c, const ForceJobReport& r) {
   if (r.oxley) oxley = oxley_json(c, *r.oxley);
   json vib;
   if (c.vibration) vib = vibration_json(*c.vibration, r.duty_cycle);
-  json doc{{"command", "force"}, {"schema_version", kJsonSchemaVersion},
+  json doc{{"command", "force"},
+           {"schema_version", kJsonSchemaVersion},
            {"case", io::to_json(c)},
            {"source", c.source},
            {"kc_n_per_mm2", units::pa_to_n_per_mm2(r.kc_pa)},
@@ -206,13 +215,10 @@ json to_json(const io::Case& c, const TurningSimulationJobReport& job) {
                        {"step_s", s.step_s},
                        {"steps", s.steps}});
   }
-  json doc{{"command", "simulate"}, {"schema_version", kJsonSchemaVersion},
-           {"case", io::to_json(c)},
-           {"source", c.source},
-           {"spindle_rpm", o.rpm},
-           {"depth_mm", m_to_mm(o.depth_m)},
-           {"feed_mm", m_to_mm(o.feed_m)},
-           {"duration_s", o.duration_s},
+  json doc{{"command", "simulate"},        {"schema_version", kJsonSchemaVersion},
+           {"case", io::to_json(c)},       {"source", c.source},
+           {"spindle_rpm", o.rpm},         {"depth_mm", m_to_mm(o.depth_m)},
+           {"feed_mm", m_to_mm(o.feed_m)}, {"duration_s", o.duration_s},
            {"results", std::move(results)}};
   return doc;
 }
@@ -247,7 +253,8 @@ json to_json(const io::Case& c, const MillingSimulationJobReport& job) {
                {"step_s", r.step_s},
                {"steps", r.steps}};
   if (predicted) summary["predicted_critical_depth_mm"] = m_to_mm(predicted->boundary.depth_m);
-  json doc{{"command", "simulate"}, {"schema_version", kJsonSchemaVersion},
+  json doc{{"command", "simulate"},
+           {"schema_version", kJsonSchemaVersion},
            {"case", io::to_json(c)},
            {"source", c.source},
            {"spindle_rpm", s.rpm},
@@ -260,40 +267,41 @@ json to_json(const io::Case& c, const MillingSimulationJobReport& job) {
 
 json to_json(const io::Case& c, const PlanJobReport& job) {
   const BoreMillingResult& r = job.result;
-  json doc{{"command", "plan"}, {"schema_version", kJsonSchemaVersion},
-                     {"case", io::to_json(c)},
-                     {"source", c.source},
-                     {"q_mm", m_to_mm(r.q_m)},
-                     {"axial_feed_mm", m_to_mm(r.axial_feed_m)},
-                     {"max_axial_feed_mm", m_to_mm(r.max_axial_feed_m)},
-                     {"max_axial_feed_closed_form_mm", m_to_mm(r.max_axial_feed_closed_form_m)},
-                     {"max_axial_feed_printed_form_mm", m_to_mm(r.max_axial_feed_printed_form_m)},
-                     {"printed_form_difference_percent", job.printed_form_difference_percent},
-                     {"inner_depth_mm", m_to_mm(r.inner_depth_m)},
-                     {"outer_depth_mm", m_to_mm(r.outer_depth_m)},
-                     {"balanced_offset_mm", m_to_mm(r.balanced_offset_m)},
-                     {"milling_width_mm", m_to_mm(r.milling_width_m)},
-                     {"straightness_error_mm", m_to_mm(r.straightness_error_m)},
-                     {"faceting_mm", m_to_mm(r.faceting_m)},
-                     {"cutter_rpm", 60.0 * r.cutter_rev_per_s},
-                     {"workpiece_rpm", 60.0 * r.workpiece_rev_per_s},
-                     {"feed_per_tooth_mm", m_to_mm(r.feed_per_tooth_m)},
-                     {"max_chip_thickness_mm", m_to_mm(r.max_chip_thickness_m)},
-                     {"mean_chip_thickness_mm", m_to_mm(r.mean_chip_thickness_m)},
-                     {"contact_arc_mm", m_to_mm(r.contact_arc_m)},
-                     {"chip_width_mm", m_to_mm(r.chip_width_m)},
-                     {"path_per_edge_m", r.path_per_edge_m},
-                     {"edge_width_mm", m_to_mm(r.edge_width_m)},
-                     {"engaged_fraction", r.engaged_fraction},
-                     {"teeth_in_cut", r.teeth_in_cut},
-                     {"total_edge_width_mm", m_to_mm(r.total_edge_width_m)},
-                     {"main_time_min", r.main_time_s / 60.0},
-                     {"removal_rate_cm3_per_min", r.removal_rate_m3_per_s * 6e7},
-                     {"offset_mm", m_to_mm(job.chosen.offset_m)},
-                     {"cutting_speed_m_per_min", 60.0 * job.chosen.cutting_speed_m_per_s},
-                     {"optimised", job.plan.has_value()},
-                     {"accuracy_met", r.accuracy_met},
-                     {"warnings", job.warnings}};
+  json doc{{"command", "plan"},
+           {"schema_version", kJsonSchemaVersion},
+           {"case", io::to_json(c)},
+           {"source", c.source},
+           {"q_mm", m_to_mm(r.q_m)},
+           {"axial_feed_mm", m_to_mm(r.axial_feed_m)},
+           {"max_axial_feed_mm", m_to_mm(r.max_axial_feed_m)},
+           {"max_axial_feed_closed_form_mm", m_to_mm(r.max_axial_feed_closed_form_m)},
+           {"max_axial_feed_printed_form_mm", m_to_mm(r.max_axial_feed_printed_form_m)},
+           {"printed_form_difference_percent", job.printed_form_difference_percent},
+           {"inner_depth_mm", m_to_mm(r.inner_depth_m)},
+           {"outer_depth_mm", m_to_mm(r.outer_depth_m)},
+           {"balanced_offset_mm", m_to_mm(r.balanced_offset_m)},
+           {"milling_width_mm", m_to_mm(r.milling_width_m)},
+           {"straightness_error_mm", m_to_mm(r.straightness_error_m)},
+           {"faceting_mm", m_to_mm(r.faceting_m)},
+           {"cutter_rpm", 60.0 * r.cutter_rev_per_s},
+           {"workpiece_rpm", 60.0 * r.workpiece_rev_per_s},
+           {"feed_per_tooth_mm", m_to_mm(r.feed_per_tooth_m)},
+           {"max_chip_thickness_mm", m_to_mm(r.max_chip_thickness_m)},
+           {"mean_chip_thickness_mm", m_to_mm(r.mean_chip_thickness_m)},
+           {"contact_arc_mm", m_to_mm(r.contact_arc_m)},
+           {"chip_width_mm", m_to_mm(r.chip_width_m)},
+           {"path_per_edge_m", r.path_per_edge_m},
+           {"edge_width_mm", m_to_mm(r.edge_width_m)},
+           {"engaged_fraction", r.engaged_fraction},
+           {"teeth_in_cut", r.teeth_in_cut},
+           {"total_edge_width_mm", m_to_mm(r.total_edge_width_m)},
+           {"main_time_min", r.main_time_s / 60.0},
+           {"removal_rate_cm3_per_min", r.removal_rate_m3_per_s * 6e7},
+           {"offset_mm", m_to_mm(job.chosen.offset_m)},
+           {"cutting_speed_m_per_min", 60.0 * job.chosen.cutting_speed_m_per_s},
+           {"optimised", job.plan.has_value()},
+           {"accuracy_met", r.accuracy_met},
+           {"warnings", job.warnings}};
   if (job.plan) doc["binding_constraints"] = job.plan->binding;
   return doc;
 }
@@ -321,11 +329,8 @@ json to_json(const io::Case& c, const DriveReport& run) {
                     {"cutter_error_um", m_to_um(a.cutter_pp_m)},
                     {"epsilon_um", m_to_um(a.epsilon_pp_m)}});
   }
-  return {{"command", "drive"}, {"schema_version", kJsonSchemaVersion},
-          {"case", io::to_json(c)},
-          {"source", c.source},
-          {"spindle_rpm", run.cut.rpm},
-          {"axes", std::move(axes)}};
+  return {{"command", "drive"}, {"schema_version", kJsonSchemaVersion}, {"case", io::to_json(c)},
+          {"source", c.source}, {"spindle_rpm", run.cut.rpm},           {"axes", std::move(axes)}};
 }
 
 json to_json(const io::Case& c, const DriveSweepReport& sweep, const std::string& metric) {
@@ -334,15 +339,18 @@ json to_json(const io::Case& c, const DriveSweepReport& sweep, const std::string
   for (std::size_t i = 0; i < sweep.runs.size(); ++i) {
     json axes = json::array();
     for (const DriveAxisReport& a : sweep.runs[i].axes) {
-      json p{{"axis", a.axis.name}, {"steady_state", a.drive.steady}, {"warnings", a.drive.warnings}};
+      json p{
+          {"axis", a.axis.name}, {"steady_state", a.drive.steady}, {"warnings", a.drive.warnings}};
       const auto m = drive_metrics(a);
       for (std::size_t k = 0; k < names.size(); ++k) p[names[k]] = m[k];
       axes.push_back(std::move(p));
     }
     points.push_back({{"value", sweep.values[i]}, {"axes", std::move(axes)}});
   }
-  return {{"command", "drive"}, {"schema_version", kJsonSchemaVersion}, {"case", io::to_json(c)}, {"source", c.source},
-          {"sweep", sweep.key}, {"metric", metric},       {"points", std::move(points)}};
+  return {{"command", "drive"},         {"schema_version", kJsonSchemaVersion},
+          {"case", io::to_json(c)},     {"source", c.source},
+          {"sweep", sweep.key},         {"metric", metric},
+          {"points", std::move(points)}};
 }
 
 }  // namespace cutdyn::app

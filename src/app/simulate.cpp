@@ -8,10 +8,10 @@
 #include <stdexcept>
 
 #include "cutdyn/app/case_models.hpp"
-#include "cutdyn/app/stability.hpp"
 #include "cutdyn/app/detail/text.hpp"
-#include "cutdyn/core/error.hpp"
+#include "cutdyn/app/stability.hpp"
 #include "cutdyn/core/detail/parallel.hpp"
+#include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
 
 namespace cutdyn::app {
@@ -86,7 +86,8 @@ TurningSimulationJobReport simulate_turning_case(const io::Case& c, const Simula
   for (const Run& run : runs) {
     TurningSimulationRun out{run.name, {}, {}};
     rethrow_as(where, "simulate", [&] { out.result = simulate_turning(run.model, o); });
-    so.method = run.model.vibration ? TurningMethod::kFullDiscretization : TurningMethod::kClosedForm;
+    so.method =
+        run.model.vibration ? TurningMethod::kFullDiscretization : TurningMethod::kClosedForm;
     out.predicted = turning_critical_depth(run.model, o.rpm, so);
     if (!out.result.growth_settled)
       report.warnings.push_back(run.name + ": the free response's growth has not settled over " +
@@ -270,9 +271,8 @@ MillingSweepJobReport sweep_milling_case(const io::Case& c, const Sweep& sweep,
       static_cast<int>(setups.size()), threads,
       [&](int i) {
         const auto k = static_cast<std::size_t>(i);
-        rethrow_as(setups[k].where, "simulate", [&] {
-          report.results[k] = simulate_milling(setups[k].cut, setups[k].options);
-        });
+        rethrow_as(setups[k].where, "simulate",
+                   [&] { report.results[k] = simulate_milling(setups[k].cut, setups[k].options); });
       },
       progress);
   return report;

@@ -38,8 +38,7 @@ StabilityMethod asked_method(const io::Case& c, const std::string& name,
   if (name.empty()) return c.lobes.method;
   if (const auto m = parse_stability_method(name)) return *m;
   throw InvalidInput(
-      {names.method + " = \"" + name + "\": must be one of " + kStabilityMethodNames},
-      names.where);
+      {names.method + " = \"" + name + "\": must be one of " + kStabilityMethodNames}, names.where);
 }
 
 // ---- turning ----------------------------------------------------------------------------
@@ -114,8 +113,8 @@ void turning_lobes(const io::Case& c, const LobesRequest& request, LobesJobRepor
   r.depth_max_m = options.depth_max_m;
   r.title = assisted ? "Stability lobes: vibration-assisted and conventional turning"
                      : "Stability lobes: turning";
-  r.label = fmt::format("{} ({})", assisted ? "vibration-assisted" : "conventional",
-                        to_string(method));
+  r.label =
+      fmt::format("{} ({})", assisted ? "vibration-assisted" : "conventional", to_string(method));
 }
 
 void turning_check(const io::Case& c, const CheckRequest& request, CheckJobReport& r) {
@@ -299,7 +298,8 @@ CheckJobReport run_check(const io::Case& c, const CheckRequest& request) {
   else
     turning_check(c, request, r);
   r.stable = !r.boundary.found || request.depth_m < r.boundary.depth_m;
-  if (r.boundary.depth_m > 0.0) r.margin = (r.boundary.depth_m - request.depth_m) / r.boundary.depth_m;
+  if (r.boundary.depth_m > 0.0)
+    r.margin = (r.boundary.depth_m - request.depth_m) / r.boundary.depth_m;
   return r;
 }
 

@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <exception>
 #include <functional>
-#include <optional>
 #include <iostream>
+#include <optional>
 
 #include "cli/commands.hpp"
 #include "cutdyn/app/drive.hpp"
@@ -58,7 +58,8 @@ struct Commands {
 };
 
 void add_stability_commands(CLI::App& app, Commands& c) {
-  c.lobes_cmd = app.add_subcommand("lobes", "stability lobes: critical depth against spindle speed");
+  c.lobes_cmd =
+      app.add_subcommand("lobes", "stability lobes: critical depth against spindle speed");
   CLI::App* lobes = c.lobes_cmd;
   lobes->add_option("CASE", c.lobes.case_path, "case file (TOML), or a built-in example's name");
   add_outputs(lobes, c.lobes.outputs,
@@ -106,7 +107,8 @@ void add_simulate_command(CLI::App& app, Commands& c) {
                   "force_law.t2_s=0:0.05:1 or modes[0].damping_ratio=0.01:0.01:0.05), and "
                   "tabulate the summary at each value");
   std::string metrics;
-  for (const std::string& m : app::milling_metric_names()) metrics += (metrics.empty() ? "" : ", ") + m;
+  for (const std::string& m : app::milling_metric_names())
+    metrics += (metrics.empty() ? "" : ", ") + m;
   sim->add_option("--metric", c.sim.metric,
                   "with --sweep: the metric to plot (" + metrics + "; default force_pulsation)");
   sim->add_option("--threads", c.sim.threads, "with --sweep: threads (default: all cores)")
@@ -115,9 +117,11 @@ void add_simulate_command(CLI::App& app, Commands& c) {
 
 void add_drive_command(CLI::App& app, Commands& c) {
   c.drive_cmd = app.add_subcommand(
-      "drive", "feed drives under the milling load: torque and speed ripple, kδ, δ, position error");
+      "drive",
+      "feed drives under the milling load: torque and speed ripple, kδ, δ, position error");
   CLI::App* drive = c.drive_cmd;
-  drive->add_option("CASE", c.drive.case_path, "case file (TOML) with [[drives]], or a built-in example's name");
+  drive->add_option("CASE", c.drive.case_path,
+                    "case file (TOML) with [[drives]], or a built-in example's name");
   add_outputs(drive, c.drive.outputs,
               "write the traces as CSV: axis,time_s,axis_force_n,load_torque_nm,speed_rad_s,"
               "position_error_um,epsilon_um");
@@ -126,14 +130,16 @@ void add_drive_command(CLI::App& app, Commands& c) {
   drive->add_option("--currents", c.drive.currents,
                     "write the motor phase currents as CSV: time_s,axis,iu_a,iv_a,iw_a,"
                     "speed_rad_s,rotor_angle_rad (needs [drives] motor data)");
-  drive->add_option("--seed", c.drive.seed,
-                    "seed of the current noise, for every axis (each axis draws its own "
-                    "stream of it); overrides [[drives]] seed")
+  drive
+      ->add_option("--seed", c.drive.seed,
+                   "seed of the current noise, for every axis (each axis draws its own "
+                   "stream of it); overrides [[drives]] seed")
       ->check(CLI::Range(0, 2147483647));
   drive->add_option("--sweep", c.drive.sweep,
                     "vary one case key, KEY=FROM:STEP:TO (e.g. simulate.rpm=1000:500:20000)");
   std::string metrics;
-  for (const std::string& m : app::drive_metric_names()) metrics += (metrics.empty() ? "" : ", ") + m;
+  for (const std::string& m : app::drive_metric_names())
+    metrics += (metrics.empty() ? "" : ", ") + m;
   drive->add_option("--metric", c.drive.metric,
                     "with --sweep: " + metrics + " (default epsilon_um)");
   drive->add_option("--threads", c.drive.threads, "with --sweep: threads (default: all cores)")

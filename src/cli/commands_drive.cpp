@@ -28,8 +28,8 @@ void warn(std::ostream& err, const std::string& source, const std::string& prefi
           const app::DriveReport& run) {
   for (const app::DriveAxisReport& a : run.axes)
     for (const std::string& w : a.drive.warnings)
-      err << "cutdyn: warning: " << source << ": " << prefix << "axis " << a.axis.name << ": "
-          << w << "\n";
+      err << "cutdyn: warning: " << source << ": " << prefix << "axis " << a.axis.name << ": " << w
+          << "\n";
 }
 
 // The flags' speed and depth for the drive's cut.
@@ -57,7 +57,6 @@ void print_sweep(const app::DriveSweepReport& sweep, const io::Case& c, std::siz
     out << "\n";
   }
 }
-
 
 // A metric's axis in a figure: its name in words, the unit it is drawn in ("" for a
 // number without one) and the factor from the metric's value to that unit.
@@ -98,8 +97,8 @@ io::PlotSpec sweep_plot(const app::DriveSweepReport& sweep, const io::Case& c, s
   return spec;
 }
 
-void write_sweep_files(const DriveArgs& args, const app::DriveSweepReport& sweep,
-                       const io::Case& c, std::size_t column, io::OutputTransaction& outputs) {
+void write_sweep_files(const DriveArgs& args, const app::DriveSweepReport& sweep, const io::Case& c,
+                       std::size_t column, io::OutputTransaction& outputs) {
   const auto& names = app::drive_metric_names();
   if (!args.outputs.csv.empty()) {
     std::vector<std::string> header{sweep.key, "axis"};
@@ -122,8 +121,7 @@ int run_sweep(const DriveArgs& args, const io::Case& c, std::ostream& out, std::
   const Sweep spec = parse_sweep(args.sweep);
   const std::size_t column = metric_column(args.metric, "epsilon_um", app::drive_metric_names());
   const app::DriveSweepReport sweep = app::run_drive_sweep(
-      c, spec, drive_request(args),
-      {args.seed}, args.threads, progress_reporter(err, "sweep"));
+      c, spec, drive_request(args), {args.seed}, args.threads, progress_reporter(err, "sweep"));
   for (std::size_t i = 0; i < sweep.runs.size(); ++i)
     warn(err, c.source, sweep.key + " = " + human(sweep.values[i]) + ", ", sweep.runs[i]);
   print_sweep(sweep, c, column, out);
@@ -166,7 +164,6 @@ void print_run(const app::DriveReport& run, const io::Case& c, std::ostream& out
                        human(m_to_um(a.epsilon_pp_m), 3));
   }
 }
-
 
 // Over the last summary revolutions, two panels: ε of each axis, and its motor speed about
 // the mean (the speed ripple), on its own axis.
@@ -242,7 +239,8 @@ int run_drive(const DriveArgs& args, std::ostream& out, std::ostream& err) {
   io::OutputTransaction outputs;
   write_traces(args, run, outputs);
   if (!args.currents.empty()) app::write_current_log(outputs.open(args.currents), run, c.source);
-  if (!args.outputs.json.empty()) io::write_json(outputs.open(args.outputs.json), app::to_json(c, run));
+  if (!args.outputs.json.empty())
+    io::write_json(outputs.open(args.outputs.json), app::to_json(c, run));
   outputs.commit();
   for (const std::string* f :
        {&args.outputs.csv, &args.currents, &args.outputs.json, &args.outputs.plot})

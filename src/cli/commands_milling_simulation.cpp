@@ -123,9 +123,9 @@ int run_sweep(const SimulateArgs& args, const io::Case& c, std::ostream& out, st
   const auto& names = app::milling_metric_names();
   const std::size_t column = metric_column(args.metric, "force_pulsation", names);
   const std::string& metric = names[column];
-  const app::MillingSweepJobReport job = app::sweep_milling_case(
-      c, parse_sweep(args.sweep), simulate_request(args), args.threads,
-      progress_reporter(err, "sweep"));
+  const app::MillingSweepJobReport job =
+      app::sweep_milling_case(c, parse_sweep(args.sweep), simulate_request(args), args.threads,
+                              progress_reporter(err, "sweep"));
   const Sweep& sweep = job.sweep;
   const auto& results = job.results;
   const auto metrics = app::milling_metrics;
@@ -174,8 +174,10 @@ int run_sweep(const SimulateArgs& args, const io::Case& c, std::ostream& out, st
         p[names[k]] = std::isnan(m[k]) ? json() : json(m[k]);
       points.push_back(std::move(p));
     }
-    json doc{{"command", "simulate"}, {"schema_version", kJsonSchemaVersion}, {"case", io::to_json(c)}, {"source", c.source},
-             {"sweep", sweep.key},    {"metric", metric},       {"points", std::move(points)}};
+    json doc{{"command", "simulate"},      {"schema_version", kJsonSchemaVersion},
+             {"case", io::to_json(c)},     {"source", c.source},
+             {"sweep", sweep.key},         {"metric", metric},
+             {"points", std::move(points)}};
     io::write_json(outputs.open(args.outputs.json), doc);
   }
   if (!args.outputs.plot.empty())
@@ -227,14 +229,13 @@ void print_milling(const io::Case& c, const app::MillingSimulationJobReport& job
   out << fmt::format("    chatter indicator       {}\n", human(r.chatter_indicator, 3));
   out << fmt::format("    perturbation growth     {:+.3g} per period ({:+.3g} 1/s) → {}\n",
                      r.growth_per_period, r.growth_rate_per_s, shout(r.verdict()));
-  for (const std::string& w : job.warnings) err << "cutdyn: warning: " << c.source << ": " << w << "\n";
+  for (const std::string& w : job.warnings)
+    err << "cutdyn: warning: " << c.source << ": " << w << "\n";
   if (predicted) {
     out << "    predicted critical depth " << depth_text(predicted->boundary) << " → depth is "
         << human(100.0 * s.cut.width_m / predicted->boundary.depth_m, 3) << " % of it\n";
   }
-
 }
-
 
 // Points per series of the whole run: enough for the envelope of every tooth pass in a
 // figure a few thousand pixels wide.
@@ -321,7 +322,8 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
       csv.row({r.time_s[i], r.fx_n[i], r.fy_n[i], r.force_n[i], m_to_um(r.x_m[i]),
                m_to_um(r.y_m[i]), r.teeth_in_cut[i]});
   }
-  if (!args.outputs.json.empty()) io::write_json(outputs.open(args.outputs.json), app::to_json(c, job));
+  if (!args.outputs.json.empty())
+    io::write_json(outputs.open(args.outputs.json), app::to_json(c, job));
   if (!args.outputs.plot.empty()) io::write_plot(milling_plot(job), args.outputs.plot, outputs);
   commit_outputs(outputs, args.outputs, out);
   return 0;

@@ -31,12 +31,12 @@ struct CalibrateArgs {
 
 struct EstimateArgs {
   app::EstimateOptions options;
-  std::string calib;         // --calib C.json (or "zheng2012")
-  std::string input = "-";   // INPUT.csv, or - for standard input
-  std::string out;           // --out F.csv (else standard output, line by line)
-  std::string band;          // --band B.json: add level/limits/alarm columns
-  std::string alarms;        // --alarms F.csv: the alarm events
-  std::string json;          // --json F.json: the summary (filter, warnings) as JSON
+  std::string calib;        // --calib C.json (or "zheng2012")
+  std::string input = "-";  // INPUT.csv, or - for standard input
+  std::string out;          // --out F.csv (else standard output, line by line)
+  std::string band;         // --band B.json: add level/limits/alarm columns
+  std::string alarms;       // --alarms F.csv: the alarm events
+  std::string json;         // --json F.json: the summary (filter, warnings) as JSON
   std::string on_bad_line = "stop";
 };
 
@@ -76,9 +76,15 @@ void render_warning(std::ostream& err, const app::MonitorWarning& w) {
   using Kind = app::MonitorWarning::Kind;
   err << "cutdyn: warning: " << w.source << ": ";
   switch (w.kind) {
-    case Kind::kBadLine: err << w.message << " (skipped)"; break;
-    case Kind::kBadLinesSkipped: err << "skipped " << plural(w.count, "bad line", "bad lines"); break;
-    case Kind::kFit: err << "axis " << w.axis << ": " << w.message; break;
+    case Kind::kBadLine:
+      err << w.message << " (skipped)";
+      break;
+    case Kind::kBadLinesSkipped:
+      err << "skipped " << plural(w.count, "bad line", "bad lines");
+      break;
+    case Kind::kFit:
+      err << "axis " << w.axis << ": " << w.message;
+      break;
     case Kind::kTorqueSign:
       err << "line " << w.line << ", axis " << w.axis << " at " << human(w.time_s, 7)
           << " s: " << w.message;
@@ -91,7 +97,9 @@ void render_warning(std::ostream& err, const app::MonitorWarning& w) {
           << "): force_sigma_n is left empty; calibrate the machine (cutdyn monitor calibrate "
              "--idle ... --loaded ...) for an uncertainty";
       break;
-    case Kind::kNoBand: err << "no band for axis " << w.axis << ": no alarms on it"; break;
+    case Kind::kNoBand:
+      err << "no band for axis " << w.axis << ": no alarms on it";
+      break;
     case Kind::kBandwidthMismatch:
       err << "taught with --bandwidth-hz " << human(w.value) << ", estimating with "
           << human(w.other);
@@ -182,8 +190,8 @@ int run_calibrate(const CalibrateArgs& args, std::ostream& out, std::ostream& er
   const app::CalibrateReport report = app::calibrate(options, listener(err));
   const std::size_t axes = report.axes.size();
   out << "cutdyn monitor calibrate: " << axes << " ax" << (axes == 1 ? "is" : "es") << ", "
-      << options.idle.size() << " idle and " << plural(options.loaded.size(), "loaded log", "loaded logs")
-      << "\n";
+      << options.idle.size() << " idle and "
+      << plural(options.loaded.size(), "loaded log", "loaded logs") << "\n";
   for (const auto& [axis, a] : report.axes) print_axis(out, axis, a);
   io::OutputTransaction outputs;
   io::write_json(outputs.open(args.out), app::calibration_json(report.axes));
@@ -213,7 +221,8 @@ json filter_json(const app::FilterReport& f) {
 }
 
 void describe_filter(std::ostream& out, const std::string& axis, const app::FilterReport& f) {
-  out << "  axis " << axis << ": force_n = the force through H(f) = sinc(f·Δt)·e^(−jπfΔt)·((1 − r)/"
+  out << "  axis " << axis
+      << ": force_n = the force through H(f) = sinc(f·Δt)·e^(−jπfΔt)·((1 − r)/"
          "(1 − r·e^(−j2πfΔt)))², r = exp(−2π·f_b·Δt), f_b = "
       << human(f.bandwidth_hz) << " Hz";
   if (f.step_s <= 0.0) {
@@ -225,8 +234,8 @@ void describe_filter(std::ostream& out, const std::string& axis, const app::Filt
       << "° at f_b, delay " << human(f.delay_s, 3) << " s at low frequency";
   if (f.tooth_frequency_hz > 0.0)
     out << "; at the tooth frequency " << human(f.tooth_frequency_hz) << " Hz: gain "
-        << human(f.gain_at_tooth_frequency, 3) << ", lag "
-        << human(f.lag_deg_at_tooth_frequency, 3) << "°";
+        << human(f.gain_at_tooth_frequency, 3) << ", lag " << human(f.lag_deg_at_tooth_frequency, 3)
+        << "°";
   out << "\n";
 }
 
@@ -276,8 +285,7 @@ app::EstimateOptions estimate_options(const EstimateArgs& args) {
 void print_estimate(const EstimateArgs& args, const app::EstimateReport& r, std::ostream& out,
                     std::ostream& err) {
   std::ostream& report = args.out.empty() ? err : out;
-  report << (args.out.empty() ? "cutdyn: " : "") << "monitor estimate: " << r.samples
-         << " samples";
+  report << (args.out.empty() ? "cutdyn: " : "") << "monitor estimate: " << r.samples << " samples";
   if (!args.band.empty()) report << ", " << plural(r.alarms.size(), "alarm", "alarms");
   report << "\n";
   for (const app::EstimatedAxis& e : r.axes) describe_filter(report, e.axis, e.filter);
@@ -396,8 +404,8 @@ CLI::App* add_calibrate(CLI::App* monitor, CalibrateArgs& a) {
 }
 
 CLI::App* add_estimate(CLI::App* monitor, EstimateArgs& a) {
-  auto* c = monitor->add_subcommand(
-      "estimate", "estimate the cutting force from a current log, as it arrives");
+  auto* c = monitor->add_subcommand("estimate",
+                                    "estimate the cutting force from a current log, as it arrives");
   c->add_option("INPUT", a.input, "current log (CSV), - for standard input (default)");
   add_estimator(c, a.calib, a.options.estimator, a.on_bad_line);
   c->add_option("--out", a.out, "write the estimate to a file (else standard output)");

@@ -36,8 +36,9 @@ void print_plan(const app::PlanJobReport& job, std::ostream& out, std::ostream& 
       mm(b.accuracy_coefficient * b.allowance_m), mm(r.max_axial_feed_m),
       mm(r.max_axial_feed_closed_form_m), mm(r.max_axial_feed_printed_form_m),
       job.printed_form_difference_percent);
-  out << fmt::format("  allowance split: inner edges {} mm, outer edges {} mm (even at h* = {} mm)\n",
-                     mm(r.inner_depth_m), mm(r.outer_depth_m), mm(r.balanced_offset_m));
+  out << fmt::format(
+      "  allowance split: inner edges {} mm, outer edges {} mm (even at h* = {} mm)\n",
+      mm(r.inner_depth_m), mm(r.outer_depth_m), mm(r.balanced_offset_m));
   out << fmt::format("  axial feed S0                          {} mm{}\n", mm(r.axial_feed_m),
                      job.feed_given ? " (given)" : "");
   out << fmt::format("  width of cut q / of milling bф         {} mm / {} mm\n", mm(r.q_m),
@@ -66,7 +67,6 @@ void print_plan(const app::PlanJobReport& job, std::ostream& out, std::ostream& 
                        mm(b.offset_m), human(60.0 * b.cutting_speed_m_per_s), binding);
   }
 }
-
 
 constexpr const char* kChosenColour = "#000000";  // the plan's point, black on both panels
 constexpr const char* kDelta1Colour = "#D55E00";  // Δ1 and its limit, solid and dashed

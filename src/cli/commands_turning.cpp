@@ -9,8 +9,8 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
-#include "cutdyn/app/force.hpp"
 #include "cli/milling_setup.hpp"
+#include "cutdyn/app/force.hpp"
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/forces/duty_cycle.hpp"
@@ -66,8 +66,8 @@ int run_check(const CheckArgs& args, std::ostream& out, std::ostream& err) {
 
 namespace {
 
-void print_turning(const io::Case& c, const app::TurningSimulationJobReport& job,
-                   std::ostream& out, std::ostream& err) {
+void print_turning(const io::Case& c, const app::TurningSimulationJobReport& job, std::ostream& out,
+                   std::ostream& err) {
   const TurningSimulationOptions& o = job.options;
   const auto& runs = job.runs;
   using Run = app::TurningSimulationRun;
@@ -99,18 +99,17 @@ void print_turning(const io::Case& c, const app::TurningSimulationJobReport& job
         << human(100.0 * o.depth_m / r.predicted.boundary.depth_m, 3) << " % of it\n";
   }
 
-  for (const std::string& w : job.warnings) err << "cutdyn: warning: " << c.source << ": " << w << "\n";
-
+  for (const std::string& w : job.warnings)
+    err << "cutdyn: warning: " << c.source << ": " << w << "\n";
 }
-
 
 io::PlotSpec turning_plot(const app::TurningSimulationJobReport& job) {
   const TurningSimulationOptions& o = job.options;
   const auto& runs = job.runs;
   using Run = app::TurningSimulationRun;
   io::PlotSpec spec;
-  spec.title = fmt::format("Tool vibration at {} rpm, depth {} mm", human(o.rpm),
-                           human(m_to_mm(o.depth_m)));
+  spec.title =
+      fmt::format("Tool vibration at {} rpm, depth {} mm", human(o.rpm), human(m_to_mm(o.depth_m)));
   spec.x_label = "time (s)";
   spec.y_label = "tool displacement in the feed direction (µm)";
   for (auto it = runs.rbegin(); it != runs.rend(); ++it) {  // the case's own process on top
@@ -131,8 +130,7 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
   if (!args.sweep.empty() || !args.metric.empty())
     throw InvalidInput({"--sweep, --metric: sweeps take milling cases in this version"},
                        "command line");
-  const app::TurningSimulationJobReport job =
-      app::simulate_turning_case(c, simulate_request(args));
+  const app::TurningSimulationJobReport job = app::simulate_turning_case(c, simulate_request(args));
   const auto& runs = job.runs;
   using Run = app::TurningSimulationRun;
 
@@ -146,7 +144,8 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
         csv.row({r.name, r.result.time_s[i], units::m_to_um(r.result.displacement_m[i]),
                  r.result.force_n[i], units::m_to_um(r.result.chip_thickness_m[i])});
   }
-  if (!args.outputs.json.empty()) io::write_json(outputs.open(args.outputs.json), app::to_json(c, job));
+  if (!args.outputs.json.empty())
+    io::write_json(outputs.open(args.outputs.json), app::to_json(c, job));
   if (!args.outputs.plot.empty()) io::write_plot(turning_plot(job), args.outputs.plot, outputs);
   commit_outputs(outputs, args.outputs, out);
   return 0;
@@ -163,20 +162,18 @@ void print_oxley(const io::Case& c, const app::OxleyPrediction& p, std::ostream&
   out << "    shear angle " << human(units::rad_to_deg(s.phi_rad)) << "°, chip thickness "
       << human(m_to_mm(s.chip_thickness_m)) << " mm (chip ratio " << human(p.result.chip_ratio)
       << "), contact length " << human(m_to_mm(s.contact_length_m)) << " mm\n";
-  out << "    strain-rate constant C0 = " << human(s.c0) << ", secondary zone δ = " << human(s.delta)
-      << " of the chip thickness, friction angle " << human(units::rad_to_deg(s.friction_angle_rad))
-      << "°\n";
+  out << "    strain-rate constant C0 = " << human(s.c0)
+      << ", secondary zone δ = " << human(s.delta) << " of the chip thickness, friction angle "
+      << human(units::rad_to_deg(s.friction_angle_rad)) << "°\n";
   out << "    temperatures: shear plane " << human(s.temperature_ab_c, 3)
       << " °C, tool–chip interface " << human(s.temperature_interface_c, 3) << " °C\n";
   out << "    flow stress in shear: shear plane " << human(s.shear_flow_stress_pa / 1e6)
       << " MPa at strain rate " << human(s.strain_rate_ab_per_s, 3) << " 1/s\n";
   for (const std::string& warning : p.result.warnings) out << "    warning: " << warning << "\n";
-
 }
 
 // The vibration lines of the force report (text) and their JSON.
-void print_vibration(const io::VibrationSection& v, const DutyCycle& dc,
-                     std::ostream& out) {
+void print_vibration(const io::VibrationSection& v, const DutyCycle& dc, std::ostream& out) {
   const double T = dc.period_s;
   out << "  vibration " << human(v.frequency_hz) << " Hz";
   if (v.amplitude_m) {
@@ -193,16 +190,15 @@ void print_vibration(const io::VibrationSection& v, const DutyCycle& dc,
   } else if (!dc.separates) {
     out << "  no separation: the cutting speed is at or above 2πfA\n";
   }
-
 }
 
 // Oxley's prediction around the cut: forces and shear angle against the uncut chip thickness.
 io::PlotSpec oxley_plot(const io::Case& c, const app::ForceJobReport& r) {
   io::PlotSpec spec;
-  spec.title = fmt::format("Oxley + Johnson–Cook: {} at {} m/min, rake {}°, w = {} mm",
-                           c.material->name,
-                           human(units::m_per_s_to_m_per_min(r.oxley->cut.speed_m_per_s)),
-                           human(units::rad_to_deg(r.oxley->cut.rake_rad)), human(m_to_mm(r.width_m)));
+  spec.title =
+      fmt::format("Oxley + Johnson–Cook: {} at {} m/min, rake {}°, w = {} mm", c.material->name,
+                  human(units::m_per_s_to_m_per_min(r.oxley->cut.speed_m_per_s)),
+                  human(units::rad_to_deg(r.oxley->cut.rake_rad)), human(m_to_mm(r.width_m)));
   spec.x_label = "uncut chip thickness (mm)";
   spec.y_label = "force (N)";
   spec.y2_label = "shear angle (°)";
@@ -229,7 +225,8 @@ io::PlotSpec pulse_plot(const app::ForceJobReport& r) {
   const ContactWindow g = r.duty_cycle.window();
   const double T = r.vibration ? r.duty_cycle.period_s : 1e-3;
   io::PlotSpec spec;
-  spec.title = r.vibration ? "Pulsed cutting forces of vibration-assisted turning" : "Cutting forces";
+  spec.title =
+      r.vibration ? "Pulsed cutting forces of vibration-assisted turning" : "Cutting forces";
   spec.x_label = "time (µs)";
   spec.y_label = "force (N)";
   spec.y_min = 0.0;
@@ -261,7 +258,8 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream& err) {
       << " N/mm², Kt = " << human(units::pa_to_n_per_mm2(r.kt_pa))
       << " N/mm²; h = " << human(m_to_mm(r.uncut_chip_thickness_m))
       << " mm, w = " << human(m_to_mm(r.width_m)) << " mm";
-  if (r.speed_m_per_s) out << ", v = " << human(units::m_per_s_to_m_per_min(*r.speed_m_per_s)) << " m/min";
+  if (r.speed_m_per_s)
+    out << ", v = " << human(units::m_per_s_to_m_per_min(*r.speed_m_per_s)) << " m/min";
   out << "\n";
   if (c.vibration) print_vibration(*c.vibration, r.duty_cycle, out);
   out << "  cutting force " << human(f.peak_cutting_n) << " N while cutting, mean "

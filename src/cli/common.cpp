@@ -98,8 +98,8 @@ void report_check(const io::Case& c, const CheckArgs& args, const app::CheckJobR
         << " could not cover every mode at this speed; the critical depth may be wrong\n";
   if (r.duty_cycle && r.conventional) out << "  duty cycle " << human(*r.duty_cycle) << "\n";
   if (r.conventional)
-    out << "  conventional turning: critical depth " << depth_text(r.conventional->boundary)
-        << ", " << (r.conventional->stable ? "stable" : "unstable") << " at this depth\n";
+    out << "  conventional turning: critical depth " << depth_text(r.conventional->boundary) << ", "
+        << (r.conventional->stable ? "stable" : "unstable") << " at this depth\n";
   for (const std::string& w : r.warnings) out << "  warning: " << w << "\n";
   if (args.json.empty()) return;
   io::OutputTransaction outputs;
@@ -115,6 +115,5 @@ std::function<void(int, int)> progress_reporter(std::ostream& err, std::string l
         << std::flush;
   };
 }
-
 
 }  // namespace cutdyn::cli

@@ -12,9 +12,9 @@
 
 #include "cli/commands.hpp"
 #include "cutdyn/app/case_models.hpp"
+#include "cutdyn/app/detail/text.hpp"
 #include "cutdyn/app/report_json.hpp"
 #include "cutdyn/app/stability.hpp"
-#include "cutdyn/app/detail/text.hpp"
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/forces/oxley.hpp"
 #include "cutdyn/io/case_file.hpp"

@@ -63,17 +63,17 @@ TEST(DriveJob, ASweepIsItsSingleRuns) {
   // The overloads on the case's own cut give the same.
   EXPECT_EQ(drive_metrics(run_drive(faster, SimulateRequest{}).axes[0]),
             drive_metrics(single.axes[0]));
-  const DriveSweepReport own = run_drive_sweep(c, Sweep{"simulate.rpm", {1.5 * rpm}},
-                                               SimulateRequest{}, {}, 1);
+  const DriveSweepReport own =
+      run_drive_sweep(c, Sweep{"simulate.rpm", {1.5 * rpm}}, SimulateRequest{}, {}, 1);
   EXPECT_EQ(drive_metrics(own.runs[0].axes[0]), drive_metrics(single.axes[0]));
   ASSERT_EQ(sweep.runs[1].axes.size(), single.axes.size());
   for (std::size_t k = 0; k < single.axes.size(); ++k)
     EXPECT_EQ(drive_metrics(sweep.runs[1].axes[k]), drive_metrics(single.axes[k]));
   EXPECT_DOUBLE_EQ(sweep.runs[0].cut.rpm, rpm);
   // A case without drives is refused before anything runs.
-  EXPECT_THROW(run_drive_sweep(load_case("", "milling-insperger"), "simulate.rpm", {1000.0},
-                               cut_of),
-               InvalidInput);
+  EXPECT_THROW(
+      run_drive_sweep(load_case("", "milling-insperger"), "simulate.rpm", {1000.0}, cut_of),
+      InvalidInput);
 }
 
 }  // namespace

@@ -57,13 +57,12 @@ class MonitorJobs : public testing::TempDirTest {
     const AxisModel x = zheng2012_axis('x');
     const testing::LogNoise noise{0.05, 0.02};
     CalibrateOptions o;
-    o.idle = {write("idle.csv", testing::to_csv(
-                                    synthetic_run(x, testing::idle_profile(0.3), 1e-3, noise, 1),
-                                    "x"))};
-    o.loaded = {write("loaded.csv",
-                      testing::to_csv(
-                          synthetic_run(x, testing::loaded_profile(0.2), 1e-3, noise, 2), "x",
-                          true))};
+    o.idle = {
+        write("idle.csv",
+              testing::to_csv(synthetic_run(x, testing::idle_profile(0.3), 1e-3, noise, 1), "x"))};
+    o.loaded = {write("loaded.csv", testing::to_csv(synthetic_run(x, testing::loaded_profile(0.2),
+                                                                  1e-3, noise, 2),
+                                                    "x", true))};
     o.base = "zheng2012";
     return calibrate(o);
   }
@@ -137,9 +136,8 @@ TEST_F(MonitorJobs, EstimateFedInAnyChunksGivesTheSameRows) {
 TEST_F(MonitorJobs, TeachThenEstimateRaisesTheOverload) {
   const AxisModel x = zheng2012_axis('x');
   TeachOptions t;
-  t.references = {
-      write("ref.csv", testing::to_csv(synthetic_run(x, {{60.0, 0.5, 2000.0}}, 1e-3, {}, 1, true),
-                                       "x"))};
+  t.references = {write(
+      "ref.csv", testing::to_csv(synthetic_run(x, {{60.0, 0.5, 2000.0}}, 1e-3, {}, 1, true), "x"))};
   t.calibration = "zheng2012";
   t.rpm = 600.0;
   t.teeth = 4;
@@ -161,8 +159,8 @@ TEST_F(MonitorJobs, TeachThenEstimateRaisesTheOverload) {
   MonitorListener listener;
   listener.alarm = [&](const std::string&, const AlarmEvent& a) { live.push_back(a); };
   write("band.json", band_json(taught.band).dump());
-  const EstimateReport r = estimate(cut, "zheng2012", {}, (dir_ / "band.json").string(), {},
-                                    listener);
+  const EstimateReport r =
+      estimate(cut, "zheng2012", {}, (dir_ / "band.json").string(), {}, listener);
   ASSERT_FALSE(r.alarms.empty());
   EXPECT_EQ(r.alarms.front().second.kind, AlarmKind::kOverload);
   // Caught within one tooth period (25 ms) of the step: the level is averaged over it.

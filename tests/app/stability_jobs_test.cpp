@@ -1,14 +1,13 @@
 // The lobes and check jobs agree with each other: `check` at a speed of the lobes finds the
 // lobes' critical depth there, and its verdict flips across it; the recommended speed is
 // stable at the target depth by `check`, with the stated margin.
-#include "cutdyn/app/stability.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
 #include "cutdyn/app/case_models.hpp"
+#include "cutdyn/app/stability.hpp"
 #include "cutdyn/core/error.hpp"
 
 namespace cutdyn::app {
@@ -50,11 +49,12 @@ TEST_P(StabilityJobs, CheckAgreesWithTheLobesAndTheRecommendation) {
   // The recommended speed at half the lowest pocket's depth: stable there by `check`, and
   // still stable with the speed off by the stated margin.
   LobesRequest target = lr;
-  target.target_depth_m = 0.5 * pts[lobes.pockets.empty() ? lobes.lowest : lobes.pockets.front()]
-                                     .boundary.depth_m;
+  target.target_depth_m =
+      0.5 * pts[lobes.pockets.empty() ? lobes.lowest : lobes.pockets.front()].boundary.depth_m;
   const LobesJobReport advised = run_lobes(c, target);
   if (!advised.advice.found) return;
-  for (double factor : {1.0, 1.0 - 0.9 * advised.advice.margin, 1.0 + 0.9 * advised.advice.margin}) {
+  for (double factor :
+       {1.0, 1.0 - 0.9 * advised.advice.margin, 1.0 + 0.9 * advised.advice.margin}) {
     CheckRequest r;
     r.rpm = advised.advice.rpm * factor;
     r.depth_m = *target.target_depth_m;

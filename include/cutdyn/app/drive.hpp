@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "cutdyn/app/simulate.hpp"
 #include "cutdyn/drive/feed_drive.hpp"
 #include "cutdyn/drive/motor_currents.hpp"
-#include "cutdyn/app/simulate.hpp"
 #include "cutdyn/io/case_file.hpp"
 #include "cutdyn/simulate/milling_simulation.hpp"
 

@@ -79,8 +79,8 @@ struct CalibrateOptions {
   std::string base;  // a calibration file or "zheng2012": KT, J, measure, the values not fitted
   std::vector<AxisValue> torque_constant_nm_per_a;  // KT, winning over the base
   std::vector<AxisValue> inertia_kg_m2;             // J, winning over the base
-  std::optional<CurrentMeasure> measure;  // default: the base's, else space-vector
-  std::string force_column = "force_n";   // of the loaded logs
+  std::optional<CurrentMeasure> measure;            // default: the base's, else space-vector
+  std::string force_column = "force_n";             // of the loaded logs
   CalibrationOptions fit;
   bool stop_at_bad_line = true;  // false: skip bad lines (warned) and go on
 
@@ -164,10 +164,10 @@ class EstimateJob {
   };
   /// `calibration_name` and `source` name the calibration and the log in messages. Throws
   /// InvalidInput for invalid options (naming "options").
-  EstimateJob(Calibration calibration, std::string calibration_name,
-              const EstimateOptions& options, std::optional<BandFile> band = std::nullopt,
-              std::string band_name = {}, std::string source = "standard input",
-              Sinks sinks = {}, MonitorListener listener = {});
+  EstimateJob(Calibration calibration, std::string calibration_name, const EstimateOptions& options,
+              std::optional<BandFile> band = std::nullopt, std::string band_name = {},
+              std::string source = "standard input", Sinks sinks = {},
+              MonitorListener listener = {});
   ~EstimateJob();
   EstimateJob(const EstimateJob&) = delete;
   EstimateJob& operator=(const EstimateJob&) = delete;

@@ -53,7 +53,7 @@ nlohmann::json calibration_json(const Calibration& calibration);
 
 /// A band file: the taught band of each axis and how it was taught.
 struct BandFile {
-  BandOptions options;  // as taught (each band carries them too)
+  BandOptions options;                 // as taught (each band carries them too)
   std::optional<double> bandwidth_hz;  // the estimator's f_b at teach-in (absent in old files)
   std::string calibration;             // the calibration the reference runs were estimated with
   std::map<std::string, ForceBand> axes;

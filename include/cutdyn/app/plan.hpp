@@ -25,8 +25,8 @@ struct PlanCurve {
   std::vector<double> x, y;
 };
 struct PlanTradeOff {
-  PlanCurve time_against_feed;      // t0(S0) at the chosen h, S0 up to min(D, 3·S0)
-  PlanCurve time_against_offset;    // t0(h) at the chosen S0, h over the [limits] range
+  PlanCurve time_against_feed;          // t0(S0) at the chosen h, S0 up to min(D, 3·S0)
+  PlanCurve time_against_offset;        // t0(h) at the chosen S0, h over the [limits] range
   PlanCurve straightness_against_feed;  // Δ1(S0)
 };
 

@@ -42,6 +42,7 @@ nlohmann::json to_json(const io::Case& c, const ForceJobReport& report);
 nlohmann::json to_json(const io::Case& c, const PlanJobReport& report);
 nlohmann::json to_json(const io::Case& c, const DriveReport& report);
 /// A sweep of the drives, with the metric it tabulates.
-nlohmann::json to_json(const io::Case& c, const DriveSweepReport& report, const std::string& metric);
+nlohmann::json to_json(const io::Case& c, const DriveSweepReport& report,
+                       const std::string& metric);
 
 }  // namespace cutdyn::app

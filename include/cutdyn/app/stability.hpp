@@ -34,10 +34,10 @@ struct LobesJobReport {
   // Vibration-assisted turning: the conventional lobes at the same speeds (closed form).
   std::vector<CriticalDepth> reference;
   std::string reference_label;
-  bool duty_cycle = false;  // the points carry the duty cycle (vibration-assisted turning)
-  std::string title;        // of a figure
-  std::string label;        // of the main curve
-  std::size_t lowest = 0;   // index of the lowest critical depth
+  bool duty_cycle = false;           // the points carry the duty cycle (vibration-assisted turning)
+  std::string title;                 // of a figure
+  std::string label;                 // of the main curve
+  std::size_t lowest = 0;            // index of the lowest critical depth
   std::vector<std::size_t> pockets;  // stable pockets (local maxima), at most 3
   std::optional<double> target_depth_m;
   std::vector<SpeedRange> stable_ranges;  // at the target depth
