@@ -13,18 +13,6 @@ namespace {
 
 using units::m_to_um;
 
-// Runs `check`; an InvalidInput it throws is rethrown naming `where` and prefixing `key`.
-template <typename F>
-void rethrow_as(const std::string& where, const std::string& key, F&& check) {
-  try {
-    check();
-  } catch (const InvalidInput& e) {
-    std::vector<std::string> problems;
-    for (const std::string& p : e.problems()) problems.push_back(key + ": " + p);
-    throw InvalidInput(problems, where);
-  }
-}
-
 // The cutter's force and deflection over the whole cut, one sample per distinct instant.
 struct CutTraces {
   std::vector<double> t, fx, fy, fz, x, y;

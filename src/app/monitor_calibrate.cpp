@@ -8,7 +8,6 @@
 namespace cutdyn::app {
 namespace {
 
-using detail::rethrow_as;
 
 // The logs of one kind, per axis, and per file the measures its comments record.
 struct Logs {

@@ -19,18 +19,6 @@ using nlohmann::json;
 
 constexpr std::size_t kChunk = 1 << 16;
 
-// Runs `check`; an InvalidInput it throws is rethrown naming `where` and prefixing `key`.
-template <typename F>
-void rethrow_as(const std::string& where, const std::string& key, F&& check) {
-  try {
-    check();
-  } catch (const InvalidInput& e) {
-    std::vector<std::string> problems;
-    for (const std::string& p : e.problems()) problems.push_back(key + ": " + p);
-    throw InvalidInput(problems, where);
-  }
-}
-
 double number_at(const json& j, const std::string& key, const std::string& where,
                  const std::string& path, bool required, double fallback = 0.0) {
   const auto it = j.find(key);

@@ -15,18 +15,6 @@
 
 namespace cutdyn::app::detail {
 
-/// Runs `check`; an InvalidInput it throws is rethrown naming `where` and prefixing `key`.
-template <typename F>
-void rethrow_as(const std::string& where, const std::string& key, F&& check) {
-  try {
-    check();
-  } catch (const InvalidInput& e) {
-    std::vector<std::string> problems;
-    for (const std::string& p : e.problems()) problems.push_back(key + ": " + p);
-    throw InvalidInput(problems, where);
-  }
-}
-
 /// Records a warning: in `warnings` and to the listener.
 void warn(const MonitorListener& listener, std::vector<MonitorWarning>& warnings,
           MonitorWarning w);

@@ -61,7 +61,7 @@ TeachReport teach(const TeachOptions& options, const MonitorListener& listener) 
   band.bandwidth_hz = options.estimator.bandwidth_hz;
   band.calibration = options.calibration;
   for (const auto& [axis, r] : runs)
-    detail::rethrow_as("teach-in", "axis " + axis,
+    rethrow_as("teach-in", "axis " + axis,
                        [&] { band.axes[axis] = teach_band(r, band.options); });
   // Without the tooth period the level keeps the tooth pattern: a wide band, a slow alarm.
   if (!options.rpm && !options.average_s) {

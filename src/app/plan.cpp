@@ -10,17 +10,6 @@
 namespace cutdyn::app {
 namespace {
 
-template <typename F>
-void rethrow_as(const std::string& where, const std::string& key, F&& work) {
-  try {
-    work();
-  } catch (const InvalidInput& e) {
-    std::vector<std::string> problems;
-    for (const std::string& p : e.problems()) problems.push_back(key + ": " + p);
-    throw InvalidInput(problems, where);
-  }
-}
-
 PlanTradeOff trade_off(const BoreMillingCase& b, const BoreMillingLimits& l, double s0) {
   PlanTradeOff t;
   for (int i = 1; i <= 200; ++i) {

@@ -20,18 +20,6 @@ namespace {
 using units::m_to_mm;
 using units::m_to_um;
 
-// Runs `work`; an InvalidInput it throws is rethrown naming `where` and prefixing `key`.
-template <typename F>
-void rethrow_as(const std::string& where, const std::string& key, F&& work) {
-  try {
-    work();
-  } catch (const InvalidInput& e) {
-    std::vector<std::string> problems;
-    for (const std::string& p : e.problems()) problems.push_back(key + ": " + p);
-    throw InvalidInput(problems, where);
-  }
-}
-
 bool any_override(const SimulateRequest& r) { return r.rpm || r.depth_m || r.duration_s; }
 
 // The turning options of the case and the request; every missing or bad value throws.

@@ -20,18 +20,6 @@ namespace {
 
 using units::m_to_mm;
 
-// Runs `check`; an InvalidInput it throws is rethrown naming `where` and prefixing `key`.
-template <typename F>
-void rethrow_as(const std::string& where, const std::string& key, F&& check) {
-  try {
-    check();
-  } catch (const InvalidInput& e) {
-    std::vector<std::string> problems;
-    for (const std::string& p : e.problems()) problems.push_back(key + ": " + p);
-    throw InvalidInput(problems, where);
-  }
-}
-
 // The method asked for: the request's, else the case's [lobes].method.
 StabilityMethod asked_method(const io::Case& c, const std::string& name,
                              const RequestNames& names) {

@@ -54,18 +54,6 @@ void commit_outputs(io::OutputTransaction& outputs, const Outputs& o, std::ostre
 /// Adds a problem to `v` if `path`'s folder does not exist.
 void check_output_folder(Validator& v, const char* flag, const std::string& path);
 
-/// Runs `check`; an InvalidInput it throws is rethrown naming `where` and prefixing `key`.
-template <typename F>
-void rethrow_as(const std::string& where, const std::string& key, F&& check) {
-  try {
-    check();
-  } catch (const InvalidInput& e) {
-    std::vector<std::string> problems;
-    for (const std::string& p : e.problems()) problems.push_back(key + ": " + p);
-    throw InvalidInput(problems, where);
-  }
-}
-
 /// "6.736 mm", or "> 30 mm" when no boundary was found below the limit.
 std::string depth_text(const CriticalDepth& b);
 

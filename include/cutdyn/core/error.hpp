@@ -55,4 +55,17 @@ class Validator {
 /// Formats a double for messages: shortest round-trip form, "nan"/"inf" spelled out.
 std::string format_value(double value);
 
+/// Runs `work`; an InvalidInput it throws is rethrown naming `where` and with `key` before
+/// each problem ("simulate: …", "axis x: …").
+template <typename F>
+void rethrow_as(const std::string& where, const std::string& key, F&& work) {
+  try {
+    work();
+  } catch (const InvalidInput& e) {
+    std::vector<std::string> problems;
+    for (const std::string& p : e.problems()) problems.push_back(key + ": " + p);
+    throw InvalidInput(problems, where);
+  }
+}
+
 }  // namespace cutdyn
