@@ -63,8 +63,8 @@ AxisModel zheng2012_axis(char axis) {
       throw InvalidInput({"axis = \"" + std::string(1, axis) +
                           "\": the zheng2012 preset has the axes x, y and z"});
   }
-  return {printed[0] * kgf_cm, printed[1] * kgf_cm, printed[2] * kgf_cm, printed[3] * kgf_cm,
-          printed[4] * kgf_cm, CurrentMeasure::kRms};
+  return {printed[0] * kgf_cm, printed[1] * kgf_cm, printed[2] * kgf_cm,
+          printed[3] * kgf_cm, printed[4] * kgf_cm, CurrentMeasure::kRms};
 }
 
 }  // namespace cutdyn

@@ -109,12 +109,11 @@ struct Window {
 // under the sin² weights), and every stretch shares the error of σ. Both are returned and
 // added to the fits' covariance (correction_covariance).
 struct BiasCorrection {
-  std::map<int, double> level_var_nm2;  // per stretch: var of KT·b from its pooled mean
+  std::map<int, double> level_var_nm2;   // per stretch: var of KT·b from its pooled mean
   std::map<int, double> dtorque_dsigma;  // per stretch: ∂(KT·b)/∂σ, N·m/A
 };
 
-BiasCorrection correct_magnitude_bias(std::vector<Window>& rows, const AxisModel& m,
-                                      double sigma) {
+BiasCorrection correct_magnitude_bias(std::vector<Window>& rows, const AxisModel& m, double sigma) {
   BiasCorrection out;
   const double kt = m.torque_constant_nm_per_a;
   std::size_t first = 0;
@@ -171,8 +170,7 @@ Eigen::MatrixXd correction_covariance(const std::vector<Window>& rows, const Eig
 // 8/π ≈ 0.45 as ν = a/σ → 0: σ² = Σ SS_w / Σ (n_w − 1)·V(ν_w), ν_w from each window's mean
 // magnitude, iterated from V = 1 (a fixed point; at a high signal-to-noise ratio V = 1 and
 // the scatter is σ² itself).
-double current_noise_from_scatter(const std::vector<Window>& rows, double current_ss,
-                                  double dof) {
+double current_noise_from_scatter(const std::vector<Window>& rows, double current_ss, double dof) {
   if (!(dof > 0.0)) return 0.0;
   double sigma = std::sqrt(current_ss / dof);
   for (int iteration = 0; iteration < 50 && sigma > 0.0; ++iteration) {
@@ -222,8 +220,11 @@ double current_noise_of(const std::vector<Window>& rows, const AxisModel& m,
   if (weakest < 3.0 * scatter)
     warnings.push_back(
         "the phase currents sum to zero (one of them computed?), so the current noise (" +
-        format_value(scatter) + " A) is estimated from the scatter of |Id|; the smallest mean "
-        "current, " + format_value(weakest) + " A, is within three noise sigma of zero, where the "
+        format_value(scatter) +
+        " A) is estimated from the scatter of |Id|; the smallest mean "
+        "current, " +
+        format_value(weakest) +
+        " A, is within three noise sigma of zero, where the "
         "correction of the magnitude's noise bias depends on that estimate: log the rotor angle "
         "for a signed current without that bias");
   return with_variance(scatter);
@@ -482,12 +483,12 @@ IdleFit fit_idle(const AxisModel& m, const std::vector<AxisRun>& runs,
     const double var1 = ss1 / static_cast<double>(n - 1);
     r.warnings.push_back("the fitted viscous coefficient X = " + format_value(theta(1)) +
                          " N·m·s/rad is below 0 by at most 3σ (σ = " +
-                         format_value(fit.viscous_sigma) +
-                         "): clamped to 0, Tnzm refitted alone");
+                         format_value(fit.viscous_sigma) + "): clamped to 0, Tnzm refitted alone");
     fit.friction_nm = tf;
     fit.viscous_nm_s_per_rad = 0.0;
     const Eigen::MatrixXd inv1 = Eigen::MatrixXd::Constant(1, 1, 1.0 / static_cast<double>(n));
-    const Eigen::MatrixXd extra1 = correction_covariance(rows, a.leftCols(1), inv1, bias, noise_var);
+    const Eigen::MatrixXd extra1 =
+        correction_covariance(rows, a.leftCols(1), inv1, bias, noise_var);
     fit.friction_sigma_nm = std::sqrt(var1 / static_cast<double>(n) + extra1(0, 0));
     fit.covariance = 0.0;
     r.residual_sigma_nm = std::sqrt(var1);
@@ -515,7 +516,8 @@ LoadFit fit_load(const AxisCalibration& c, const std::vector<AxisRun>& runs,
   if (r.windows < 2) {
     r.status = CalibrationStatus::kTooFewWindows;
     r.message = "step 2 needs at least 2 steady windows; found " + std::to_string(r.windows) +
-                " (" + std::to_string(r.windows_rejected) + " rejected as not steady or at standstill)";
+                " (" + std::to_string(r.windows_rejected) +
+                " rejected as not steady or at standstill)";
     if (!ripple.empty()) {
       // Criterion (2) of a steady window allows a scatter of 0.1·steady_tolerance of the
       // speed: a periodic cut that ripples the speed needs ten times its ripple. The sin²-
@@ -569,9 +571,8 @@ LoadFit fit_load(const AxisCalibration& c, const std::vector<AxisRun>& runs,
   Eigen::MatrixXd forces(static_cast<Eigen::Index>(rows.size()), 1);
   for (std::size_t i = 0; i < rows.size(); ++i)
     forces(static_cast<Eigen::Index>(i), 0) = rows[i].fit_force;
-  const double var_bias = correction_covariance(rows, forces,
-                                                Eigen::MatrixXd::Constant(1, 1, 1.0 / sxx), bias,
-                                                0.0)(0, 0);
+  const double var_bias = correction_covariance(
+      rows, forces, Eigen::MatrixXd::Constant(1, 1, 1.0 / sxx), bias, 0.0)(0, 0);
   const double var_fit = ss_res / (n - 1.0) / sxx + var_bias;
   // Propagated from step 1 and the given constants: K = Σ F·y / Σ F², y linear in them.
   const double g_x = -sxw / sxx, g_t = -sxs / sxx;

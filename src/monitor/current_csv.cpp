@@ -44,10 +44,11 @@ void CurrentCsvParser::parse_comment(std::string_view line) {
   CsvComment c;
   c.line = line_;
   const auto malformed = [&](std::string_view item, const char* why) {
-    throw InvalidInput({"line " + std::to_string(line_) + ": comment item " + quoted(trim(item)) +
-                        ": " + why + " (a comment before the header is `# key = value, key = "
-                        "value, ...`)"},
-                       source_);
+    throw InvalidInput(
+        {"line " + std::to_string(line_) + ": comment item " + quoted(trim(item)) + ": " + why +
+         " (a comment before the header is `# key = value, key = "
+         "value, ...`)"},
+        source_);
   };
   for (std::size_t at = 0;;) {
     const std::size_t comma = body.find(',', at);
@@ -192,9 +193,8 @@ bool CurrentCsvParser::parse_line(std::string_view line, std::vector<CurrentRow>
   }
   CurrentRow row;
   row.line = line_;
-  double* target[8] = {&row.time_s,      nullptr,    &row.iu_a, &row.iv_a,
-                       &row.iw_a,        &row.speed_rad_s, &row.extra,
-                       &row.rotor_angle_rad};
+  double* target[8] = {&row.time_s, nullptr,          &row.iu_a,  &row.iv_a,
+                       &row.iw_a,   &row.speed_rad_s, &row.extra, &row.rotor_angle_rad};
   for (int s = 0; s < 8; ++s) {
     if (s == kAxis || index_[s] < 0) continue;
     std::string_view text = field[s];

@@ -200,7 +200,9 @@ std::vector<std::string> AlarmOptions::validate() const {
 }
 
 AlarmMonitor::AlarmMonitor(ForceBand band, const AlarmOptions& o)
-    : band_(std::move(band)), options_(o), smoother_(band_.options.smoothing_s, band_.options.average_s) {
+    : band_(std::move(band)),
+      options_(o),
+      smoother_(band_.options.smoothing_s, band_.options.average_s) {
   Validator v;
   v.merge(band_.validate());
   v.merge(o.validate());

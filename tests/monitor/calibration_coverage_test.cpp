@@ -8,8 +8,8 @@
 #include <random>
 #include <vector>
 
-#include "cutdyn/monitor/calibration.hpp"
 #include "cutdyn/drive/equivalent_current.hpp"
+#include "cutdyn/monitor/calibration.hpp"
 #include "cutdyn/monitor/force_estimator.hpp"
 #include "monitor/drive_chain.hpp"
 
@@ -116,10 +116,11 @@ TEST(MonitorCalibrationCoverage, PeriodicLoadGivesAnUnbiasedForceGain) {
   const LoadFit fc = fit_load(c, only_cut, s.loaded_options());
   EXPECT_EQ(fc.report.windows, 20);
   EXPECT_NEAR(fc.force_gain_m / s.p.force_gain_m, 1.0, 1e-5) << fc.force_gain_m;
-  std::printf("noise-free: Tnzm %.6f (true %.2f), X %.6f (%.4f), KBlf %.7f (%.5f), %d loaded "
-              "windows\n",
-              c.model.friction_nm, s.p.friction_nm, c.model.viscous_nm_s_per_rad, s.p.viscous,
-              c.model.force_gain_m, s.p.force_gain_m, f2.report.windows);
+  std::printf(
+      "noise-free: Tnzm %.6f (true %.2f), X %.6f (%.4f), KBlf %.7f (%.5f), %d loaded "
+      "windows\n",
+      c.model.friction_nm, s.p.friction_nm, c.model.viscous_nm_s_per_rad, s.p.viscous,
+      c.model.force_gain_m, s.p.force_gain_m, f2.report.windows);
 }
 
 TEST(MonitorCalibrationCoverage, SigmaCoversTheTruthAboutTwoThirdsOfTheTime) {
@@ -166,9 +167,10 @@ TEST(MonitorCalibrationCoverage, SigmaCoversTheTruthAboutTwoThirdsOfTheTime) {
   const double pooled = (in_t + in_x + in_k) / (3.0 * runs);
   std::printf("RMS error/sigma: Tnzm %.2f, X %.2f, KBlf %.2f\n", std::sqrt(zt / runs),
               std::sqrt(zx / runs), std::sqrt(zk / runs));
-  std::printf("coverage over %d runs: Tnzm %d, X %d, KBlf %d (pooled %.1f %%); estimate %d of %d "
-              "(%.1f %%)\n",
-              runs, in_t, in_x, in_k, 100 * pooled, in_e, n_e, 100.0 * in_e / n_e);
+  std::printf(
+      "coverage over %d runs: Tnzm %d, X %d, KBlf %d (pooled %.1f %%); estimate %d of %d "
+      "(%.1f %%)\n",
+      runs, in_t, in_x, in_k, 100 * pooled, in_e, n_e, 100.0 * in_e / n_e);
   EXPECT_GE(pooled, 0.60);
   EXPECT_LE(pooled, 0.80);
   for (int k : {in_t, in_x, in_k}) {
@@ -186,11 +188,7 @@ TEST(MonitorCalibrationCoverage, LightLoadMagnitudeBelowTheNoiseGivesUnbiasedFit
   // 1500 N. Over 20 noisy runs per noise level the calibration's Tnzm, X and KBlf have errors
   // whose RMS in units of their σ is at most 1.5 and none beyond 4σ, and the fitted current
   // noise is within 5 % of σ/√3 (the scatter of a magnitude at ν ≈ 0 is only 0.67 σ_Id).
-  testing::DriveAxisParameters p;
-  p.inertia_kg_m2 = 0.001;
-  p.viscous = 0.002;
-  p.friction_nm = 0.05;
-  p.force_gain_m = 0.002;
+  const testing::DriveAxisParameters p = testing::light_axis();
   std::vector<double> t;
   for (int i = 0; i <= 5000; ++i) t.push_back(i * 2e-4);
   std::vector<testing::DriveTraces> idle, loaded;
@@ -231,15 +229,16 @@ TEST(MonitorCalibrationCoverage, LightLoadMagnitudeBelowTheNoiseGivesUnbiasedFit
       zx += ex * ex;
       zk += ek * ek;
       worst = std::max({worst, std::abs(et), std::abs(ex), std::abs(ek)});
-      noise_error = std::max(
-          noise_error,
-          std::abs(f1.current_noise_a / equivalent_current_sigma(noise, p.measure) - 1.0));
+      noise_error =
+          std::max(noise_error,
+                   std::abs(f1.current_noise_a / equivalent_current_sigma(noise, p.measure) - 1.0));
     }
     const double rt = std::sqrt(zt / runs), rx = std::sqrt(zx / runs), rk = std::sqrt(zk / runs);
-    std::printf("light load, %.3f A per phase: RMS error/sigma Tnzm %.2f, X %.2f, KBlf %.2f; "
-                "worst %.1f sigma; current noise within %.1f %%; mean error/sigma Tnzm %.2f, "
-                "KBlf %.2f\n",
-                noise, rt, rx, rk, worst, 100 * noise_error, mt, mk);
+    std::printf(
+        "light load, %.3f A per phase: RMS error/sigma Tnzm %.2f, X %.2f, KBlf %.2f; "
+        "worst %.1f sigma; current noise within %.1f %%; mean error/sigma Tnzm %.2f, "
+        "KBlf %.2f\n",
+        noise, rt, rx, rk, worst, 100 * noise_error, mt, mk);
     EXPECT_LE(std::max({rt, rx, rk}), 1.5) << noise;
     EXPECT_LE(worst, 4.0) << noise;
     EXPECT_LE(noise_error, 0.05) << noise;
@@ -280,8 +279,10 @@ TEST(MonitorCurrentMagnitude, MeanAndVarianceMatchSamplingAndInvert) {
       const double mean = magnitude_mean(nu * sid, sid), h = 1e-5 * sid;
       const MagnitudeBias b = magnitude_bias(mean, sid);
       EXPECT_NEAR(b.bias_a, mean - nu * sid, 1e-9 * sid) << nu;
-      const double dm = (magnitude_bias(mean + h, sid).bias_a - magnitude_bias(mean - h, sid).bias_a) / (2 * h);
-      const double ds = (magnitude_bias(mean, sid + h).bias_a - magnitude_bias(mean, sid - h).bias_a) / (2 * h);
+      const double dm =
+          (magnitude_bias(mean + h, sid).bias_a - magnitude_bias(mean - h, sid).bias_a) / (2 * h);
+      const double ds =
+          (magnitude_bias(mean, sid + h).bias_a - magnitude_bias(mean, sid - h).bias_a) / (2 * h);
       EXPECT_NEAR(b.d_mean, dm, 1e-5 * (1.0 + std::abs(dm))) << nu;
       EXPECT_NEAR(b.d_sigma, ds, 1e-5 * (1.0 + std::abs(ds))) << nu;
     }
@@ -310,7 +311,8 @@ TEST(MonitorCalibrationCoverage, ViscousSlightlyBelowZeroIsClampedWithAWarning) 
     q.noise_a = 0.1;
     std::vector<AxisRun> runs;
     for (const auto& d : idle)
-      runs.push_back(testing::noisy_log(q, d, 0.005, 100 * seed + static_cast<unsigned>(runs.size())));
+      runs.push_back(
+          testing::noisy_log(q, d, 0.005, 100 * seed + static_cast<unsigned>(runs.size())));
     AxisModel m = testing::drive_axis_model(p);
     const IdleFit f = fit_idle(m, runs);
     ASSERT_EQ(f.report.status, CalibrationStatus::kSuccess);

@@ -25,6 +25,17 @@ struct DriveAxisParameters {
   unsigned seed = 1;
 };
 
+/// A light axis like ermolaev2020's x: Tnzm 0.05 N·m, X 0.002 N·m·s/rad, KBlf 2 mm, J 0.001
+/// kg·m², KT 1.621 N·m/A (rms): idle its current (0.03–0.04 A) is at or below the noise.
+inline DriveAxisParameters light_axis() {
+  DriveAxisParameters p;
+  p.inertia_kg_m2 = 0.001;
+  p.viscous = 0.002;
+  p.friction_nm = 0.05;
+  p.force_gain_m = 0.002;
+  return p;
+}
+
 inline FeedAxis drive_axis(const DriveAxisParameters& p) {
   FeedAxis a;
   a.name = "x";
@@ -90,7 +101,9 @@ inline AxisRun drive_log(const DriveAxisParameters& p, const MillingSimulationRe
   AxisRun run;
   double angle = 0.0;
   for (std::size_t i = 0; i < sim.time_s.size(); ++i) {
-    if (i > 0) angle += 0.5 * (d.speed_rad_s[i] + d.speed_rad_s[i - 1]) * (sim.time_s[i] - sim.time_s[i - 1]);
+    if (i > 0)
+      angle +=
+          0.5 * (d.speed_rad_s[i] + d.speed_rad_s[i - 1]) * (sim.time_s[i] - sim.time_s[i - 1]);
     AxisSample s;
     s.time_s = sim.time_s[i];
     s.iu_a = c.iu_a[i];

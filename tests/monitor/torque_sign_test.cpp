@@ -103,9 +103,10 @@ TEST(MonitorTorqueSign, DownMillingRightSignWithTheAngleAndAWarningWithout) {
   // flagged: the torque passes through zero twice per tooth period.
   EXPECT_GT(std::abs(est_without - truth), 0.3 * std::abs(truth));
   EXPECT_GT(doubtful_without, 2 * 4 * 5);  // at least twice per tooth, 40 Hz, 0.4 s and more
-  std::printf("down-milling: true mean %.1f N, with the angle %.1f N, without %.1f N "
-              "(%d of %d samples flagged)\n",
-              truth, est_with, est_without, doubtful_without, n);
+  std::printf(
+      "down-milling: true mean %.1f N, with the angle %.1f N, without %.1f N "
+      "(%d of %d samples flagged)\n",
+      truth, est_with, est_without, doubtful_without, n);
 }
 
 TEST(MonitorTorqueSign, NoFlagOnAResistingCut) {
@@ -132,6 +133,37 @@ TEST(MonitorTorqueSign, NoFlagOnAResistingCut) {
 namespace cutdyn {
 namespace {
 
+// The mean estimate after 0.2 s of a log, with the calibration's current noise (`corrected`)
+// and without it (`plain`), the mean σ and how many samples are flagged.
+struct MeanEstimate {
+  double corrected = 0.0, plain = 0.0, sigma = 0.0;
+  int flagged = 0, samples = 0;
+};
+MeanEstimate mean_estimate(const testing::DriveAxisParameters& p, const AxisRun& log,
+                           double phase_noise_a) {
+  AxisCalibration raw;
+  raw.model = testing::drive_axis_model(p);
+  AxisCalibration c = raw;
+  c.current_noise_a = equivalent_current_sigma(phase_noise_a, p.measure);
+  AxisForceEstimator corrected(c, EstimatorOptions{50.0, 0.5});
+  AxisForceEstimator plain(raw, EstimatorOptions{50.0, 0.5});
+  MeanEstimate m;
+  for (const AxisSample& s : log) {
+    const ForceEstimate a = corrected.update(s.time_s, s.iu_a, s.iv_a, s.iw_a, s.speed_rad_s);
+    const ForceEstimate b = plain.update(s.time_s, s.iu_a, s.iv_a, s.iw_a, s.speed_rad_s);
+    if (s.time_s < 0.2) continue;
+    m.corrected += a.force_n;
+    m.plain += b.force_n;
+    m.sigma += a.force_sigma_n;
+    m.flagged += a.torque_sign_doubtful;
+    ++m.samples;
+  }
+  m.corrected /= m.samples;
+  m.plain /= m.samples;
+  m.sigma /= m.samples;
+  return m;
+}
+
 TEST(MonitorLightLoad, NoiseBiasOfTheMagnitudeIsCorrected) {
   // A light load (Tnzm 0.3 N·m, X 0.01, no force: Id ≈ 0.2 A rms at 2 rad/s) with 0.05 and
   // 0.1 A of noise per phase: the magnitude is biased up by ≈ σ_Id²/Id (σ_Id = σ/√3), about
@@ -148,30 +180,14 @@ TEST(MonitorLightLoad, NoiseBiasOfTheMagnitudeIsCorrected) {
     testing::DriveAxisParameters q = p;
     q.noise_a = noise;
     const AxisRun log = testing::noisy_log(q, d, 0.0, 7);
-    AxisCalibration c;
-    c.model = testing::drive_axis_model(p);
-    AxisCalibration raw = c;
-    c.current_noise_a = equivalent_current_sigma(noise, p.measure);
-    AxisForceEstimator corrected(c, EstimatorOptions{50.0, 0.5}), plain(raw, EstimatorOptions{50.0, 0.5});
-    double m_c = 0, m_p = 0, sig = 0;
-    int n = 0;
-    for (const AxisSample& s : log) {
-      const ForceEstimate a = corrected.update(s.time_s, s.iu_a, s.iv_a, s.iw_a, s.speed_rad_s);
-      const ForceEstimate b = plain.update(s.time_s, s.iu_a, s.iv_a, s.iw_a, s.speed_rad_s);
-      if (s.time_s < 0.2) continue;
-      m_c += a.force_n;
-      m_p += b.force_n;
-      sig += a.force_sigma_n;
-      ++n;
-    }
-    m_c /= n;
-    m_p /= n;
-    sig /= n;
+    const MeanEstimate e = mean_estimate(p, log, noise);
+    const double m_c = e.corrected, m_p = e.plain, sig = e.sigma;
     const double id = 0.32 / 1.621, sid = equivalent_current_sigma(noise, p.measure);
     const double expected_bias = 1.621 * sid * sid / id / 0.00632;
-    std::printf("noise %.2f A: mean estimate %.2f N corrected, %.2f N plain (second-order bias "
-                "%.2f N), mean sigma %.1f N\n",
-                noise, m_c, m_p, expected_bias, sig);
+    std::printf(
+        "noise %.2f A: mean estimate %.2f N corrected, %.2f N plain (second-order bias "
+        "%.2f N), mean sigma %.1f N\n",
+        noise, m_c, m_p, expected_bias, sig);
     EXPECT_NEAR(m_p, expected_bias, 0.2 * expected_bias);  // the premise: the bias is there
     EXPECT_LT(std::abs(m_c), 0.8);
     EXPECT_LT(std::abs(m_c), 0.25 * std::abs(m_p));
@@ -185,11 +201,7 @@ TEST(MonitorLightLoad, CurrentBelowTheNoiseIsCoveredBySigmaAndFlagged) {
   // sample there (a per-sample inverse is itself biased); what remains must lie within the
   // stated σ, and at least 99 % of the samples are flagged (the sign is unknown).
   // Uncorrected, the error is larger.
-  testing::DriveAxisParameters p;
-  p.inertia_kg_m2 = 0.001;
-  p.viscous = 0.002;
-  p.friction_nm = 0.05;
-  p.force_gain_m = 0.002;
+  const testing::DriveAxisParameters p = testing::light_axis();
   std::vector<double> t;
   for (int i = 0; i <= 10000; ++i) t.push_back(i * 2e-4);
   const auto d = testing::drive_traces(p, t, std::vector<double>(t.size(), -10.9), 2.5);
@@ -197,29 +209,13 @@ TEST(MonitorLightLoad, CurrentBelowTheNoiseIsCoveredBySigmaAndFlagged) {
     testing::DriveAxisParameters q = p;
     q.noise_a = noise;
     const AxisRun log = testing::noisy_log(q, d, 0.0, 11);
-    AxisCalibration c;
-    c.model = testing::drive_axis_model(p);
-    AxisCalibration raw = c;
-    c.current_noise_a = equivalent_current_sigma(noise, p.measure);
-    AxisForceEstimator corrected(c, EstimatorOptions{50.0, 0.5}), plain(raw, EstimatorOptions{50.0, 0.5});
-    double m_c = 0, m_p = 0, sig = 0;
-    int n = 0, flagged = 0;
-    for (const AxisSample& s : log) {
-      const ForceEstimate a = corrected.update(s.time_s, s.iu_a, s.iv_a, s.iw_a, s.speed_rad_s);
-      const ForceEstimate b = plain.update(s.time_s, s.iu_a, s.iv_a, s.iw_a, s.speed_rad_s);
-      if (s.time_s < 0.2) continue;
-      m_c += a.force_n;
-      m_p += b.force_n;
-      sig += a.force_sigma_n;
-      flagged += a.torque_sign_doubtful;
-      ++n;
-    }
-    m_c /= n;
-    m_p /= n;
-    sig /= n;
-    std::printf("light load below the noise, %.3f A: mean estimate %.1f N corrected, %.1f N "
-                "plain (true -10.9 N), mean sigma %.1f N, %d of %d samples flagged\n",
-                noise, m_c, m_p, sig, flagged, n);
+    const MeanEstimate e = mean_estimate(p, log, noise);
+    const double m_c = e.corrected, m_p = e.plain, sig = e.sigma;
+    const int flagged = e.flagged, n = e.samples;
+    std::printf(
+        "light load below the noise, %.3f A: mean estimate %.1f N corrected, %.1f N "
+        "plain (true -10.9 N), mean sigma %.1f N, %d of %d samples flagged\n",
+        noise, m_c, m_p, sig, flagged, n);
     EXPECT_LE(std::abs(m_c + 10.9), sig) << noise;
     EXPECT_LT(std::abs(m_c + 10.9), std::abs(m_p + 10.9)) << noise;
     EXPECT_GE(flagged, 0.99 * n) << noise;

@@ -93,12 +93,12 @@ const char* to_string(CalibrationStatus status);
 struct FitReport {
   CalibrationStatus status = CalibrationStatus::kSuccess;
   std::string message;
-  int windows = 0;                 // windows used (rows of the fit)
-  int windows_rejected = 0;        // not steady, too short or at standstill
-  int distinct_speeds = 0;         // step 1: speed groups differing by more than 2 %
-  double r_squared = 0.0;          // 1 − SS_res/SS_tot
-  double residual_rms_nm = 0.0;    // sqrt(SS_res/n), torque of the window means
-  double residual_sigma_nm = 0.0;  // sqrt(SS_res/(n − p)), what the uncertainties use
+  int windows = 0;                    // windows used (rows of the fit)
+  int windows_rejected = 0;           // not steady, too short or at standstill
+  int distinct_speeds = 0;            // step 1: speed groups differing by more than 2 %
+  double r_squared = 0.0;             // 1 − SS_res/SS_tot
+  double residual_rms_nm = 0.0;       // sqrt(SS_res/n), torque of the window means
+  double residual_sigma_nm = 0.0;     // sqrt(SS_res/(n − p)), what the uncertainties use
   std::vector<std::string> warnings;  // e.g. X clamped to 0
 };
 

@@ -11,8 +11,8 @@
 #include <cstddef>
 #include <optional>
 #include <string>
-#include <utility>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "cutdyn/monitor/force_estimator.hpp"

@@ -17,8 +17,8 @@
 
 #include <cstdint>
 #include <deque>
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace cutdyn {
