@@ -4,8 +4,8 @@
 // 60 rad/s under a 2500 N cut, sampled at 1 kHz, the phase currents its torque balance needs.
 // It is fed to the estimate job in chunks of 4 KiB, as from a pipe; the job calls back once
 // per estimated sample. Prints the number of samples, the mean force over the last 0.1 s
-// (N) and the estimate's −3 dB frequency (Hz). Built by the tests against the build tree:
-//     target_link_libraries(monitor_estimate PRIVATE cutdyn_app)
+// (N) and the estimate's −3 dB frequency (Hz). Built by the tests against the build tree and
+// against an installed cutdyn (target_link_libraries(monitor_estimate PRIVATE cutdyn::app)).
 #include <cmath>
 #include <cstdio>
 #include <exception>

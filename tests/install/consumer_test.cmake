@@ -45,6 +45,11 @@ run("${consumer}/check_cut")
 if(NOT last_output MATCHES "\nstable at 5000 rpm and 0\\.040 mm: critical depth 0\\.04[5-9]")
   message(FATAL_ERROR "consumer_test: unexpected output of check_cut:\n${last_output}")
 endif()
+# The monitor's estimate job, fed a log in chunks (300 samples, the mean force 2500 N).
+run("${consumer}/monitor_estimate")
+if(NOT last_output MATCHES "(^|\n)300,2500\\.0,")
+  message(FATAL_ERROR "consumer_test: unexpected output of monitor_estimate:\n${last_output}")
+endif()
 # Internal headers (detail/) are not installed.
 file(GLOB_RECURSE internal "${prefix}/include/cutdyn/*/detail/*")
 if(internal)
