@@ -943,8 +943,10 @@ Case with_value(const Case& c, std::string_view key, double value) {
   const std::string path(key);
   const std::string label = path + " = " + format_value(value);
   const std::string where = c.source + " with " + label;
+  // A value the key cannot take: the case and the key = value once (the varied case's own
+  // problems, found later, name it by its source "… with key = value").
   const auto fail = [&](const std::string& why) -> Case {
-    throw InvalidInput({label + ": " + why}, where);
+    throw InvalidInput({label + ": " + why}, c.source);
   };
   const bool plan = c.process == Process::kBoreMilling;
   const auto k = split_key(path);

@@ -516,7 +516,7 @@ TEST_F(Cli, MillingSweepTabulatesTheMetricOverTheRange) {
       "STEP must be positive");
   expect_rejected(
       {"simulate", "ermolaev2020", "--sweep", "tool.teeth=1:0.5:2", "--out", path("bad.csv")},
-      "with tool.teeth = 1.5: tool.teeth = 1.5: wrong type: expected an integer");
+      "example ermolaev2020: tool.teeth = 1.5: wrong type: expected an integer");
   expect_rejected({"simulate", "ermolaev2020", "--sweep", "tool.teeth=2:1:3", "--metric", "nope",
                    "--out", path("bad.csv")},
                   "--metric = \"nope\": must be one of force_pulsation");
