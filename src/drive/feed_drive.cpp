@@ -150,7 +150,7 @@ struct SteadyWindow {
 // the last two. The steady window starts at the first period whose bound is within the
 // tolerance: a fraction of the peak-to-peak speed in the last period.
 SteadyWindow find_steady_state(const std::vector<double>& t, const std::vector<double>& w,
-                               double omega0, const SteadyStateOptions& o) {
+                               double omega0, double floor_rad_s, const SteadyStateOptions& o) {
   SteadyWindow s;
   s.from = t.front();
   if (!(o.period_s > 0.0)) return s;
@@ -175,7 +175,11 @@ SteadyWindow find_steady_state(const std::vector<double>& t, const std::vector<d
       hi = std::max(hi, w[i]);
     }
   }
-  const double tol = o.relative_tolerance * (hi - lo) + 1e-12 * std::max(std::abs(omega0), largest);
+  // Plus `floor_rad_s`: a change between periods too small to move the axis by 1 nm in a
+  // period (a lightly damped cutter mode can keep a static drive's speed beating at 1e-9 of
+  // it), and 1e-12 of the speed (rounding).
+  const double tol = o.relative_tolerance * (hi - lo) + floor_rad_s +
+                     1e-12 * std::max(std::abs(omega0), largest);
   std::vector<double> d(static_cast<std::size_t>(p - 1), 0.0);
   std::size_t i = 0;
   for (int j = 0; j + 1 < p; ++j) {
@@ -347,7 +351,10 @@ FeedDriveResult simulate_feed_drive(const FeedAxis& axis, const std::vector<doub
     }
   }
   // The periodic steady state, detected on the speed.
-  const SteadyWindow w = find_steady_state(t, r.speed_rad_s, omega0, steady);
+  // A speed change between periods that moves the axis by less than 1 nm over a period.
+  const double floor_rad_s =
+      steady.period_s > 0.0 ? 1e-9 / (steady.period_s * tr.travel_per_rad()) : 0.0;
+  const SteadyWindow w = find_steady_state(t, r.speed_rad_s, omega0, floor_rad_s, steady);
   r.steady_checked = w.checked;
   r.steady = w.steady;
   r.steady_from_s = w.from;
