@@ -16,6 +16,23 @@ const std::vector<CriticalDepth>* reference_of(const LobesJobReport& r) {
   return r.reference.empty() ? nullptr : &r.reference;
 }
 
+// The filter of an axis' estimate for its first step (docs/models/monitor.md §4.1).
+json filter_json(const FilterReport& f) {
+  json j{{"transfer_function", EstimateFilter::formula()},
+         {"bandwidth_hz", f.bandwidth_hz},
+         {"step_s", f.step_s}};
+  if (f.step_s > 0.0) {
+    j["minus_3db_hz"] = f.minus_3db_hz;
+    j["delay_s"] = f.delay_s;
+    if (f.tooth_frequency_hz > 0.0) {
+      j["tooth_frequency_hz"] = f.tooth_frequency_hz;
+      j["gain_at_tooth_frequency"] = f.gain_at_tooth_frequency;
+      j["lag_deg_at_tooth_frequency"] = f.lag_deg_at_tooth_frequency;
+    }
+  }
+  return j;
+}
+
 }  // namespace
 
 // One row of named values per speed, shared by the CSV and the JSON.
@@ -351,6 +368,31 @@ json to_json(const io::Case& c, const DriveSweepReport& sweep, const std::string
           {"case", io::to_json(c)},     {"source", c.source},
           {"sweep", sweep.key},         {"metric", metric},
           {"points", std::move(points)}};
+}
+
+json to_json(const EstimateReport& r) {
+  json summary{{"schema_version", kJsonSchemaVersion},
+               {"command", "monitor estimate"},
+               {"format", "cutdyn monitor estimate"},
+               {"version", 1},
+               {"samples", r.samples},
+               {"force_sigma_n_covers", kSigmaCovers}};
+  summary["axes"] = json::object();
+  for (const EstimatedAxis& e : r.axes) {
+    json a{{"filter", filter_json(e.filter)},
+           {"torque_current", r.signed_current
+                                  ? "signed: Park transform with rotor_angle_rad"
+                                  : "magnitude with the sign of the motion (no rotor_angle_rad)"},
+           {"warnings", json::array()}};
+    if (e.sign_doubt_samples > 0)
+      a["warnings"].push_back({{"kind", "torque-sign"},
+                               {"message", kSignDoubt},
+                               {"samples", e.sign_doubt_samples},
+                               {"first_line", e.sign_doubt_first_line},
+                               {"first_time_s", e.sign_doubt_first_time_s}});
+    summary["axes"][e.axis] = a;
+  }
+  return summary;
 }
 
 }  // namespace cutdyn::app

@@ -203,23 +203,7 @@ int run_calibrate(const CalibrateArgs& args, std::ostream& out, std::ostream& er
 // ---- estimate -------------------------------------------------------------------------------
 
 // What the estimate is (docs/models/monitor.md §4.1, §4.3): the filter of each axis, for its
-// first step, as JSON and as text.
-json filter_json(const app::FilterReport& f) {
-  json j{{"transfer_function", EstimateFilter::formula()},
-         {"bandwidth_hz", f.bandwidth_hz},
-         {"step_s", f.step_s}};
-  if (f.step_s > 0.0) {
-    j["minus_3db_hz"] = f.minus_3db_hz;
-    j["delay_s"] = f.delay_s;
-    if (f.tooth_frequency_hz > 0.0) {
-      j["tooth_frequency_hz"] = f.tooth_frequency_hz;
-      j["gain_at_tooth_frequency"] = f.gain_at_tooth_frequency;
-      j["lag_deg_at_tooth_frequency"] = f.lag_deg_at_tooth_frequency;
-    }
-  }
-  return j;
-}
-
+// first step, as text.
 void describe_filter(std::ostream& out, const std::string& axis, const app::FilterReport& f) {
   out << "  axis " << axis
       << ": force_n = the force through H(f) = sinc(f·Δt)·e^(−jπfΔt)·((1 − r)/"
@@ -237,31 +221,6 @@ void describe_filter(std::ostream& out, const std::string& axis, const app::Filt
         << human(f.gain_at_tooth_frequency, 3) << ", lag " << human(f.lag_deg_at_tooth_frequency, 3)
         << "°";
   out << "\n";
-}
-
-json summary_json(const app::EstimateReport& r) {
-  json summary{{"schema_version", kJsonSchemaVersion},
-               {"command", "monitor estimate"},
-               {"format", "cutdyn monitor estimate"},
-               {"version", 1},
-               {"samples", r.samples},
-               {"force_sigma_n_covers", app::kSigmaCovers}};
-  summary["axes"] = json::object();
-  for (const app::EstimatedAxis& e : r.axes) {
-    json a{{"filter", filter_json(e.filter)},
-           {"torque_current", r.signed_current
-                                  ? "signed: Park transform with rotor_angle_rad"
-                                  : "magnitude with the sign of the motion (no rotor_angle_rad)"},
-           {"warnings", json::array()}};
-    if (e.sign_doubt_samples > 0)
-      a["warnings"].push_back({{"kind", "torque-sign"},
-                               {"message", app::kSignDoubt},
-                               {"samples", e.sign_doubt_samples},
-                               {"first_line", e.sign_doubt_first_line},
-                               {"first_time_s", e.sign_doubt_first_time_s}});
-    summary["axes"][e.axis] = a;
-  }
-  return summary;
 }
 
 // The options of an estimate, every problem with the flags thrown before anything is read.
@@ -312,7 +271,7 @@ int run_estimate(const EstimateArgs& args, std::ostream& out, std::ostream& err)
   for (std::string_view chunk = in.read(); !chunk.empty(); chunk = in.read()) job.feed(chunk);
   const app::EstimateReport report = job.finish();
 
-  if (!args.json.empty()) io::write_json(outputs.open(args.json), summary_json(report));
+  if (!args.json.empty()) io::write_json(outputs.open(args.json), app::to_json(report));
   if (!args.alarms.empty()) {
     io::CsvWriter csv(outputs.open(args.alarms),
                       {"time_s", "axis", "alarm", "detected_s", "level", "limit"});

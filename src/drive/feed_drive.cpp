@@ -161,9 +161,10 @@ SteadyWindow find_steady_state(const std::vector<double>& t, const std::vector<d
     s.steady = false;
     s.from = p >= 1 ? tend - period : t0;
     s.periods = p >= 1 ? 1 : 0;
-    s.why = format("the run is %.4g forcing periods long; the steady state needs at least 3 to "
-                   "be detected",
-                   (tend - t0) / period);
+    s.why = format(
+        "the run is %.4g forcing periods long; the steady state needs at least 3 to "
+        "be detected",
+        (tend - t0) / period);
     return s;
   }
   const auto boundary = [&](int j) { return std::max(t0, tend - (p - j) * period); };
@@ -178,8 +179,8 @@ SteadyWindow find_steady_state(const std::vector<double>& t, const std::vector<d
   // Plus `floor_rad_s`: a change between periods too small to move the axis by 1 nm in a
   // period (a lightly damped cutter mode can keep a static drive's speed beating at 1e-9 of
   // it), and 1e-12 of the speed (rounding).
-  const double tol = o.relative_tolerance * (hi - lo) + floor_rad_s +
-                     1e-12 * std::max(std::abs(omega0), largest);
+  const double tol =
+      o.relative_tolerance * (hi - lo) + floor_rad_s + 1e-12 * std::max(std::abs(omega0), largest);
   std::vector<double> d(static_cast<std::size_t>(p - 1), 0.0);
   std::size_t i = 0;
   for (int j = 0; j + 1 < p; ++j) {
@@ -208,10 +209,11 @@ SteadyWindow find_steady_state(const std::vector<double>& t, const std::vector<d
     s.steady = false;
     s.from = boundary(p - 1);
     s.periods = 1;
-    s.why = format("the speed still changes by %.3g rad/s from one forcing period to the next at "
-                   "the end of the run (tolerance %.3g rad/s, %.3g %% of its peak-to-peak); the "
-                   "summary is of the last period",
-                   last, tol, 100.0 * o.relative_tolerance);
+    s.why = format(
+        "the speed still changes by %.3g rad/s from one forcing period to the next at "
+        "the end of the run (tolerance %.3g rad/s, %.3g %% of its peak-to-peak); the "
+        "summary is of the last period",
+        last, tol, 100.0 * o.relative_tolerance);
     return s;
   }
   s.from = boundary(first);
@@ -297,8 +299,8 @@ FeedDriveResult simulate_feed_drive(const FeedAxis& axis, const std::vector<doub
   for (std::size_t i = 1; i < t.size() && v.ok(); ++i)
     v.require(t[i] > t[i - 1], "time_s[" + std::to_string(i) + "]", t[i], "s", "must increase");
 
-  v.require(steady.period_s >= 0.0 && std::isfinite(steady.period_s), "period_s",
-            steady.period_s, "s", "must be finite and not negative (0: unknown)");
+  v.require(steady.period_s >= 0.0 && std::isfinite(steady.period_s), "period_s", steady.period_s,
+            "s", "must be finite and not negative (0: unknown)");
   v.require(steady.relative_tolerance > 0.0 && steady.relative_tolerance < 1.0,
             "relative_tolerance", steady.relative_tolerance, "", "must be between 0 and 1");
   v.throw_if_any("feed drive " + axis.name);
@@ -361,8 +363,9 @@ FeedDriveResult simulate_feed_drive(const FeedAxis& axis, const std::vector<doub
   r.steady_periods = w.periods;
   r.periodicity_change_rad_s = w.change;
   if (!w.checked && d.model == FeedDrive::Model::kDynamic)
-    r.warnings.push_back("no forcing period given: the summary is of the whole run, start-up "
-                         "transient included (steady state not checked)");
+    r.warnings.push_back(
+        "no forcing period given: the summary is of the whole run, start-up "
+        "transient included (steady state not checked)");
   if (w.checked && !w.steady)
     r.warnings.push_back("no periodic steady state within the run: " + w.why);
   // Summary over the window.
@@ -387,13 +390,13 @@ FeedDriveResult simulate_feed_drive(const FeedAxis& axis, const std::vector<doub
   if (r.moving) {
     r.k_delta = nonuniformity(wmin, wmax);
     if (wmin <= 0.0)
-      r.warnings.push_back(format("the motor stalls or reverses (lowest speed %.4g rad/s against "
-                                  "%.4g commanded)",
-                                  wmin, omega0));
+      r.warnings.push_back(
+          format("the motor stalls or reverses (lowest speed %.4g rad/s against "
+                 "%.4g commanded)",
+                 wmin, omega0));
     // δ = (Ω0 − Ω̄)/Ω0; for the static characteristic exactly mean Mc/(Ω0·|β|).
-    r.static_error = d.model == FeedDrive::Model::kStatic
-                         ? r.mean_load_torque_nm / (omega0 * beta)
-                         : (omega0 - r.mean_speed_rad_s) / omega0;
+    r.static_error = d.model == FeedDrive::Model::kStatic ? r.mean_load_torque_nm / (omega0 * beta)
+                                                          : (omega0 - r.mean_speed_rad_s) / omega0;
   }
   r.k_delta_verdict = nonuniformity_verdict(r.k_delta);
   r.static_error_ok = r.static_error <= 0.1;

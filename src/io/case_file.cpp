@@ -14,9 +14,9 @@
 #include <sstream>
 #include <system_error>
 
+#include "case_fields.hpp"
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
-#include "case_fields.hpp"
 
 namespace cutdyn::io {
 
@@ -350,7 +350,8 @@ std::string integer_rule(const Range& range) {
 
 std::string choice_rule(const Field& f) {
   std::string text;
-  for (std::string_view name : f.choices) text += (text.empty() ? "\"" : ", \"") + std::string(name) + "\"";
+  for (std::string_view name : f.choices)
+    text += (text.empty() ? "\"" : ", \"") + std::string(name) + "\"";
   return "must be one of " + text;
 }
 
@@ -384,7 +385,8 @@ std::optional<Value> read_value(Problems& problems, const Field& f, const toml::
     case Type::kText: {
       const auto* s = node.as_string();
       if (s == nullptr) {
-        problems.at(where, node, std::string("wrong type: expected a string, got ") + type_name(node));
+        problems.at(where, node,
+                    std::string("wrong type: expected a string, got ") + type_name(node));
         return std::nullopt;
       }
       if (f.type == Type::kChoice &&
@@ -438,8 +440,7 @@ void read_fields(Reading& r, const Section& s, const toml::table& table, std::si
       if (node != nullptr) {
         r.problems.add(key_path(path, a.key) + r.problems.value_part(*old) + " and " +
                        key_path(path, f.key) + r.problems.value_part(*node) + ": give " +
-                       std::string(f.key) + " only (" + std::string(a.key) +
-                       " is its old name)");
+                       std::string(f.key) + " only (" + std::string(a.key) + " is its old name)");
       } else {
         node = old;
         key = a.key;
@@ -507,13 +508,12 @@ void rules_lobes(const Case& c, Problems& p, const Quote& q) {
   if (c.lobes.rpm_max > c.lobes.rpm_min) return;
   const LobesSection defaults;
   if (auto max = q.written("lobes.rpm_max"))
-    p.at_text("lobes.rpm_max", *max,
-              "must be greater than lobes.rpm_min = " +
-                  shown(q, "lobes.rpm_min", defaults.rpm_min));
+    p.at_text(
+        "lobes.rpm_max", *max,
+        "must be greater than lobes.rpm_min = " + shown(q, "lobes.rpm_min", defaults.rpm_min));
   else
     p.at_text("lobes.rpm_min", q.written("lobes.rpm_min").value_or(""),
-              "must be less than lobes.rpm_max = " + number_text(defaults.rpm_max) +
-                  " (default)");
+              "must be less than lobes.rpm_max = " + number_text(defaults.rpm_max) + " (default)");
 }
 
 void rules_simulate(const Case& c, Problems& p, const Quote& q) {
@@ -543,8 +543,7 @@ void rules_operation(const Case& c, Problems& p, const Quote& q) {
     p.at_text(key, q.written(key).value_or(""), "give entry_deg and exit_deg together");
   } else if (op.entry_rad && *op.entry_rad >= *op.exit_rad) {
     p.at_text("operation.exit_deg", q.written("operation.exit_deg").value_or(""),
-              "must be greater than entry_deg = " +
-                  q.written("operation.entry_deg").value_or(""));
+              "must be greater than entry_deg = " + q.written("operation.entry_deg").value_or(""));
   }
 }
 
@@ -554,8 +553,8 @@ void rules_vibration(const Case& c, Problems& p, const Quote& q) {
   const auto duty = q.written("vibration.duty_cycle");
   const auto diameter = q.written("vibration.workpiece_diameter_mm");
   if (duty && diameter)
-    p.add("vibration.duty_cycle = " + *duty + " and vibration.workpiece_diameter_mm = " +
-          *diameter +
+    p.add("vibration.duty_cycle = " + *duty +
+          " and vibration.workpiece_diameter_mm = " + *diameter +
           ": give either duty_cycle (fixed) or workpiece_diameter_mm (duty cycle from the "
           "cutting speed), not both");
   if (!duty && !q.written("vibration.amplitude_um") && !v.amplitude_m)
@@ -565,8 +564,8 @@ void rules_vibration(const Case& c, Problems& p, const Quote& q) {
 void rules_oxley(const Case& c, Problems& p) {
   const OxleyOptions& o = c.oxley;
   if (o.c0_min >= o.c0_max)
-    p.add("oxley.c0_min = " + format_value(o.c0_min) + " and oxley.c0_max = " +
-          format_value(o.c0_max) + ": c0_min must be less than c0_max");
+    p.add("oxley.c0_min = " + format_value(o.c0_min) +
+          " and oxley.c0_max = " + format_value(o.c0_max) + ": c0_min must be less than c0_max");
   if (o.delta_min >= o.delta_max)
     p.add("oxley.delta_min = " + format_value(o.delta_min) + " and oxley.delta_max = " +
           format_value(o.delta_max) + ": delta_min must be less than delta_max");
@@ -584,8 +583,9 @@ void rules_material(const Case& c, Problems& p) {
 void rules_coefficients(const Case& c, Problems& p, const Quote& q) {
   if (!c.material) return;
   if (c.cutting.kc_pa)
-    p.add("cutting.kc_n_per_mm2 and [material]: give the force coefficients or the material to "
-          "predict them from, not both");
+    p.add(
+        "cutting.kc_n_per_mm2 and [material]: give the force coefficients or the material to "
+        "predict them from, not both");
   if (c.cutting.kt_pa) {
     const char* key = c.process == Process::kTurning && !q.written("cutting.kt_n_per_mm2")
                           ? "kf_n_per_mm2"
@@ -605,9 +605,9 @@ void rules_bore(const Case& c, Problems& p, const Quote& q) {
               "must be less than the bore's radius");
   if (!p.bad("cutter.diameter_mm") && b.cutter_diameter_m > 0.0 && b.bore_diameter_m > 0.0 &&
       b.cutter_diameter_m >= b.bore_diameter_m)
-    p.at_text("cutter.diameter_mm", q.written("cutter.diameter_mm").value_or(""),
-              "must be less than bore.diameter_mm = " +
-                  format_value(units::m_to_mm(b.bore_diameter_m)));
+    p.at_text(
+        "cutter.diameter_mm", q.written("cutter.diameter_mm").value_or(""),
+        "must be less than bore.diameter_mm = " + format_value(units::m_to_mm(b.bore_diameter_m)));
   if (c.bore_limits && !p.bad("limits.offset_min_mm") && !p.bad("limits.offset_max_mm") &&
       c.bore_limits->offset_max_m < c.bore_limits->offset_min_m)
     p.at_text("limits.offset_max_mm", q.written("limits.offset_max_mm").value_or(""),
@@ -739,7 +739,8 @@ void read_drives(Reading& r, const toml::table& root) {
     r.c.drives.push_back(axis);
     read_fields(r, s, *table, index);
     if (table->contains("axis") && table->contains("direction"))
-      problems.at(path + ".direction", *table->get("direction"), "give axis or direction, not both");
+      problems.at(path + ".direction", *table->get("direction"),
+                  "give axis or direction, not both");
     if (!table->contains("axis") && !table->contains("direction"))
       problems.missing(path + ".axis", "axis or direction is required");
     report_unknown(r, s, *table, index);
@@ -801,8 +802,8 @@ void read_table(Reading& r, const toml::table& root, std::string_view name, Rule
   const toml::table* table = node->as_table();
   if (table == nullptr) {
     r.problems.at(std::string(name), *node,
-                  std::string("wrong type: expected a table ([") + std::string(name) +
-                      "]), got " + type_name(*node));
+                  std::string("wrong type: expected a table ([") + std::string(name) + "]), got " +
+                      type_name(*node));
     return;
   }
   const Section& s = *find_section(name, r.c.bore.has_value());
@@ -957,7 +958,8 @@ Case with_value(const Case& c, std::string_view key, double value) {
     for (const Section& t : detail::case_sections())
       if (t.plan == plan && !t.name.empty()) names.push_back(t.name);
     const std::string best = suggestion(k->section, names);
-    return fail(k->section + ": unknown table" + (best.empty() ? "" : " (did you mean " + best + "?)"));
+    return fail(k->section + ": unknown table" +
+                (best.empty() ? "" : " (did you mean " + best + "?)"));
   }
   if (s->array && !k->index)
     return fail(std::string(s->name) + " is an array of tables: give the index, e.g. " +
@@ -974,7 +976,7 @@ Case with_value(const Case& c, std::string_view key, double value) {
   }
   if (!f->numeric())
     return fail("not a number key (" + std::string(f->key) + " takes " +
-                (f->type == Type::kBoolean ? "true or false"
+                (f->type == Type::kBoolean   ? "true or false"
                  : f->type == Type::kNumbers ? "an array of numbers"
                                              : "a string") +
                 "): only numbers can be swept");
@@ -983,8 +985,8 @@ Case with_value(const Case& c, std::string_view key, double value) {
     const std::string section(s->name.substr(0, s->name.find('.')));
     std::string why = unused_table_reason(section, c.process, c.material.has_value());
     if (why.empty())
-      why = unused_key_reason(*s, k->key, c.process, c.material.has_value(),
-                              c.force_law.has_value());
+      why =
+          unused_key_reason(*s, k->key, c.process, c.material.has_value(), c.force_law.has_value());
     if (!why.empty()) return fail(why);
   }
   if (!std::isfinite(value)) return fail("must be a finite number");

@@ -10,6 +10,7 @@
 
 #include "cutdyn/app/drive.hpp"
 #include "cutdyn/app/force.hpp"
+#include "cutdyn/app/monitor.hpp"
 #include "cutdyn/app/plan.hpp"
 #include "cutdyn/app/simulate.hpp"
 #include "cutdyn/app/stability.hpp"
@@ -41,6 +42,9 @@ nlohmann::json to_json(const io::Case& c, const MillingSimulationJobReport& repo
 nlohmann::json to_json(const io::Case& c, const ForceJobReport& report);
 nlohmann::json to_json(const io::Case& c, const PlanJobReport& report);
 nlohmann::json to_json(const io::Case& c, const DriveReport& report);
+/// The summary of `monitor estimate`: per axis the estimate's filter, what the torque current
+/// is, and the torque-sign warnings (it also keeps its `format` and `version`).
+nlohmann::json to_json(const EstimateReport& report);
 /// A sweep of the drives, with the metric it tabulates.
 nlohmann::json to_json(const io::Case& c, const DriveSweepReport& report,
                        const std::string& metric);
