@@ -1,4 +1,4 @@
-// The repository cites only what is in it: no document, note or issue tracker outside it, and
+// The repository cites only what is in it: no note kept outside it, no tracker numbers, and
 // every published source by a key of docs/bibliography.md. Fails naming each file and line.
 #include <gtest/gtest.h>
 
@@ -72,12 +72,11 @@ std::string joined(const std::vector<std::string>& v) {
 }
 
 TEST(Docs, CiteNothingOutsideTheRepository) {
-  // The project's model notes and product description, its architecture notes (unless the
-  // repository holds them as docs/architecture.md) and its issue tracker are not in the
-  // repository: state the rule, or point to docs/ or a bibliography key, instead.
-  std::string pattern = std::string("(models|product)\\.md") + "|\\bissues?\\s+#?[0-9]+";
-  if (!fs::exists(kRoot / "docs" / "architecture.md"))
-    pattern += std::string("|architecture\\.md|docs/") + "architecture\\b";
+  // Shared notes kept beside the repository and a tracker's numbers cannot be followed by a
+  // reader of it: state the rule, or point to docs/ or a bibliography key, instead. (The names
+  // are spelled in pieces so that this file does not match itself.)
+  const std::string pattern = std::string("(models|product|archi") + "tecture)\\.md" + "|docs/" +
+                              "archi" + "tecture\\b" + "|\\bissues?\\s+#?[0-9]+";
   const auto hits = lines_matching(std::regex(pattern, std::regex::icase));
   EXPECT_TRUE(hits.empty()) << "references to texts outside the repository:\n" << joined(hits);
 }
