@@ -33,13 +33,8 @@ constexpr std::string_view kDefaultForceCase = "ultrasonic-force";
 
 int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
   check_outputs(args.outputs);
-  if (args.target_depth_mm) {
-    Validator v;
-    v.require_positive("--target-depth-mm", *args.target_depth_mm, "mm");
-    v.throw_if_any("command line");
-  }
   const io::Case c = load_case(args.case_path, kDefaultTurningCase, err);
-  app::LobesRequest request;
+  app::LobesRequest request;  // the job checks the request (a positive target depth, …)
   request.method = args.method;
   request.threads = args.threads;
   if (args.target_depth_mm) request.target_depth_m = mm_to_m(*args.target_depth_mm);

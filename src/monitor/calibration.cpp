@@ -206,14 +206,16 @@ double current_noise_of(const std::vector<Window>& rows, const AxisModel& m,
   }
   variance = 0.0;
   if (!(dof > 0.0)) return 0.0;
-  const double scatter = current_noise_from_scatter(rows, current_ss, dof);
   // Either estimate is a pooled variance of dof degrees of freedom: var(σ̂) = σ²/(2·dof).
   const auto with_variance = [&](double sigma) {
     variance = sigma * sigma / (2.0 * dof);
     return sigma;
   };
+  // The zero-sequence noise against the raw scatter of |Id| (the iterated estimate below is
+  // needed only where the zero sequence is missing).
   const double zero_sequence = equivalent_current_sigma(std::sqrt(3.0 * zero_ss / dof), m.measure);
-  if (zero_sequence > 0.01 * scatter) return with_variance(zero_sequence);
+  if (zero_sequence > 0.01 * std::sqrt(current_ss / dof)) return with_variance(zero_sequence);
+  const double scatter = current_noise_from_scatter(rows, current_ss, dof);
   double weakest = std::numeric_limits<double>::infinity();
   for (const Window& w : rows)
     if (w.magnitude) weakest = std::min(weakest, std::abs(w.current));
