@@ -1,0 +1,36 @@
+// A frequency response function given as a table (measured, or sampled from modes).
+//
+// Receptance G(f) = displacement / force in m/N at strictly increasing frequencies f (Hz).
+// Between two points the real and imaginary parts are interpolated linearly; outside the
+// table there is no value (a stability method that needs one there is told so).
+#pragma once
+
+#include <complex>
+#include <string>
+#include <vector>
+
+#include "cutdyn/modal/modal_model.hpp"
+
+namespace cutdyn {
+
+struct MeasuredFrf {
+  std::vector<double> frequency_hz;                      // strictly increasing, >= 0, finite
+  std::vector<std::complex<double>> receptance_m_per_n;  // one per frequency, finite
+
+  /// Problems as "frequency_hz[i] = value Hz: rule"; empty when valid (at least 3 points).
+  std::vector<std::string> validate() const;
+  double min_hz() const { return frequency_hz.empty() ? 0.0 : frequency_hz.front(); }
+  double max_hz() const { return frequency_hz.empty() ? 0.0 : frequency_hz.back(); }
+  bool covers(double f_hz) const { return f_hz >= min_hz() && f_hz <= max_hz(); }
+  /// G at f (linear interpolation of real and imaginary parts). Precondition: covers(f).
+  std::complex<double> at(double f_hz) const;
+};
+
+/// The receptance of `model` in `direction` sampled at `frequency_hz`.
+MeasuredFrf sample_frf(const ModalModel& model, Direction direction,
+                       const std::vector<double>& frequency_hz);
+
+/// n frequencies evenly spaced from lo_hz to hi_hz inclusive (n >= 2).
+std::vector<double> linear_frequencies(double lo_hz, double hi_hz, int n);
+
+}  // namespace cutdyn
