@@ -28,8 +28,8 @@ constexpr int kGridDepths = 100;           // depth rows of the MATLAB-style gri
 constexpr int kScriptStepsPerPeriod = 40;  // m of the published scripts
 constexpr int kSampleEvery = 20;           // speeds sampled for the converged dense grid
 
-const MillingModel& model() {
-  static const MillingModel m = testing::insperger_benchmark(1.0);
+const MillingProcess& model() {
+  static const MillingProcess m = testing::insperger_benchmark(1.0);
   return m;
 }
 
@@ -109,7 +109,7 @@ void BM_MillingLobesUniform(benchmark::State& state) {
 // rpm: the cost of the window that covers every mode, and how far the two agree.
 void BM_FourModeMethods(benchmark::State& state) {
   const auto method = static_cast<MillingMethod>(state.range(0));
-  const MillingModel m = testing::four_mode_milling(0.5, true);
+  const MillingProcess m = testing::four_mode_milling(0.5, true);
   MillingStabilityOptions o;
   o.method = method;
   o.depth_max_m = 0.03;
@@ -120,7 +120,8 @@ void BM_FourModeMethods(benchmark::State& state) {
   grid.refine = false;
   grid.threads = 0;
   LobesReport report;
-  const std::string key = method == MillingMethod::kMultiFrequency ? "four_mode_mf" : "four_mode_fd";
+  const std::string key =
+      method == MillingMethod::kMultiFrequency ? "four_mode_mf" : "four_mode_fd";
   Result& r = timed(state, key, [&] {
     report = trace_lobes(
         [&](double rpm) {
@@ -136,8 +137,8 @@ void BM_FourModeMethods(benchmark::State& state) {
   } else if (fd_depths.size() == report.points.size()) {
     double worst = 0.0;
     for (std::size_t i = 0; i < fd_depths.size(); ++i)
-      worst = std::max(worst, std::abs(report.points[i].boundary.depth_m - fd_depths[i]) /
-                                  fd_depths[i]);
+      worst = std::max(worst,
+                       std::abs(report.points[i].boundary.depth_m - fd_depths[i]) / fd_depths[i]);
     r.figures["worst_rel"] = worst;
     state.counters["worst_rel_vs_fd_pct"] = 1e2 * worst;
   }
@@ -307,7 +308,8 @@ void print_summary() {
                 uniform_s / ln->seconds);
   }
   const auto fd4 = result("four_mode_fd"), mf4 = result("four_mode_mf");
-  std::printf("\nFour-mode case (480-1500 Hz), a/D 0.5 down, 24 speeds 4000-16000 rpm, all threads:\n");
+  std::printf(
+      "\nFour-mode case (480-1500 Hz), a/D 0.5 down, 24 speeds 4000-16000 rpm, all threads:\n");
   line("full discretization", fd4);
   line("multi-frequency (window covering every mode)", mf4);
   ratio("ratio multi-frequency / full discretization", mf4, 1.0, fd4, 1.0);

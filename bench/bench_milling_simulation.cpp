@@ -26,19 +26,19 @@ constexpr double kRevolutions = 20.0;
 // Four teeth, 20 mm, 30° helix, half immersion down-milling, 5 mm deep, on the Insperger–
 // Stépán structure at 9000 rpm, regenerative, mechanistic law: 47 slices per tooth.
 MillingCut bench_cut() {
-  const MillingModel m = testing::insperger_benchmark(0.5);
+  const MillingProcess m = testing::insperger_benchmark(0.5);
   MillingCut c;
-  c.modal = m.modal;
-  for (Mode& mode : c.modal.modes) mode.stiffness_n_per_m *= 100.0;  // stable at 5 mm
-  c.teeth = 4;
-  c.diameter_m = 0.02;
-  c.helix_rad = units::deg_to_rad(30.0);
-  c.entry_rad = m.entry_angle();
-  c.exit_rad = m.exit_angle();
+  c.process.modal = m.modal;
+  for (Mode& mode : c.process.modal.modes) mode.stiffness_n_per_m *= 100.0;  // stable at 5 mm
+  c.process.tool.teeth = 4;
+  c.process.tool.diameter_m = 0.02;
+  c.process.tool.helix_rad = units::deg_to_rad(30.0);
+  c.process.engagement.entry_rad = m.engagement.entry_angle();
+  c.process.engagement.exit_rad = m.engagement.exit_angle();
   c.spindle_rad_s = units::rpm_to_rad_per_s(9000.0);
   c.feed_per_tooth_m = 0.05e-3;
   c.width_m = 5e-3;
-  c.law = MechanisticForceLaw{6e8, 2e8, 0.0, 0.0};
+  c.process.cutting = MechanisticForceLaw{6e8, 2e8, 0.0, 0.0};
   return c;
 }
 
@@ -56,9 +56,10 @@ double textbook(const MillingCut& c, int steps_per_rev, int slices, long long* e
   const double dt = kTwoPi / (c.spindle_rad_s * steps_per_rev);
   const double lag = c.lag_angle();
   const double b = c.width_m / slices;
-  const auto& law = std::get<MechanisticForceLaw>(c.law);
+  const MechanisticForceLaw& law = c.process.cutting;
+  const EngagementWindow window = c.process.engagement.window();
   std::vector<double> surf(static_cast<std::size_t>(slices * steps_per_rev), 0.0);
-  std::vector<double> q(c.modal.modes.size(), 0.0), v(c.modal.modes.size(), 0.0);
+  std::vector<double> q(c.process.modal.modes.size(), 0.0), v(c.process.modal.modes.size(), 0.0);
   const long long steps = std::llround(kRevolutions * steps_per_rev);
   double x = 0, y = 0, sum = 0;
   long long counted = 0;
@@ -66,19 +67,20 @@ double textbook(const MillingCut& c, int steps_per_rev, int slices, long long* e
   for (long long n = 0; n < steps; ++n) {
     const double t = static_cast<double>(n) * dt;
     double fx = 0, fy = 0;
-    for (int k = 0; k < c.teeth; ++k) {
+    for (int k = 0; k < c.process.tool.teeth; ++k) {
       for (int j = 0; j < slices; ++j) {
         ++*evaluations;
-        const double phi = std::fmod(
-            c.spindle_rad_s * t - kTwoPi * k / c.teeth - (j + 0.5) * lag / slices + 4 * kTwoPi,
-            kTwoPi);
-        if (phi <= c.entry_rad || phi >= c.exit_rad) continue;
+        const double phi = std::fmod(c.spindle_rad_s * t - kTwoPi * k / c.process.tool.teeth -
+                                         (j + 0.5) * lag / slices + 4 * kTwoPi,
+                                     kTwoPi);
+        if (phi <= window.entry_rad || phi >= window.exit_rad) continue;
         const auto bin = static_cast<std::size_t>(
             j * steps_per_rev +
             static_cast<int>(std::lround(phi / (kTwoPi / steps_per_rev))) % steps_per_rev);
         const double s = std::sin(phi), co = std::cos(phi);
         const double pos =
-            (c.feed_per_tooth_m * c.teeth * c.spindle_rad_s / kTwoPi * t + x) * s + y * co;
+            (c.feed_per_tooth_m * c.process.tool.teeth * c.spindle_rad_s / kTwoPi * t + x) * s +
+            y * co;
         const double h = surf[bin] == 0.0 ? c.feed_per_tooth_m * s : pos - surf[bin];
         if (h <= 0.0) continue;
         surf[bin] = pos;
@@ -93,7 +95,7 @@ double textbook(const MillingCut& c, int steps_per_rev, int slices, long long* e
     }
     x = y = 0;
     for (std::size_t i = 0; i < q.size(); ++i) {
-      const Mode& m = c.modal.modes[i];
+      const Mode& m = c.process.modal.modes[i];
       const double mass = m.stiffness_n_per_m / (m.natural_rad_s * m.natural_rad_s);
       const double f = m.direction == Direction::kX ? fx : fy;
       const double a =
@@ -114,7 +116,7 @@ void BM_MillingSimulation(benchmark::State& state) {
   Result& res = timed(state, "cutdyn", [&] { r = simulate_milling(c, o); });
   // Counted over the run; the two revolutions before t = 0 that find and follow the periodic
   // forced vibration (the steady start) are extra work, inside the time but not counted.
-  const double evaluations = static_cast<double>(r.steps) * c.teeth * r.slices;
+  const double evaluations = static_cast<double>(r.steps) * c.process.tool.teeth * r.slices;
   res.figures["evaluations"] = evaluations;
   res.figures["per_s"] = evaluations / res.seconds;
   res.figures["slices"] = r.slices;

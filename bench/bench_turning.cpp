@@ -51,7 +51,7 @@ LobePoint to_point(double rpm, const TurningBoundary& b) {
   return LobePoint{rpm, b.boundary, b.duty_cycle, b.lobe};
 }
 
-LobesReport turning_lobes(const TurningModel& model, const TurningStabilityOptions& o,
+LobesReport turning_lobes(const TurningProcess& model, const TurningStabilityOptions& o,
                           int threads) {
   return trace_lobes(
       [&](double rpm) { return to_point(rpm, turning_critical_depth(model, rpm, o)); },
@@ -69,7 +69,7 @@ TurningStabilityOptions closed_form_options() {
 
 // The published scripts' method at one speed: the dense transition matrix with m = 40 steps
 // per delay at every depth of a uniform grid; the boundary is the first unstable row.
-LobePoint grid_column(const TurningModel& model, double rpm) {
+LobePoint grid_column(const TurningProcess& model, double rpm) {
   const DelayedSystem s = turning_system(model, rpm);
   FdOptions o;
   o.steps_per_period = kGridStepsPerDelay;
@@ -79,7 +79,7 @@ LobePoint grid_column(const TurningModel& model, double rpm) {
 }
 
 void BM_ClosedFormLobes(benchmark::State& state) {
-  const TurningModel model = testing::table2_conventional();
+  const TurningProcess model = testing::table2_conventional();
   const TurningStabilityOptions o = closed_form_options();
   const int threads = threads_arg(state);
   LobesReport report;
@@ -96,7 +96,7 @@ void BM_ClosedFormLobes(benchmark::State& state) {
 }
 
 void BM_DenseGridSubset(benchmark::State& state) {
-  const TurningModel model = testing::table2_conventional();
+  const TurningProcess model = testing::table2_conventional();
   const std::vector<double> speeds{500.0, 2000.0, 3500.0, 5000.0};
   Result& r = timed(state, "grid_subset", [&] {
     for (double rpm : speeds) benchmark::DoNotOptimize(grid_column(model, rpm));
@@ -110,7 +110,7 @@ void BM_DenseGridSubset(benchmark::State& state) {
 }
 
 void BM_DenseGridFull(benchmark::State& state) {
-  const TurningModel model = testing::table2_conventional();
+  const TurningProcess model = testing::table2_conventional();
   const int threads = threads_arg(state);
   LobesReport report;
   Result& r = timed(state, threads_key("grid_full", state), [&] {
@@ -144,7 +144,7 @@ void BM_DenseGridFull(benchmark::State& state) {
 // ---- 2. vibration-assisted lobes at 20 kHz ---------------------------------------------
 
 void BM_VibrationLobes(benchmark::State& state, TurningMethod method) {
-  const TurningModel model = testing::table2_vibration(kVibrationHz);
+  const TurningProcess model = testing::table2_vibration(kVibrationHz);
   TurningStabilityOptions o;
   o.method = method;
   o.depth_max_m = kDepthLimit;

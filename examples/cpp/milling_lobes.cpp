@@ -14,15 +14,15 @@
 int main() {
   using namespace cutdyn;
   try {
-    MillingModel m;
+    MillingProcess m;
     const double wn = units::hz_to_rad_per_s(922.0), mass = 0.03993;
     for (Direction d : {Direction::kX, Direction::kY})
       m.modal.modes.push_back(Mode{d, wn, 0.011, mass * wn * wn});
-    m.kt_pa = 600e6;
-    m.kr_pa = 200e6;
-    m.teeth = 2;
-    m.radial_immersion = 1.0;
-    m.down_milling = true;
+    m.cutting.kt_pa = 600e6;
+    m.cutting.kr_pa = 200e6;
+    m.tool.teeth = 2;
+    m.engagement.radial_immersion = 1.0;
+    m.engagement.down_milling = true;
 
     MillingStabilityOptions stability;  // full discretization
     stability.depth_max_m = 1e-3;

@@ -59,38 +59,31 @@ OxleyPrediction predict_with_oxley(const io::Case& c, std::string_view command, 
   return p;
 }
 
-TurningModel turning_model(const io::Case& c, std::string_view command) {
+TurningProcess turning_process(const io::Case& c, std::string_view command) {
   require_turning(c, command);
   Validator v;
   if (c.modal.modes.empty())
     v.add("modes: missing (required by `cutdyn " + std::string(command) +
           "`: at least one [[modes]] table)");
-  if (!c.cutting.kt_pa && !c.material)
+  if (!c.cutting.kf_pa && !c.material)
     v.add("cutting.kf_n_per_mm2: missing (required by `cutdyn " + std::string(command) + "`)");
   if (c.vibration && !c.vibration->duty_cycle && !c.vibration->workpiece_diameter_m)
     v.add(
         "vibration.workpiece_diameter_mm: missing (required to compute the duty cycle at each "
         "spindle speed; or give vibration.duty_cycle)");
   v.throw_if_any(c.source);
-  TurningModel m;
+  TurningProcess m;
   m.modal = c.modal;
   // Given, or predicted from [material] (the loader allows only one of the two).
-  m.kt_pa = c.cutting.kt_pa ? *c.cutting.kt_pa : predict_with_oxley(c, command, false).result.kt_pa;
-  if (c.vibration) {
-    VibrationAssist va;
-    va.frequency_hz = c.vibration->frequency_hz;
-    va.amplitude_m = c.vibration->amplitude_m.value_or(0.0);
-    va.workpiece_diameter_m = c.vibration->workpiece_diameter_m;
-    va.duty_cycle = c.vibration->duty_cycle;
-    m.vibration = va;
-  }
+  m.kf_pa = c.cutting.kf_pa ? *c.cutting.kf_pa : predict_with_oxley(c, command, false).result.kt_pa;
+  m.vibration = c.vibration;
   // The loader checked ranges in the user's units; this catches what only the model knows
   // (an undamped mode cannot be analysed for stability).
   if (const auto problems = m.validate(); !problems.empty()) throw InvalidInput(problems, c.source);
   return m;
 }
 
-MillingModel milling_model(const io::Case& c, std::string_view command) {
+MillingProcess milling_process(const io::Case& c, std::string_view command) {
   Validator v;
   if (c.process != io::Process::kMilling)
     v.add("process = \"" + std::string(io::to_string(c.process)) +
@@ -103,21 +96,22 @@ MillingModel milling_model(const io::Case& c, std::string_view command) {
   if (!c.tool)
     v.add("tool: missing (required for milling: at least tool.teeth and tool.diameter_mm)");
   v.throw_if_any(c.source);
-  MillingModel m;
+  MillingProcess m = milling_process_as_given(c);
+  if (const auto problems = m.validate_for_stability(); !problems.empty())
+    throw InvalidInput(problems, c.source);
+  return m;
+}
+
+MillingProcess milling_process_as_given(const io::Case& c) {
+  MillingProcess m;
   m.modal = c.modal;
-  m.kt_pa = *c.cutting.kt_pa;
-  m.kr_pa = c.cutting.kr_pa.value_or(0.0);
-  m.teeth = c.tool->teeth;
-  m.diameter_m = c.tool->diameter_m;
-  m.helix_rad = c.tool->helix_rad;
-  m.pitch_rad = c.tool->pitch_rad;
-  if (c.operation) {
-    m.radial_immersion = c.operation->radial_immersion;
-    m.down_milling = c.operation->down_milling;
-    m.window_entry_rad = c.operation->entry_rad;
-    m.window_exit_rad = c.operation->exit_rad;
-  }
-  if (const auto problems = m.validate(); !problems.empty()) throw InvalidInput(problems, c.source);
+  if (c.tool) m.tool = *c.tool;
+  if (c.operation) m.engagement = c.operation->engagement;
+  m.cutting.kt_pa = c.cutting.kt_pa.value_or(0.0);
+  m.cutting.kr_pa = c.cutting.kr_pa.value_or(0.0);
+  m.cutting.kte_n_per_m = c.cutting.kte_n_per_m.value_or(0.0);
+  m.cutting.kre_n_per_m = c.cutting.kre_n_per_m.value_or(0.0);
+  m.s1_law = c.force_law;
   return m;
 }
 

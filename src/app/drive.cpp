@@ -91,7 +91,7 @@ DriveReport run_drive(const io::Case& c, const DriveCut& cut, const DriveOptions
   const double revolution = 60.0 / s.rpm;
   run.traces_from_s = r.time_s.back() - s.options.summary_revolutions * revolution;
   const CutTraces traces = cut_traces(r);
-  const double feed = s.cut.feed_per_tooth_m * s.cut.teeth * s.rpm / 60.0;  // along +x
+  const double feed = s.cut.feed_per_tooth_m * s.cut.process.tool.teeth * s.rpm / 60.0;  // along +x
   SteadyStateOptions steady;
   steady.period_s = revolution;
   unsigned stream = 0;

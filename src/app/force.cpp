@@ -19,7 +19,7 @@ void require_keys(const io::Case& c) {
   };
   if (!c.material) {
     need(c.cutting.kc_pa, "kc_n_per_mm2 (or give a [material] to predict it)");
-    need(c.cutting.kt_pa, "kf_n_per_mm2 (or give a [material] to predict it)");
+    need(c.cutting.kf_pa, "kf_n_per_mm2 (or give a [material] to predict it)");
   }
   need(c.cutting.uncut_chip_thickness_m, "uncut_chip_thickness_mm");
   need(c.cutting.width_m, "width_mm");
@@ -54,7 +54,7 @@ ForceJobReport run_force(const io::Case& c) {
   ForceJobReport r;
   if (c.material) r.oxley = predict_with_oxley(c, "force", true);
   r.kc_pa = r.oxley ? r.oxley->result.kc_pa : *c.cutting.kc_pa;
-  r.kt_pa = r.oxley ? r.oxley->result.kt_pa : *c.cutting.kt_pa;
+  r.kf_pa = r.oxley ? r.oxley->result.kt_pa : *c.cutting.kf_pa;
   r.vibration = c.vibration.has_value();
   if (c.vibration) {
     r.duty_cycle = c.vibration->duty_cycle
@@ -66,7 +66,7 @@ ForceJobReport run_force(const io::Case& c) {
   r.width_m = *c.cutting.width_m;
   r.speed_m_per_s = c.cutting.speed_m_per_s;
   r.forces =
-      pulsed_forces(r.kc_pa, r.kt_pa, r.uncut_chip_thickness_m, r.width_m, r.duty_cycle.ratio);
+      pulsed_forces(r.kc_pa, r.kf_pa, r.uncut_chip_thickness_m, r.width_m, r.duty_cycle.ratio);
   if (r.oxley && !c.vibration) r.around = around(c, *r.oxley);
   return r;
 }

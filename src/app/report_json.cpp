@@ -148,7 +148,7 @@ json oxley_json(const io::Case& c, const OxleyPrediction& p) {
           {"warnings", p.result.warnings}};
 }
 
-json vibration_json(const io::VibrationSection& v, const DutyCycle& dc) {
+json vibration_json(const VibrationAssist& v, const DutyCycle& dc) {
   const double T = dc.period_s;
   json vib = {{"duty_cycle", dc.ratio},
               {"period_s", T},
@@ -180,7 +180,7 @@ json to_json(const io::Case& c, const ForceJobReport& r) {
            {"case", io::to_json(c)},
            {"source", c.source},
            {"kc_n_per_mm2", units::pa_to_n_per_mm2(r.kc_pa)},
-           {"kt_n_per_mm2", units::pa_to_n_per_mm2(r.kt_pa)},
+           {"kf_n_per_mm2", units::pa_to_n_per_mm2(r.kf_pa)},
            {"coefficients", r.oxley ? "oxley" : "given"},
            {"cutting_force_n", f.peak_cutting_n},
            {"thrust_force_n", f.peak_thrust_n},

@@ -56,7 +56,7 @@ std::string SimulateRequest::where(const io::Case& c) const {
 }
 
 TurningSimulationJobReport simulate_turning_case(const io::Case& c, const SimulateRequest& r) {
-  const TurningModel model = turning_model(c, "simulate");
+  const TurningProcess model = turning_process(c, "simulate");
   TurningSimulationJobReport report;
   report.options = turning_options(c, r);
   const TurningSimulationOptions& o = report.options;
@@ -65,7 +65,7 @@ TurningSimulationJobReport simulate_turning_case(const io::Case& c, const Simula
   report.description = describe_turning(c, model);
   struct Run {
     std::string name;
-    TurningModel model;
+    TurningProcess model;
   };
   std::vector<Run> runs{{model.vibration ? "vibration-assisted" : "conventional", model}};
   if (model.vibration) runs.push_back({"conventional", model.conventional()});
@@ -115,31 +115,10 @@ MillingSetup milling_setup(const io::Case& c, const SimulateRequest& r) {
   s.rpm = *rpm;
   s.where = r.where(c);
   MillingCut& cut = s.cut;
-  cut.modal = c.modal;
-  cut.teeth = c.tool->teeth;
-  cut.diameter_m = c.tool->diameter_m;
-  cut.helix_rad = c.tool->helix_rad;
-  cut.pitch_rad = c.tool->pitch_rad;
-  const io::OperationSection& op = *c.operation;
-  if (op.entry_rad) {
-    cut.entry_rad = *op.entry_rad;
-    cut.exit_rad = *op.exit_rad;
-  } else {
-    const EngagementWindow w = engagement_window(op.radial_immersion, op.down_milling);
-    cut.entry_rad = w.entry_rad;
-    cut.exit_rad = w.exit_rad;
-  }
+  cut.process = milling_process_as_given(c);
   cut.spindle_rad_s = units::rpm_to_rad_per_s(s.rpm);
-  cut.feed_per_tooth_m = *op.feed_per_tooth_m;
+  cut.feed_per_tooth_m = *c.operation->feed_per_tooth_m;
   cut.width_m = *depth_m;
-  if (c.force_law) {
-    const io::ForceLawSection& f = *c.force_law;
-    cut.law = ErmolaevForceLaw{f.c_n_per_m, f.t2_s, f.p0_n, f.t1_m, f.phi_rez_rad, f.phi_skv_rad};
-  } else {
-    cut.law = MechanisticForceLaw{*c.cutting.kt_pa, c.cutting.kr_pa.value_or(0.0),
-                                  c.cutting.kte_n_per_m.value_or(0.0),
-                                  c.cutting.kre_n_per_m.value_or(0.0)};
-  }
   cut.regenerative = c.simulate.regenerative;
   MillingSimulationOptions& o = s.options;
   o.revolutions = r.duration_s ? *r.duration_s * s.rpm / 60.0 : c.simulate.revolutions;
@@ -161,8 +140,8 @@ MillingSimulationJobReport simulate_milling_case(const io::Case& c, const Simula
   rethrow_as(s.where, "simulate", [&] { report.result = simulate_milling(s.cut, s.options); });
   report.s1_law = c.force_law.has_value();
   // The stability prediction at this speed, for the mechanistic law with regeneration.
-  if (!report.s1_law && s.cut.regenerative && !s.cut.modal.modes.empty()) {
-    const MillingModel m = milling_model(c, "simulate");
+  if (!report.s1_law && s.cut.regenerative && !s.cut.process.modal.modes.empty()) {
+    const MillingProcess m = milling_process(c, "simulate");
     MillingStabilityOptions so;
     so.depth_max_m = c.lobes.depth_max_m;
     so.rel_tol = 1e-3;

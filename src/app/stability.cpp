@@ -42,11 +42,11 @@ TurningStabilityOptions turning_stability_options(const io::Case& c, TurningMeth
   return o;
 }
 
-std::string describe_turning(const io::Case& c, const TurningModel& m) {
+std::string describe_turning(const io::Case& c, const TurningProcess& m) {
   std::string s =
-      fmt::format("turning, {} mode{} in x, Kt = {} N/mm²", m.modal.modes.size(),
-                  m.modal.modes.size() == 1 ? "" : "s", human(units::pa_to_n_per_mm2(m.kt_pa)));
-  if (c.material && !c.cutting.kt_pa)
+      fmt::format("turning, {} mode{} in x, Kf = {} N/mm²", m.modal.modes.size(),
+                  m.modal.modes.size() == 1 ? "" : "s", human(units::pa_to_n_per_mm2(m.kf_pa)));
+  if (c.material && !c.cutting.kf_pa)
     s += fmt::format(" (predicted for {} by Oxley's theory at {} m/min)", c.material->name,
                      human(units::m_per_s_to_m_per_min(*c.cutting.speed_m_per_s)));
   if (m.vibration) {
@@ -55,7 +55,7 @@ std::string describe_turning(const io::Case& c, const TurningModel& m) {
       s += fmt::format(", duty cycle {} (fixed)", human(*m.vibration->duty_cycle));
     } else {
       s += fmt::format(", {} µm on a {} mm workpiece (duty cycle from the speed)",
-                       human(units::m_to_um(m.vibration->amplitude_m)),
+                       human(units::m_to_um(*m.vibration->amplitude_m)),
                        human(m_to_mm(*m.vibration->workpiece_diameter_m)));
     }
   }
@@ -65,7 +65,7 @@ std::string describe_turning(const io::Case& c, const TurningModel& m) {
 namespace {
 
 void turning_lobes(const io::Case& c, const LobesRequest& request, LobesJobReport& r) {
-  const TurningModel model = turning_model(c, "lobes");
+  const TurningProcess model = turning_process(c, "lobes");
   const TurningMethod method =
       turning_method(asked_method(c, request.method, request.names), model.vibration.has_value());
   const TurningStabilityOptions options = turning_stability_options(c, method);
@@ -85,7 +85,7 @@ void turning_lobes(const io::Case& c, const LobesRequest& request, LobesJobRepor
   if (assisted) {
     TurningStabilityOptions exact = options;
     exact.method = TurningMethod::kClosedForm;
-    const TurningModel conventional = model.conventional();
+    const TurningProcess conventional = model.conventional();
     const auto conventional_at = [&](double rpm) {
       return LobePoint{rpm, turning_critical_depth(conventional, rpm, exact).boundary, 1.0, 0};
     };
@@ -106,7 +106,7 @@ void turning_lobes(const io::Case& c, const LobesRequest& request, LobesJobRepor
 }
 
 void turning_check(const io::Case& c, const CheckRequest& request, CheckJobReport& r) {
-  const TurningModel model = turning_model(c, "check");
+  const TurningProcess model = turning_process(c, "check");
   rethrow_as(request.names.where, request.names.rpm,
              [&] { check_speed_domain(model, request.rpm); });
   const TurningMethod method =
@@ -134,12 +134,12 @@ void turning_check(const io::Case& c, const CheckRequest& request, CheckJobRepor
 // ---- milling ----------------------------------------------------------------------------
 
 // The full discretization's work grows with the structural periods in one tooth period.
-void check_milling_speed(const MillingModel& m, double rpm) {
+void check_milling_speed(const MillingProcess& m, double rpm) {
   constexpr double kMaxModeCycles = 500.0;
   Validator v;
   v.require_positive("spindle speed", rpm, "rpm");
   v.throw_if_any();
-  const double tooth_period = 60.0 / (rpm * m.teeth);
+  const double tooth_period = 60.0 / (rpm * m.tool.teeth);
   const double f_top = units::rad_per_s_to_hz(m.modal.max_natural_rad_s());
   if (tooth_period * f_top > kMaxModeCycles) {
     v.add(
@@ -164,12 +164,13 @@ MillingStabilityOptions milling_options(const io::Case& c, MillingMethod method)
 }
 
 // "4 teeth, helix 30°, pitch 70/110/70/110°".
-std::string cutter(const MillingModel& m) {
-  std::string teeth = fmt::format("{} teeth", m.teeth);
-  if (m.helix_rad > 0.0) teeth += fmt::format(", helix {}°", human(units::rad_to_deg(m.helix_rad)));
-  if (!m.even_pitch()) {
+std::string cutter(const MillingProcess& m) {
+  std::string teeth = fmt::format("{} teeth", m.tool.teeth);
+  if (m.tool.helix_rad > 0.0)
+    teeth += fmt::format(", helix {}°", human(units::rad_to_deg(m.tool.helix_rad)));
+  if (!m.tool.even_pitch()) {
     std::string pitch;
-    for (double p : m.pitch_rad) {
+    for (double p : m.tool.pitch_rad) {
       if (!pitch.empty()) pitch += '/';
       pitch += human(units::rad_to_deg(p));
     }
@@ -180,24 +181,25 @@ std::string cutter(const MillingModel& m) {
 
 // "a_e/D = 0.5, down-milling", or for a window given as angles
 // "entry 90°, exit 180° (a_e/D = 0.5)".
-std::string engagement(const MillingModel& m) {
-  if (m.window_entry_rad)
-    return fmt::format(
-        "entry {}°, exit {}° (a_e/D = {})", human(units::rad_to_deg(m.entry_angle()), 4),
-        human(units::rad_to_deg(m.exit_angle()), 4), human(m.engaged_immersion(), 4));
-  return fmt::format("a_e/D = {}, {}", human(m.radial_immersion),
-                     m.down_milling ? "down-milling" : "up-milling");
+std::string engagement(const MillingProcess& m) {
+  if (m.engagement.entry_rad)
+    return fmt::format("entry {}°, exit {}° (a_e/D = {})",
+                       human(units::rad_to_deg(m.engagement.entry_angle()), 4),
+                       human(units::rad_to_deg(m.engagement.exit_angle()), 4),
+                       human(m.engagement.engaged_immersion(), 4));
+  return fmt::format("a_e/D = {}, {}", human(m.engagement.radial_immersion),
+                     m.engagement.down_milling ? "down-milling" : "up-milling");
 }
 
-std::string describe(const MillingModel& m) {
+std::string describe(const MillingProcess& m) {
   return fmt::format("milling, {}, {} mode{}, Kt = {} N/mm², Kr = {} N/mm², {}", cutter(m),
                      m.modal.modes.size(), m.modal.modes.size() == 1 ? "" : "s",
-                     human(units::pa_to_n_per_mm2(m.kt_pa)), human(units::pa_to_n_per_mm2(m.kr_pa)),
-                     engagement(m));
+                     human(units::pa_to_n_per_mm2(m.cutting.kt_pa)),
+                     human(units::pa_to_n_per_mm2(m.cutting.kr_pa)), engagement(m));
 }
 
 void milling_lobes(const io::Case& c, const LobesRequest& request, LobesJobReport& r) {
-  const MillingModel model = milling_model(c, "lobes");
+  const MillingProcess model = milling_process(c, "lobes");
   const MillingMethod method = milling_method(asked_method(c, request.method, request.names));
   const LobesOptions grid = lobes_grid(c, request.threads);
   const MillingStabilityOptions options = milling_options(c, method);
@@ -219,7 +221,7 @@ void milling_lobes(const io::Case& c, const LobesRequest& request, LobesJobRepor
 
 void milling_check(const io::Case& c, const CheckRequest& request, CheckJobReport& r) {
   const RequestNames& names = request.names;
-  const MillingModel model = milling_model(c, "check");
+  const MillingProcess model = milling_process(c, "check");
   rethrow_as(names.where, names.rpm, [&] { check_milling_speed(model, request.rpm); });
   const MillingMethod method = milling_method(asked_method(c, request.method, names));
   // The lobes' search; where it finds no boundary, carried on past the depth asked (to tell

@@ -199,16 +199,17 @@ void print_milling(const io::Case& c, const app::MillingSimulationJobReport& job
   out << "cutdyn simulate: " << c.source << " at " << human(s.rpm) << " rpm, depth "
       << human(m_to_mm(s.cut.width_m)) << " mm, feed " << human(m_to_mm(s.cut.feed_per_tooth_m))
       << " mm/tooth, " << human(s.options.revolutions) << " revolutions\n";
-  out << fmt::format(
-      "  milling, {} teeth, window {}–{}°, {} law{}, {}\n", s.cut.teeth,
-      human(units::rad_to_deg(s.cut.entry_rad)), human(units::rad_to_deg(s.cut.exit_rad)),
-      s1 ? "S1 (Ermolaev)" : "mechanistic",
-      s.cut.helix_rad > 0.0
-          ? fmt::format(", helix {}° ({}{})", human(units::rad_to_deg(s.cut.helix_rad)),
-                        s.options.closed_form_helix ? "closed form" : "slices: ",
-                        s.options.closed_form_helix ? "" : std::to_string(r.slices))
-          : "",
-      s.cut.regenerative ? "regenerative chip" : "chip from the feed alone");
+  out << fmt::format("  milling, {} teeth, window {}–{}°, {} law{}, {}\n", s.cut.process.tool.teeth,
+                     human(units::rad_to_deg(s.cut.process.engagement.entry_angle())),
+                     human(units::rad_to_deg(s.cut.process.engagement.exit_angle())),
+                     s1 ? "S1 (Ermolaev)" : "mechanistic",
+                     s.cut.process.tool.helix_rad > 0.0
+                         ? fmt::format(", helix {}° ({}{})",
+                                       human(units::rad_to_deg(s.cut.process.tool.helix_rad)),
+                                       s.options.closed_form_helix ? "closed form" : "slices: ",
+                                       s.options.closed_form_helix ? "" : std::to_string(r.slices))
+                         : "",
+                     s.cut.regenerative ? "regenerative chip" : "chip from the feed alone");
   if (r.status == SimulationStatus::kRunaway)
     out << fmt::format(
         "  runaway growth: stopped at t = {} s (of {} s); over the revolutions before:\n",
@@ -257,7 +258,7 @@ io::PlotFigure milling_plot(const app::MillingSimulationJobReport& job) {
   const std::string revolutions = human(s.options.summary_revolutions);
   const bool runaway = r.status == SimulationStatus::kRunaway;
   const auto has_modes = [&](Direction d) {
-    return std::any_of(s.cut.modal.modes.begin(), s.cut.modal.modes.end(),
+    return std::any_of(s.cut.process.modal.modes.begin(), s.cut.process.modal.modes.end(),
                        [d](const Mode& m) { return m.direction == d; });
   };
 

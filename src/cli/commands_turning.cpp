@@ -168,7 +168,7 @@ void print_oxley(const io::Case& c, const app::OxleyPrediction& p, std::ostream&
 }
 
 // The vibration lines of the force report (text) and their JSON.
-void print_vibration(const io::VibrationSection& v, const DutyCycle& dc, std::ostream& out) {
+void print_vibration(const VibrationAssist& v, const DutyCycle& dc, std::ostream& out) {
   const double T = dc.period_s;
   out << "  vibration " << human(v.frequency_hz) << " Hz";
   if (v.amplitude_m) {
@@ -250,7 +250,7 @@ int run_force(const ForceArgs& args, std::ostream& out, std::ostream& err) {
   out << "cutdyn force: " << c.source << "\n";
   if (r.oxley) print_oxley(c, *r.oxley, out);
   out << "  Kc = " << human(units::pa_to_n_per_mm2(r.kc_pa))
-      << " N/mm², Kt = " << human(units::pa_to_n_per_mm2(r.kt_pa))
+      << " N/mm², Kf = " << human(units::pa_to_n_per_mm2(r.kf_pa))
       << " N/mm²; h = " << human(m_to_mm(r.uncut_chip_thickness_m))
       << " mm, w = " << human(m_to_mm(r.width_m)) << " mm";
   if (r.speed_m_per_s)

@@ -30,11 +30,11 @@ namespace cutdyn::cli {
 /// "cutdyn: warning: SOURCE: ...".
 io::Case load_case(const std::string& path, std::string_view default_example, std::ostream& err);
 using app::lobes_grid;
-using app::milling_model;
+using app::milling_process;
 using app::OxleyPrediction;
 using app::predict_with_oxley;
 using app::require_turning;
-using app::turning_model;
+using app::turning_process;
 
 /// One line: "Kc and Kt predicted by Oxley's theory for AISI1045 at 200 m/min, ...".
 std::string oxley_summary(const io::Case& c, const OxleyPrediction& p);

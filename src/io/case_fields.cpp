@@ -71,8 +71,8 @@ const Field* Section::find(std::string_view key) const {
 
 const Alias* Section::alias(std::string_view key, Process process) const {
   for (const Alias& a : aliases)
-    if (a.key == key && (a.uses == Uses::kBoth || (a.uses == Uses::kTurning) ==
-                                                      (process == Process::kTurning)))
+    if (a.key == key &&
+        (a.uses == Uses::kBoth || (a.uses == Uses::kTurning) == (process == Process::kTurning)))
       return &a;
   return nullptr;
 }
@@ -283,21 +283,16 @@ Mode* mode(Case& c, std::size_t i) {
   return i < c.modal.modes.size() ? &c.modal.modes[i] : nullptr;
 }
 CuttingSection* cutting(Case& c, std::size_t) { return &c.cutting; }
-ToolSection* tool(Case& c, std::size_t) { return c.tool ? &*c.tool : nullptr; }
-OperationSection* operation(Case& c, std::size_t) {
-  return c.operation ? &*c.operation : nullptr;
+MillingTool* tool(Case& c, std::size_t) { return c.tool ? &*c.tool : nullptr; }
+OperationSection* operation(Case& c, std::size_t) { return c.operation ? &*c.operation : nullptr; }
+MillingEngagement* engagement(Case& c, std::size_t) {
+  return c.operation ? &c.operation->engagement : nullptr;
 }
-VibrationSection* vibration(Case& c, std::size_t) {
-  return c.vibration ? &*c.vibration : nullptr;
-}
-ForceLawSection* force_law(Case& c, std::size_t) {
-  return c.force_law ? &*c.force_law : nullptr;
-}
+VibrationAssist* vibration(Case& c, std::size_t) { return c.vibration ? &*c.vibration : nullptr; }
+ErmolaevForceLaw* force_law(Case& c, std::size_t) { return c.force_law ? &*c.force_law : nullptr; }
 LobesSection* lobes(Case& c, std::size_t) { return &c.lobes; }
 SimulateSection* simulate(Case& c, std::size_t) { return &c.simulate; }
-JohnsonCook* johnson_cook(Case& c, std::size_t) {
-  return c.material ? &c.material->flow : nullptr;
-}
+JohnsonCook* johnson_cook(Case& c, std::size_t) { return c.material ? &c.material->flow : nullptr; }
 ThermalProperties* thermal(Case& c, std::size_t) {
   return c.material ? &c.material->thermal : nullptr;
 }
@@ -331,8 +326,8 @@ bool has_motor(const Case& c, std::size_t i) { return i < c.drives.size() && c.d
 void refresh_mass_mode(Case& c, std::size_t i) {
   if (i < c.mode_mass_kg.size() && c.mode_mass_kg[i] && i < c.modal.modes.size()) {
     const Mode& m = c.modal.modes[i];
-    c.modal.modes[i] = mode_from_mass(m.direction, m.natural_rad_s, m.damping_ratio,
-                                      *c.mode_mass_kg[i]);
+    c.modal.modes[i] =
+        mode_from_mass(m.direction, m.natural_rad_s, m.damping_ratio, *c.mode_mass_kg[i]);
   }
 }
 
@@ -361,17 +356,18 @@ std::vector<Section> make_sections() {
 
   Section top;
   top.name = "";
-  top.subtables = {"modes",     "cutting",   "tool",  "operation", "vibration", "lobes",
-                   "simulate",  "force_law", "drives", "material", "oxley"};
-  top.fields = {
-      choice("process", {"turning", "milling"})
-          .access([](const Case& c, std::size_t) -> std::optional<Value> {
-            return Value(std::string(to_string(c.process)));
-          },
-                  [](Case& c, std::size_t, const Value& v) -> std::string {
-                    c.process = text_of(v) == "turning" ? Process::kTurning : Process::kMilling;
-                    return {};
-                  })};
+  top.subtables = {"modes",    "cutting",   "tool",   "operation", "vibration", "lobes",
+                   "simulate", "force_law", "drives", "material",  "oxley"};
+  top.fields = {choice("process", {"turning", "milling"})
+                    .access(
+                        [](const Case& c, std::size_t) -> std::optional<Value> {
+                          return Value(std::string(to_string(c.process)));
+                        },
+                        [](Case& c, std::size_t, const Value& v) -> std::string {
+                          c.process =
+                              text_of(v) == "turning" ? Process::kTurning : Process::kMilling;
+                          return {};
+                        })};
   top.count = always();
   top.create = refuse("");
   all.push_back(std::move(top));
@@ -383,39 +379,41 @@ std::vector<Section> make_sections() {
       choice("direction", {"x", "y"})
           .required()
           .meaning("turning models the feed direction `\"x\"` only")
-          .access([](const Case& c, std::size_t i) -> std::optional<Value> {
-            if (i >= c.modal.modes.size()) return std::nullopt;
-            return Value(std::string(c.modal.modes[i].direction == Direction::kX ? "x" : "y"));
-          },
-                  [](Case& c, std::size_t i, const Value& v) -> std::string {
-                    c.modal.modes.at(i).direction =
-                        text_of(v) == "x" ? Direction::kX : Direction::kY;
-                    return {};
-                  }),
+          .access(
+              [](const Case& c, std::size_t i) -> std::optional<Value> {
+                if (i >= c.modal.modes.size()) return std::nullopt;
+                return Value(std::string(c.modal.modes[i].direction == Direction::kX ? "x" : "y"));
+              },
+              [](Case& c, std::size_t i, const Value& v) -> std::string {
+                c.modal.modes.at(i).direction = text_of(v) == "x" ? Direction::kX : Direction::kY;
+                return {};
+              }),
       number("natural_hz", kHzAsRadPerS, kPositive)
           .label("natural frequency")
           .required()
-          .access([](const Case& c, std::size_t i) -> std::optional<Value> {
-            if (i >= c.modal.modes.size()) return std::nullopt;
-            return Value(c.modal.modes[i].natural_rad_s);
-          },
-                  [](Case& c, std::size_t i, const Value& v) -> std::string {
-                    c.modal.modes.at(i).natural_rad_s = std::get<double>(v);
-                    refresh_mass_mode(c, i);
-                    return {};
-                  }),
+          .access(
+              [](const Case& c, std::size_t i) -> std::optional<Value> {
+                if (i >= c.modal.modes.size()) return std::nullopt;
+                return Value(c.modal.modes[i].natural_rad_s);
+              },
+              [](Case& c, std::size_t i, const Value& v) -> std::string {
+                c.modal.modes.at(i).natural_rad_s = std::get<double>(v);
+                refresh_mass_mode(c, i);
+                return {};
+              }),
       number("damping_ratio", kNone, closed_open(0.0, 1.0))
           .label("damping ratio ζ")
           .required()
-          .access([](const Case& c, std::size_t i) -> std::optional<Value> {
-            if (i >= c.modal.modes.size()) return std::nullopt;
-            return Value(c.modal.modes[i].damping_ratio);
-          },
-                  [](Case& c, std::size_t i, const Value& v) -> std::string {
-                    c.modal.modes.at(i).damping_ratio = std::get<double>(v);
-                    refresh_mass_mode(c, i);
-                    return {};
-                  }),
+          .access(
+              [](const Case& c, std::size_t i) -> std::optional<Value> {
+                if (i >= c.modal.modes.size()) return std::nullopt;
+                return Value(c.modal.modes[i].damping_ratio);
+              },
+              [](Case& c, std::size_t i, const Value& v) -> std::string {
+                c.modal.modes.at(i).damping_ratio = std::get<double>(v);
+                refresh_mass_mode(c, i);
+                return {};
+              }),
       number("stiffness_n_per_m", unit("N/m"), kPositive)
           .label("modal stiffness")
           .deflt("one of the two")
@@ -425,16 +423,17 @@ std::vector<Section> make_sections() {
           .deflt("one of the two")
           .meaning("stiffness k = m·(2π·natural_hz)²")
           .no_echo()
-          .access([](const Case& c, std::size_t i) -> std::optional<Value> {
-            if (i >= c.mode_mass_kg.size() || !c.mode_mass_kg[i]) return std::nullopt;
-            return Value(*c.mode_mass_kg[i]);
-          },
-                  [](Case& c, std::size_t i, const Value& v) -> std::string {
-                    if (c.mode_mass_kg.size() <= i) c.mode_mass_kg.resize(i + 1);
-                    c.mode_mass_kg[i] = std::get<double>(v);
-                    refresh_mass_mode(c, i);
-                    return {};
-                  })};
+          .access(
+              [](const Case& c, std::size_t i) -> std::optional<Value> {
+                if (i >= c.mode_mass_kg.size() || !c.mode_mass_kg[i]) return std::nullopt;
+                return Value(*c.mode_mass_kg[i]);
+              },
+              [](Case& c, std::size_t i, const Value& v) -> std::string {
+                if (c.mode_mass_kg.size() <= i) c.mode_mass_kg.resize(i + 1);
+                c.mode_mass_kg[i] = std::get<double>(v);
+                refresh_mass_mode(c, i);
+                return {};
+              })};
   modes.count = [](const Case& c) { return c.modal.modes.size(); };
   modes.create = refuse("");
   all.push_back(std::move(modes));
@@ -456,7 +455,7 @@ std::vector<Section> make_sections() {
           .uses(Uses::kTurning)
           .deflt("optional")
           .meaning("feed-direction (thrust) coefficient")
-          .member(cutting, &CuttingSection::kt_pa),
+          .member(cutting, &CuttingSection::kf_pa),
       number("kc_n_per_mm2", kNPerMm2, kPositive)
           .label("cutting-direction coefficient Kc")
           .uses(Uses::kTurning)
@@ -522,159 +521,157 @@ std::vector<Section> make_sections() {
   material.fields = {Row("name", Type::kText)
                          .deflt("required unless both sub-tables are given")
                          .meaning("a library entry, or your label")
-                         .access([](const Case& c, std::size_t) -> std::optional<Value> {
-                           if (!c.material) return std::nullopt;
-                           return Value(c.material->name);
-                         },
-                                 [](Case& c, std::size_t, const Value& v) -> std::string {
-                                   if (!c.material) return "its table is absent";
-                                   c.material->name = text_of(v);
-                                   return {};
-                                 })};
+                         .access(
+                             [](const Case& c, std::size_t) -> std::optional<Value> {
+                               if (!c.material) return std::nullopt;
+                               return Value(c.material->name);
+                             },
+                             [](Case& c, std::size_t, const Value& v) -> std::string {
+                               if (!c.material) return "its table is absent";
+                               c.material->name = text_of(v);
+                               return {};
+                             })};
   material.count = if_present(&Case::material);
   material.create = refuse("the case has no [material] (give its name or both of its tables)");
   all.push_back(std::move(material));
 
   Section jc;
   jc.name = "material.johnson_cook";
-  jc.fields = {
-      number("a_mpa", kMpa, kPositive)
-          .label("Johnson–Cook yield stress A")
-          .required()
-          .member(johnson_cook, &JohnsonCook::a_pa),
-      number("b_mpa", kMpa, kNonNegative)
-          .label("Johnson–Cook hardening modulus B")
-          .required()
-          .member(johnson_cook, &JohnsonCook::b_pa),
-      number("n", kNone, closed_open(0.0, 1.0))
-          .label("Johnson–Cook hardening exponent n")
-          .required()
-          .member(johnson_cook, &JohnsonCook::n),
-      number("c", kNone, closed_open(0.0, 1.0))
-          .label("Johnson–Cook strain-rate coefficient C")
-          .required()
-          .member(johnson_cook, &JohnsonCook::c),
-      number("m", kNone, open_closed(0.0, 10.0))
-          .label("Johnson–Cook thermal exponent m")
-          .required()
-          .member(johnson_cook, &JohnsonCook::m),
-      number("reference_strain_rate_per_s", unit("1/s"), kPositive)
-          .label("reference strain rate")
-          .member(johnson_cook, &JohnsonCook::reference_strain_rate_per_s),
-      number("reference_temperature_c", kCelsius, make_range(-273.15, true, kInf, true))
-          .label("reference temperature")
-          .member(johnson_cook, &JohnsonCook::reference_temperature_c),
-      number("melting_temperature_c", kCelsius, make_range(-273.15, true, kInf, true))
-          .label("melting temperature")
-          .required()
-          .meaning("above the reference temperature")
-          .member(johnson_cook, &JohnsonCook::melting_temperature_c)};
+  jc.fields = {number("a_mpa", kMpa, kPositive)
+                   .label("Johnson–Cook yield stress A")
+                   .required()
+                   .member(johnson_cook, &JohnsonCook::a_pa),
+               number("b_mpa", kMpa, kNonNegative)
+                   .label("Johnson–Cook hardening modulus B")
+                   .required()
+                   .member(johnson_cook, &JohnsonCook::b_pa),
+               number("n", kNone, closed_open(0.0, 1.0))
+                   .label("Johnson–Cook hardening exponent n")
+                   .required()
+                   .member(johnson_cook, &JohnsonCook::n),
+               number("c", kNone, closed_open(0.0, 1.0))
+                   .label("Johnson–Cook strain-rate coefficient C")
+                   .required()
+                   .member(johnson_cook, &JohnsonCook::c),
+               number("m", kNone, open_closed(0.0, 10.0))
+                   .label("Johnson–Cook thermal exponent m")
+                   .required()
+                   .member(johnson_cook, &JohnsonCook::m),
+               number("reference_strain_rate_per_s", unit("1/s"), kPositive)
+                   .label("reference strain rate")
+                   .member(johnson_cook, &JohnsonCook::reference_strain_rate_per_s),
+               number("reference_temperature_c", kCelsius, make_range(-273.15, true, kInf, true))
+                   .label("reference temperature")
+                   .member(johnson_cook, &JohnsonCook::reference_temperature_c),
+               number("melting_temperature_c", kCelsius, make_range(-273.15, true, kInf, true))
+                   .label("melting temperature")
+                   .required()
+                   .meaning("above the reference temperature")
+                   .member(johnson_cook, &JohnsonCook::melting_temperature_c)};
   jc.count = if_present(&Case::material);
   jc.create = refuse("the case has no [material] (give its name or both of its tables)");
   all.push_back(std::move(jc));
 
   Section th;
   th.name = "material.thermal";
-  th.fields = {
-      number("density_kg_per_m3", unit("kg/m³"), kPositive)
-          .label("work-material density")
-          .required()
-          .member(thermal, &ThermalProperties::density_kg_per_m3),
-      number("specific_heat_j_per_kg_k", unit("J/(kg·K)"), kPositive)
-          .label("specific heat")
-          .required()
-          .meaning("S0")
-          .member(thermal, &ThermalProperties::specific_heat_j_per_kg_k),
-      number("specific_heat_slope_j_per_kg_k2", unit("J/(kg·K²)"), kAny)
-          .label("specific-heat slope")
-          .meaning("S1; S(T) > 0 from Tr to Tm")
-          .member(thermal, &ThermalProperties::specific_heat_slope_j_per_kg_k2),
-      number("conductivity_w_per_m_k", unit("W/(m·K)"), kPositive)
-          .label("thermal conductivity")
-          .required()
-          .meaning("K0")
-          .member(thermal, &ThermalProperties::conductivity_w_per_m_k),
-      number("conductivity_slope_w_per_m_k2", unit("W/(m·K²)"), kAny)
-          .label("conductivity slope")
-          .meaning("K1; K(T) > 0 from Tr to Tm")
-          .member(thermal, &ThermalProperties::conductivity_slope_w_per_m_k2)};
+  th.fields = {number("density_kg_per_m3", unit("kg/m³"), kPositive)
+                   .label("work-material density")
+                   .required()
+                   .member(thermal, &ThermalProperties::density_kg_per_m3),
+               number("specific_heat_j_per_kg_k", unit("J/(kg·K)"), kPositive)
+                   .label("specific heat")
+                   .required()
+                   .meaning("S0")
+                   .member(thermal, &ThermalProperties::specific_heat_j_per_kg_k),
+               number("specific_heat_slope_j_per_kg_k2", unit("J/(kg·K²)"), kAny)
+                   .label("specific-heat slope")
+                   .meaning("S1; S(T) > 0 from Tr to Tm")
+                   .member(thermal, &ThermalProperties::specific_heat_slope_j_per_kg_k2),
+               number("conductivity_w_per_m_k", unit("W/(m·K)"), kPositive)
+                   .label("thermal conductivity")
+                   .required()
+                   .meaning("K0")
+                   .member(thermal, &ThermalProperties::conductivity_w_per_m_k),
+               number("conductivity_slope_w_per_m_k2", unit("W/(m·K²)"), kAny)
+                   .label("conductivity slope")
+                   .meaning("K1; K(T) > 0 from Tr to Tm")
+                   .member(thermal, &ThermalProperties::conductivity_slope_w_per_m_k2)};
   th.count = if_present(&Case::material);
   th.create = refuse("the case has no [material] (give its name or both of its tables)");
   all.push_back(std::move(th));
 
   Section ox;
   ox.name = "oxley";
-  ox.fields = {
-      number("c0_min", kNone, kPositive)
-          .label("smallest strain-rate constant C0")
-          .meaning("less than `c0_max`: range of the strain-rate constant C0")
-          .member(oxley, &OxleyOptions::c0_min),
-      number("c0_max", kNone, kPositive)
-          .label("largest strain-rate constant C0")
-          .member(oxley, &OxleyOptions::c0_max),
-      number("delta_min", kNone, open(0.0, 1.0))
-          .label("smallest δ")
-          .meaning("less than `delta_max`: range of δ")
-          .member(oxley, &OxleyOptions::delta_min),
-      number("delta_max", kNone, open(0.0, 1.0))
-          .label("largest δ")
-          .member(oxley, &OxleyOptions::delta_max),
-      number("eta", kNone, open_closed(0.0, 1.0))
-          .label("shear-plane temperature factor η")
-          .meaning("shear-plane temperature factor η")
-          .member(oxley, &OxleyOptions::eta),
-      number("psi", kNone, open_closed(0.0, 1.0))
-          .label("interface temperature factor ψ")
-          .meaning("interface temperature factor ψ")
-          .member(oxley, &OxleyOptions::psi)};
+  ox.fields = {number("c0_min", kNone, kPositive)
+                   .label("smallest strain-rate constant C0")
+                   .meaning("less than `c0_max`: range of the strain-rate constant C0")
+                   .member(oxley, &OxleyOptions::c0_min),
+               number("c0_max", kNone, kPositive)
+                   .label("largest strain-rate constant C0")
+                   .member(oxley, &OxleyOptions::c0_max),
+               number("delta_min", kNone, open(0.0, 1.0))
+                   .label("smallest δ")
+                   .meaning("less than `delta_max`: range of δ")
+                   .member(oxley, &OxleyOptions::delta_min),
+               number("delta_max", kNone, open(0.0, 1.0))
+                   .label("largest δ")
+                   .member(oxley, &OxleyOptions::delta_max),
+               number("eta", kNone, open_closed(0.0, 1.0))
+                   .label("shear-plane temperature factor η")
+                   .meaning("shear-plane temperature factor η")
+                   .member(oxley, &OxleyOptions::eta),
+               number("psi", kNone, open_closed(0.0, 1.0))
+                   .label("interface temperature factor ψ")
+                   .meaning("interface temperature factor ψ")
+                   .member(oxley, &OxleyOptions::psi)};
   ox.count = [](const Case& c) -> std::size_t { return c.material ? 1 : 0; };
   ox.create = refuse("used only with a [material] (the settings of Oxley's theory)");
   all.push_back(std::move(ox));
 
   Section tl;
   tl.name = "tool";
-  tl.fields = {
-      integer("teeth", 1, 200)
-          .label("number of teeth")
-          .required()
-          .member(tool, &ToolSection::teeth),
-      number("diameter_mm", kMm, kPositive)
-          .label("cutter diameter")
-          .required()
-          .member(tool, &ToolSection::diameter_m),
-      number("helix_deg", kDeg, closed_open(0.0, 90.0))
-          .label("helix angle")
-          .meaning("with a helix the stability methods cut the flute into axial slices "
-                   "(docs/models/milling-stability.md)")
-          .member(tool, &ToolSection::helix_rad),
-      Row("pitch_deg", Type::kNumbers, kDeg, open(0.0, 360.0))
-          .deflt("even pitch")
-          .meaning("one angle per tooth, adding up to 360: `pitch_deg[j]` is the angle by "
-                   "which tooth j trails tooth j − 1 (uneven pitch)")
-          .access([](const Case& c, std::size_t) -> std::optional<Value> {
-            if (!c.tool || c.tool->pitch_rad.empty()) return std::nullopt;
-            return Value(c.tool->pitch_rad);
-          },
-                  [](Case& c, std::size_t, const Value& v) -> std::string {
-                    if (!c.tool) return "its table is absent";
-                    const auto& p = std::get<std::vector<double>>(v);
-                    const int teeth = c.tool->teeth;
-                    double sum = 0.0;
-                    for (double x : p) sum += units::rad_to_deg(x);
-                    if (static_cast<int>(p.size()) != teeth && teeth > 0)
-                      return "must give one angle per tooth (teeth = " + std::to_string(teeth) +
-                             "), got " + std::to_string(p.size());
-                    if (std::abs(sum - 360.0) > 1e-6)
-                      return "the angles must add up to 360, they add up to " +
-                             format_value(tidy_number(sum));
-                    // Exactly one revolution, whatever the rounding of the degrees.
-                    double total = 0.0;
-                    for (double x : p) total += x;
-                    const double scale = units::kTwoPi / total;
-                    c.tool->pitch_rad = p;
-                    for (double& x : c.tool->pitch_rad) x *= scale;
-                    return {};
-                  })};
+  tl.fields = {integer("teeth", 1, 200)
+                   .label("number of teeth")
+                   .required()
+                   .member(tool, &MillingTool::teeth),
+               number("diameter_mm", kMm, kPositive)
+                   .label("cutter diameter")
+                   .required()
+                   .member(tool, &MillingTool::diameter_m),
+               number("helix_deg", kDeg, closed_open(0.0, 90.0))
+                   .label("helix angle")
+                   .meaning("with a helix the stability methods cut the flute into axial slices "
+                            "(docs/models/milling-stability.md)")
+                   .member(tool, &MillingTool::helix_rad),
+               Row("pitch_deg", Type::kNumbers, kDeg, open(0.0, 360.0))
+                   .deflt("even pitch")
+                   .meaning("one angle per tooth, adding up to 360: `pitch_deg[j]` is the angle by "
+                            "which tooth j trails tooth j − 1 (uneven pitch)")
+                   .access(
+                       [](const Case& c, std::size_t) -> std::optional<Value> {
+                         if (!c.tool || c.tool->pitch_rad.empty()) return std::nullopt;
+                         return Value(c.tool->pitch_rad);
+                       },
+                       [](Case& c, std::size_t, const Value& v) -> std::string {
+                         if (!c.tool) return "its table is absent";
+                         const auto& p = std::get<std::vector<double>>(v);
+                         const int teeth = c.tool->teeth;
+                         double sum = 0.0;
+                         for (double x : p) sum += units::rad_to_deg(x);
+                         if (static_cast<int>(p.size()) != teeth && teeth > 0)
+                           return "must give one angle per tooth (teeth = " +
+                                  std::to_string(teeth) + "), got " + std::to_string(p.size());
+                         if (std::abs(sum - 360.0) > 1e-6)
+                           return "the angles must add up to 360, they add up to " +
+                                  format_value(tidy_number(sum));
+                         // Exactly one revolution, whatever the rounding of the degrees.
+                         double total = 0.0;
+                         for (double x : p) total += x;
+                         const double scale = units::kTwoPi / total;
+                         c.tool->pitch_rad = p;
+                         for (double& x : c.tool->pitch_rad) x *= scale;
+                         return {};
+                       })};
   tl.count = if_present(&Case::tool);
   tl.create = emplace(&Case::tool);
   all.push_back(std::move(tl));
@@ -684,17 +681,18 @@ std::vector<Section> make_sections() {
   op.fields = {
       number("radial_immersion", unit("– (a_e/D)"), open_closed(0.0, 1.0))
           .label("radial immersion a_e/D")
-          .member(operation, &OperationSection::radial_immersion),
+          .member(engagement, &MillingEngagement::radial_immersion),
       choice("direction", {"down", "up"})
-          .access([](const Case& c, std::size_t) -> std::optional<Value> {
-            if (!c.operation) return std::nullopt;
-            return Value(std::string(c.operation->down_milling ? "down" : "up"));
-          },
-                  [](Case& c, std::size_t, const Value& v) -> std::string {
-                    if (!c.operation) return "its table is absent";
-                    c.operation->down_milling = text_of(v) == "down";
-                    return {};
-                  }),
+          .access(
+              [](const Case& c, std::size_t) -> std::optional<Value> {
+                if (!c.operation) return std::nullopt;
+                return Value(std::string(c.operation->engagement.down_milling ? "down" : "up"));
+              },
+              [](Case& c, std::size_t, const Value& v) -> std::string {
+                if (!c.operation) return "its table is absent";
+                c.operation->engagement.down_milling = text_of(v) == "down";
+                return {};
+              }),
       number("feed_per_tooth_mm", kMm, kPositive)
           .label("feed per tooth")
           .deflt("required by `cutdyn simulate`")
@@ -704,45 +702,44 @@ std::vector<Section> make_sections() {
           .deflt("from the immersion")
           .meaning("the engagement window itself (angles clockwise from +y), instead of "
                    "`radial_immersion` and `direction`; give both, entry < exit")
-          .member(operation, &OperationSection::entry_rad),
+          .member(engagement, &MillingEngagement::entry_rad),
       number("exit_deg", kDeg, closed(0.0, 180.0))
           .label("exit angle")
           .deflt("from the immersion")
           .meaning("greater than `entry_deg`")
-          .member(operation, &OperationSection::exit_rad)};
+          .member(engagement, &MillingEngagement::exit_rad)};
   op.count = if_present(&Case::operation);
   op.create = emplace(&Case::operation);
   all.push_back(std::move(op));
 
   Section fl;
   fl.name = "force_law";
-  fl.fields = {
-      number("c_n_per_mm", kNPerMm, kNonNegative)
-          .label("cutting stiffness c")
-          .required()
-          .meaning("cutting stiffness c of the engaged flute: P = c·U")
-          .member(force_law, &ForceLawSection::c_n_per_m),
-      number("t2_s", unit("s"), kNonNegative)
-          .label("chip-formation time constant T2")
-          .meaning("chip-formation time constant T2 (T2·dU/dt + U = X)")
-          .member(force_law, &ForceLawSection::t2_s),
-      number("p0_n", unit("N"), kNonNegative)
-          .label("flank contact force P0")
-          .meaning("flank contact force P0 (F = P0·e^(−X/T1))")
-          .member(force_law, &ForceLawSection::p0_n),
-      number("t1_mm", kMm, kPositive)
-          .label("flank contact length T1")
-          .deflt("1000 (none)")
-          .meaning("T1")
-          .member(force_law, &ForceLawSection::t1_m),
-      number("phi_rez_deg", kDeg, closed(-90.0, 90.0))
-          .label("cutting-force angle φrez")
-          .meaning("cutting force from the tangent (towards the centre)")
-          .member(force_law, &ForceLawSection::phi_rez_rad),
-      number("phi_skv_deg", kDeg, closed(-90.0, 90.0))
-          .label("contact-force angle φskv")
-          .meaning("contact force from the tangent")
-          .member(force_law, &ForceLawSection::phi_skv_rad)};
+  fl.fields = {number("c_n_per_mm", kNPerMm, kNonNegative)
+                   .label("cutting stiffness c")
+                   .required()
+                   .meaning("cutting stiffness c of the engaged flute: P = c·U")
+                   .member(force_law, &ErmolaevForceLaw::c_n_per_m),
+               number("t2_s", unit("s"), kNonNegative)
+                   .label("chip-formation time constant T2")
+                   .meaning("chip-formation time constant T2 (T2·dU/dt + U = X)")
+                   .member(force_law, &ErmolaevForceLaw::t2_s),
+               number("p0_n", unit("N"), kNonNegative)
+                   .label("flank contact force P0")
+                   .meaning("flank contact force P0 (F = P0·e^(−X/T1))")
+                   .member(force_law, &ErmolaevForceLaw::p0_n),
+               number("t1_mm", kMm, kPositive)
+                   .label("flank contact length T1")
+                   .deflt("1000 (none)")
+                   .meaning("T1")
+                   .member(force_law, &ErmolaevForceLaw::t1_m),
+               number("phi_rez_deg", kDeg, closed(-90.0, 90.0))
+                   .label("cutting-force angle φrez")
+                   .meaning("cutting force from the tangent (towards the centre)")
+                   .member(force_law, &ErmolaevForceLaw::phi_rez_rad),
+               number("phi_skv_deg", kDeg, closed(-90.0, 90.0))
+                   .label("contact-force angle φskv")
+                   .meaning("contact force from the tangent")
+                   .member(force_law, &ErmolaevForceLaw::phi_skv_rad)};
   fl.count = if_present(&Case::force_law);
   fl.create = emplace(&Case::force_law);
   all.push_back(std::move(fl));
@@ -755,46 +752,49 @@ std::vector<Section> make_sections() {
           .deflt("`axis` or `direction`")
           .meaning("the feed is `\"x\"`")
           .no_echo()
-          .access([](const Case& c, std::size_t i) -> std::optional<Value> {
-            if (i >= c.drives.size()) return std::nullopt;
-            return Value(c.drives[i].name);
-          },
-                  [](Case& c, std::size_t i, const Value& v) -> std::string {
-                    FeedAxis& a = c.drives.at(i);
-                    a.name = text_of(v);
-                    for (int k = 0; k < 3; ++k) a.direction[k] = k == a.name[0] - 'x' ? 1.0 : 0.0;
-                    return {};
-                  }),
+          .access(
+              [](const Case& c, std::size_t i) -> std::optional<Value> {
+                if (i >= c.drives.size()) return std::nullopt;
+                return Value(c.drives[i].name);
+              },
+              [](Case& c, std::size_t i, const Value& v) -> std::string {
+                FeedAxis& a = c.drives.at(i);
+                a.name = text_of(v);
+                for (int k = 0; k < 3; ++k) a.direction[k] = k == a.name[0] - 'x' ? 1.0 : 0.0;
+                return {};
+              }),
       Row("direction", Type::kNumbers)
           .size(3)
           .deflt("`axis` or `direction`")
           .meaning("not all zero; normalised")
-          .access([](const Case& c, std::size_t i) -> std::optional<Value> {
-            if (i >= c.drives.size()) return std::nullopt;
-            const double* d = c.drives[i].direction;
-            return Value(std::vector<double>{d[0], d[1], d[2]});
-          },
-                  [](Case& c, std::size_t i, const Value& v) -> std::string {
-                    const auto& d = std::get<std::vector<double>>(v);
-                    const double norm = d.size() == 3 ? std::hypot(d[0], d[1], d[2]) : 0.0;
-                    if (d.size() != 3 || !(norm > 0.0))
-                      return "must be three numbers (x, y, z), not all zero";
-                    for (int k = 0; k < 3; ++k)
-                      c.drives.at(i).direction[k] = d[static_cast<std::size_t>(k)] / norm;
-                    return {};
-                  }),
+          .access(
+              [](const Case& c, std::size_t i) -> std::optional<Value> {
+                if (i >= c.drives.size()) return std::nullopt;
+                const double* d = c.drives[i].direction;
+                return Value(std::vector<double>{d[0], d[1], d[2]});
+              },
+              [](Case& c, std::size_t i, const Value& v) -> std::string {
+                const auto& d = std::get<std::vector<double>>(v);
+                const double norm = d.size() == 3 ? std::hypot(d[0], d[1], d[2]) : 0.0;
+                if (d.size() != 3 || !(norm > 0.0))
+                  return "must be three numbers (x, y, z), not all zero";
+                for (int k = 0; k < 3; ++k)
+                  c.drives.at(i).direction[k] = d[static_cast<std::size_t>(k)] / norm;
+                return {};
+              }),
       choice("transmission", {"ball-screw", "lever"})
           .required()
-          .access([](const Case& c, std::size_t i) -> std::optional<Value> {
-            if (i >= c.drives.size()) return std::nullopt;
-            return Value(std::string(is_lever(c, i) ? "lever" : "ball-screw"));
-          },
-                  [](Case& c, std::size_t i, const Value& v) -> std::string {
-                    c.drives.at(i).drive.transmission.kind = text_of(v) == "lever"
-                                                                 ? Transmission::Kind::kLeverArm
-                                                                 : Transmission::Kind::kBallScrew;
-                    return {};
-                  }),
+          .access(
+              [](const Case& c, std::size_t i) -> std::optional<Value> {
+                if (i >= c.drives.size()) return std::nullopt;
+                return Value(std::string(is_lever(c, i) ? "lever" : "ball-screw"));
+              },
+              [](Case& c, std::size_t i, const Value& v) -> std::string {
+                c.drives.at(i).drive.transmission.kind = text_of(v) == "lever"
+                                                             ? Transmission::Kind::kLeverArm
+                                                             : Transmission::Kind::kBallScrew;
+                return {};
+              }),
       number("lead_mm", kMm, kPositive)
           .label("ball-screw lead")
           .required_if([](const Case& c, std::size_t i) { return !is_lever(c, i); })
@@ -828,19 +828,19 @@ std::vector<Section> make_sections() {
           .member(transmission, &Transmission::idle_torque_nm),
       choice("model", {"static", "dynamic"})
           .meaning("static: eq. 13; dynamic: the PI loop")
-          .access([](const Case& c, std::size_t i) -> std::optional<Value> {
-            if (i >= c.drives.size()) return std::nullopt;
-            return Value(std::string(is_dynamic(c, i) ? "dynamic" : "static"));
-          },
-                  [](Case& c, std::size_t i, const Value& v) -> std::string {
-                    c.drives.at(i).drive.model = text_of(v) == "dynamic"
-                                                     ? FeedDrive::Model::kDynamic
-                                                     : FeedDrive::Model::kStatic;
-                    return {};
-                  }),
-      number("stiffness_nm_s_per_rad", unit("N·m·s/rad"),
-             {-kInf, true, kInf, true, true,
-              "must not be 0 (|β|, the slope of the characteristic)"})
+          .access(
+              [](const Case& c, std::size_t i) -> std::optional<Value> {
+                if (i >= c.drives.size()) return std::nullopt;
+                return Value(std::string(is_dynamic(c, i) ? "dynamic" : "static"));
+              },
+              [](Case& c, std::size_t i, const Value& v) -> std::string {
+                c.drives.at(i).drive.model = text_of(v) == "dynamic" ? FeedDrive::Model::kDynamic
+                                                                     : FeedDrive::Model::kStatic;
+                return {};
+              }),
+      number(
+          "stiffness_nm_s_per_rad", unit("N·m·s/rad"),
+          {-kInf, true, kInf, true, true, "must not be 0 (|β|, the slope of the characteristic)"})
           .label("drive stiffness |β|")
           .required_if([](const Case& c, std::size_t i) { return !is_dynamic(c, i); })
           .echo_if([](const Case& c, std::size_t i) { return !is_dynamic(c, i); })
@@ -889,15 +889,16 @@ std::vector<Section> make_sections() {
           .meaning("in `current_measure`'s measure")
           .member(motor, &PmsmMotor::torque_constant_nm_per_a, kNeedsMotor),
       choice("current_measure", {"rms", "space-vector"})
-          .access([](const Case& c, std::size_t i) -> std::optional<Value> {
-            if (!has_motor(c, i)) return std::nullopt;
-            return Value(std::string(to_string(c.drives[i].motor->measure)));
-          },
-                  [](Case& c, std::size_t i, const Value& v) -> std::string {
-                    if (!has_motor(c, i)) return std::string(kNeedsMotor);
-                    c.drives[i].motor->measure = *parse_current_measure(text_of(v));
-                    return {};
-                  }),
+          .access(
+              [](const Case& c, std::size_t i) -> std::optional<Value> {
+                if (!has_motor(c, i)) return std::nullopt;
+                return Value(std::string(to_string(c.drives[i].motor->measure)));
+              },
+              [](Case& c, std::size_t i, const Value& v) -> std::string {
+                if (!has_motor(c, i)) return std::string(kNeedsMotor);
+                c.drives[i].motor->measure = *parse_current_measure(text_of(v));
+                return {};
+              }),
       number("current_noise_a", unit("A"), kNonNegative)
           .label("current noise σ")
           .meaning("σ of white noise per phase")
@@ -906,19 +907,20 @@ std::vector<Section> make_sections() {
           .size(3)
           .deflt("0")
           .meaning("sensor offsets of u, v, w")
-          .access([](const Case& c, std::size_t i) -> std::optional<Value> {
-            if (!has_motor(c, i)) return std::nullopt;
-            const double* o = c.drives[i].motor->offset_a;
-            return Value(std::vector<double>{o[0], o[1], o[2]});
-          },
-                  [](Case& c, std::size_t i, const Value& v) -> std::string {
-                    if (!has_motor(c, i)) return std::string(kNeedsMotor);
-                    const auto& o = std::get<std::vector<double>>(v);
-                    if (o.size() != 3) return "must be three numbers (phases u, v, w)";
-                    for (int k = 0; k < 3; ++k)
-                      c.drives[i].motor->offset_a[k] = o[static_cast<std::size_t>(k)];
-                    return {};
-                  }),
+          .access(
+              [](const Case& c, std::size_t i) -> std::optional<Value> {
+                if (!has_motor(c, i)) return std::nullopt;
+                const double* o = c.drives[i].motor->offset_a;
+                return Value(std::vector<double>{o[0], o[1], o[2]});
+              },
+              [](Case& c, std::size_t i, const Value& v) -> std::string {
+                if (!has_motor(c, i)) return std::string(kNeedsMotor);
+                const auto& o = std::get<std::vector<double>>(v);
+                if (o.size() != 3) return "must be three numbers (phases u, v, w)";
+                for (int k = 0; k < 3; ++k)
+                  c.drives[i].motor->offset_a[k] = o[static_cast<std::size_t>(k)];
+                return {};
+              }),
       integer("seed", 0, 2147483647)
           .label("noise seed")
           .meaning("with the motor; the seed of the current noise. Each axis draws its own "
@@ -936,19 +938,19 @@ std::vector<Section> make_sections() {
       number("frequency_hz", unit("Hz"), kPositive)
           .label("vibration frequency")
           .required()
-          .member(vibration, &VibrationSection::frequency_hz),
+          .member(vibration, &VibrationAssist::frequency_hz),
       number("amplitude_um", kUm, kPositive)
           .label("vibration amplitude")
           .deflt("required unless `duty_cycle` is given")
-          .member(vibration, &VibrationSection::amplitude_m),
+          .member(vibration, &VibrationAssist::amplitude_m),
       number("workpiece_diameter_mm", kMm, kPositive)
           .label("workpiece diameter")
           .meaning("the duty cycle then follows from the cutting speed at each spindle speed")
-          .member(vibration, &VibrationSection::workpiece_diameter_m),
+          .member(vibration, &VibrationAssist::workpiece_diameter_m),
       number("duty_cycle", kNone, open_closed(0.0, 1.0))
           .label("duty cycle")
           .meaning("a fixed duty cycle r")
-          .member(vibration, &VibrationSection::duty_cycle)};
+          .member(vibration, &VibrationAssist::duty_cycle)};
   vib.count = if_present(&Case::vibration);
   vib.create = emplace(&Case::vibration);
   all.push_back(std::move(vib));
@@ -976,13 +978,14 @@ std::vector<Section> make_sections() {
               "turning the closed form (Tlusty; the averaged theory with vibration), in milling "
               "the averaged solution (Altintas & Budak); `auto` is the closed form for "
               "conventional turning and the full discretization otherwise")
-          .access([](const Case& c, std::size_t) -> std::optional<Value> {
-            return Value(std::string(to_string(c.lobes.method)));
-          },
-                  [](Case& c, std::size_t, const Value& v) -> std::string {
-                    c.lobes.method = *parse_stability_method(text_of(v));
-                    return {};
-                  }),
+          .access(
+              [](const Case& c, std::size_t) -> std::optional<Value> {
+                return Value(std::string(to_string(c.lobes.method)));
+              },
+              [](Case& c, std::size_t, const Value& v) -> std::string {
+                c.lobes.method = *parse_stability_method(text_of(v));
+                return {};
+              }),
       integer("harmonics", 0, 50)
           .label("least harmonics kept")
           .meaning("multi-frequency: the least number of harmonics kept each side (more are "
@@ -1056,22 +1059,21 @@ std::vector<Section> make_sections() {
   Section bo;
   bo.name = "bore";
   bo.plan = true;
-  bo.fields = {
-      number("diameter_mm", kMm, kPositive)
-          .label("bore diameter d")
-          .required()
-          .meaning("d, the machined bore")
-          .member(bore, &BoreMillingCase::bore_diameter_m),
-      number("length_mm", kMm, kPositive)
-          .label("bore length L")
-          .required()
-          .meaning("L")
-          .member(bore, &BoreMillingCase::length_m),
-      number("allowance_mm", kMm, kPositive)
-          .label("allowance t")
-          .required()
-          .meaning("less than the bore's radius; t, radial")
-          .member(bore, &BoreMillingCase::allowance_m)};
+  bo.fields = {number("diameter_mm", kMm, kPositive)
+                   .label("bore diameter d")
+                   .required()
+                   .meaning("d, the machined bore")
+                   .member(bore, &BoreMillingCase::bore_diameter_m),
+               number("length_mm", kMm, kPositive)
+                   .label("bore length L")
+                   .required()
+                   .meaning("L")
+                   .member(bore, &BoreMillingCase::length_m),
+               number("allowance_mm", kMm, kPositive)
+                   .label("allowance t")
+                   .required()
+                   .meaning("less than the bore's radius; t, radial")
+                   .member(bore, &BoreMillingCase::allowance_m)};
   bo.count = if_present(&Case::bore);
   bo.create = refuse("");
   all.push_back(std::move(bo));
@@ -1113,29 +1115,28 @@ std::vector<Section> make_sections() {
   Section pr;
   pr.name = "process";
   pr.plan = true;
-  pr.fields = {
-      number("cutting_speed_m_per_min", kPlanMPerMin, kPositive)
-          .label("cutting speed v")
-          .required()
-          .meaning("v")
-          .member(bore, &BoreMillingCase::cutting_speed_m_per_s),
-      number("mean_chip_thickness_mm", kMm, kPositive)
-          .label("mean chip thickness a_cp")
-          .required()
-          .meaning("a_cp")
-          .member(bore, &BoreMillingCase::mean_chip_thickness_m),
-      number("accuracy_coefficient", kNone,
-             {kAccuracyCoefficientMin, false, kAccuracyCoefficientMax, false, false,
-              "must be from 0.005 (finishing) to 0.1 (roughing), the source's range of k"})
-          .label("accuracy coefficient k")
-          .required()
-          .meaning("k: Δ1 ≤ k·t (the source's range: 0.1 roughing … 0.005 finishing)")
-          .member(bore, &BoreMillingCase::accuracy_coefficient),
-      number("axial_feed_mm", kMm, kPositive)
-          .label("axial feed S0")
-          .deflt("the largest")
-          .meaning("a fixed S0")
-          .member(whole, &Case::axial_feed_m)};
+  pr.fields = {number("cutting_speed_m_per_min", kPlanMPerMin, kPositive)
+                   .label("cutting speed v")
+                   .required()
+                   .meaning("v")
+                   .member(bore, &BoreMillingCase::cutting_speed_m_per_s),
+               number("mean_chip_thickness_mm", kMm, kPositive)
+                   .label("mean chip thickness a_cp")
+                   .required()
+                   .meaning("a_cp")
+                   .member(bore, &BoreMillingCase::mean_chip_thickness_m),
+               number("accuracy_coefficient", kNone,
+                      {kAccuracyCoefficientMin, false, kAccuracyCoefficientMax, false, false,
+                       "must be from 0.005 (finishing) to 0.1 (roughing), the source's range of k"})
+                   .label("accuracy coefficient k")
+                   .required()
+                   .meaning("k: Δ1 ≤ k·t (the source's range: 0.1 roughing … 0.005 finishing)")
+                   .member(bore, &BoreMillingCase::accuracy_coefficient),
+               number("axial_feed_mm", kMm, kPositive)
+                   .label("axial feed S0")
+                   .deflt("the largest")
+                   .meaning("a fixed S0")
+                   .member(whole, &Case::axial_feed_m)};
   pr.count = if_present(&Case::bore);
   pr.create = refuse("");
   all.push_back(std::move(pr));
@@ -1143,40 +1144,39 @@ std::vector<Section> make_sections() {
   Section li;
   li.name = "limits";
   li.plan = true;
-  li.fields = {
-      number("offset_min_mm", kMm, kAny)
-          .label("smallest offset h")
-          .required()
-          .meaning("the range of h for the optimiser, taken as \\|h\\| and kept below "
-                   "(dt − t²)/(2D), where both edge sets cut")
-          .member(limits, &BoreMillingLimits::offset_min_m),
-      number("offset_max_mm", kMm, kAny)
-          .label("largest offset h")
-          .required()
-          .meaning("at least `offset_min_mm`")
-          .member(limits, &BoreMillingLimits::offset_max_m),
-      number("cutting_speed_max_m_per_min", kPlanMPerMin, kPositive)
-          .label("highest cutting speed")
-          .required()
-          .member(limits, &BoreMillingLimits::cutting_speed_max_m_per_s),
-      number("cutter_rpm_max", kRpmAsRevPerS, kPositive)
-          .label("highest cutter speed")
-          .required()
-          .member(limits, &BoreMillingLimits::cutter_rev_per_s_max),
-      number("workpiece_rpm_max", kRpmAsRevPerS, kPositive)
-          .label("highest workpiece speed")
-          .required()
-          .member(limits, &BoreMillingLimits::workpiece_rev_per_s_max),
-      number("faceting_max_mm", kMm, kPositive)
-          .label("largest faceting Δ2")
-          .required()
-          .meaning("Δ2")
-          .member(limits, &BoreMillingLimits::faceting_max_m),
-      number("max_chip_thickness_mm", kMm, kPositive)
-          .label("largest chip thickness a_max")
-          .required()
-          .meaning("a_max")
-          .member(limits, &BoreMillingLimits::max_chip_thickness_m)};
+  li.fields = {number("offset_min_mm", kMm, kAny)
+                   .label("smallest offset h")
+                   .required()
+                   .meaning("the range of h for the optimiser, taken as \\|h\\| and kept below "
+                            "(dt − t²)/(2D), where both edge sets cut")
+                   .member(limits, &BoreMillingLimits::offset_min_m),
+               number("offset_max_mm", kMm, kAny)
+                   .label("largest offset h")
+                   .required()
+                   .meaning("at least `offset_min_mm`")
+                   .member(limits, &BoreMillingLimits::offset_max_m),
+               number("cutting_speed_max_m_per_min", kPlanMPerMin, kPositive)
+                   .label("highest cutting speed")
+                   .required()
+                   .member(limits, &BoreMillingLimits::cutting_speed_max_m_per_s),
+               number("cutter_rpm_max", kRpmAsRevPerS, kPositive)
+                   .label("highest cutter speed")
+                   .required()
+                   .member(limits, &BoreMillingLimits::cutter_rev_per_s_max),
+               number("workpiece_rpm_max", kRpmAsRevPerS, kPositive)
+                   .label("highest workpiece speed")
+                   .required()
+                   .member(limits, &BoreMillingLimits::workpiece_rev_per_s_max),
+               number("faceting_max_mm", kMm, kPositive)
+                   .label("largest faceting Δ2")
+                   .required()
+                   .meaning("Δ2")
+                   .member(limits, &BoreMillingLimits::faceting_max_m),
+               number("max_chip_thickness_mm", kMm, kPositive)
+                   .label("largest chip thickness a_max")
+                   .required()
+                   .meaning("a_max")
+                   .member(limits, &BoreMillingLimits::max_chip_thickness_m)};
   li.count = if_present(&Case::bore_limits);
   li.create = emplace(&Case::bore_limits);
   all.push_back(std::move(li));
@@ -1297,10 +1297,11 @@ std::string key_axis_label(const Case& c, std::string_view key) {
 }
 
 std::string key_table_markdown(const Section& s) {
-  std::string md = s.process_column ? "| key | type | unit | process | required / default | rule |\n"
-                                      "|---|---|---|---|---|---|\n"
-                                    : "| key | type | unit | required / default | rule |\n"
-                                      "|---|---|---|---|---|\n";
+  std::string md = s.process_column
+                       ? "| key | type | unit | process | required / default | rule |\n"
+                         "|---|---|---|---|---|---|\n"
+                       : "| key | type | unit | required / default | rule |\n"
+                         "|---|---|---|---|---|\n";
   for (const Field& f : s.fields) {
     md += "| `" + std::string(f.key) + "` | " + type_doc(f) + " | " + std::string(f.unit.text) +
           " | ";

@@ -537,7 +537,7 @@ void rules_tool(const Case& c, Problems& p, const Quote& q) {
 
 void rules_operation(const Case& c, Problems& p, const Quote& q) {
   if (!c.operation || p.bad("operation.entry_deg") || p.bad("operation.exit_deg")) return;
-  const OperationSection& op = *c.operation;
+  const MillingEngagement& op = c.operation->engagement;
   if (op.entry_rad.has_value() != op.exit_rad.has_value()) {
     const std::string key = op.entry_rad ? "operation.entry_deg" : "operation.exit_deg";
     p.at_text(key, q.written(key).value_or(""), "give entry_deg and exit_deg together");
@@ -549,7 +549,7 @@ void rules_operation(const Case& c, Problems& p, const Quote& q) {
 
 void rules_vibration(const Case& c, Problems& p, const Quote& q) {
   if (!c.vibration) return;
-  const VibrationSection& v = *c.vibration;
+  const VibrationAssist& v = *c.vibration;
   const auto duty = q.written("vibration.duty_cycle");
   const auto diameter = q.written("vibration.workpiece_diameter_mm");
   if (duty && diameter)
@@ -586,7 +586,7 @@ void rules_coefficients(const Case& c, Problems& p, const Quote& q) {
     p.add(
         "cutting.kc_n_per_mm2 and [material]: give the force coefficients or the material to "
         "predict them from, not both");
-  if (c.cutting.kt_pa) {
+  if (c.cutting.kt_pa || c.cutting.kf_pa) {
     const char* key = c.process == Process::kTurning && !q.written("cutting.kt_n_per_mm2")
                           ? "kf_n_per_mm2"
                           : "kt_n_per_mm2";

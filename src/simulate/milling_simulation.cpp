@@ -6,8 +6,8 @@
 
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
-#include "cutdyn/simulate/growth_estimate.hpp"
 #include "cutdyn/simulate/detail/modal_stepper.hpp"
+#include "cutdyn/simulate/growth_estimate.hpp"
 
 namespace cutdyn {
 namespace {
@@ -54,52 +54,12 @@ bool in_window(double theta, double entry, double exit, double margin) {
 
 }  // namespace
 
-double MillingCut::lag_angle() const {
-  return helix_rad == 0.0 ? 0.0 : 2.0 * width_m * std::tan(helix_rad) / diameter_m;
-}
-
 std::vector<std::string> MillingCut::validate() const {
   Validator v;
-  if (!modal.modes.empty()) {
-    v.merge(modal.validate());
-    for (const Mode& m : modal.modes) {
-      if (m.direction != Direction::kX && m.direction != Direction::kY)
-        v.add("modes: milling takes modes in x and y only");
-    }
-  }
-  v.require(teeth >= 1 && teeth <= 200, "teeth", teeth, "", "must be 1 to 200");
-  v.require(helix_rad >= 0.0 && helix_rad < 0.5 * kPi, "helix_rad", helix_rad, "rad",
-            "must be at least 0 and less than π/2");
-  if (helix_rad > 0.0) v.require_positive("diameter_m", diameter_m, "m (needed with a helix)");
-  v.require(entry_rad >= 0.0 && entry_rad < exit_rad && exit_rad <= kPi, "entry_rad, exit_rad",
-            entry_rad, "rad",
-            "need 0 <= entry < exit <= π (exit = " + format_value(exit_rad) + ")");
+  v.merge(process.validate());
   v.require_positive("spindle_rad_s", spindle_rad_s, "rad/s");
   v.require_positive("feed_per_tooth_m", feed_per_tooth_m, "m");
   v.require_positive("width_m", width_m, "m");
-  if (!pitch_rad.empty()) {
-    double sum = 0.0;
-    for (double p : pitch_rad) {
-      v.require(p > 0.0, "pitch_rad", p, "rad", "every pitch angle must be positive");
-      sum += p;
-    }
-    v.require(static_cast<int>(pitch_rad.size()) == teeth, "pitch_rad",
-              static_cast<double>(pitch_rad.size()), "angles", "must give one angle per tooth");
-    v.require(std::abs(sum - kTwoPi) <= 1e-9 * kTwoPi, "pitch_rad (sum)", sum, "rad",
-              "must add up to 2π");
-  }
-  if (const auto* m = std::get_if<MechanisticForceLaw>(&law)) {
-    v.require(m->kt_pa >= 0.0, "kt_pa", m->kt_pa, "N/m²", "must not be negative");
-    v.require(m->kr_pa >= 0.0, "kr_pa", m->kr_pa, "N/m²", "must not be negative");
-    v.require(m->kte_n_per_m >= 0.0, "kte_n_per_m", m->kte_n_per_m, "N/m", "must not be negative");
-    v.require(m->kre_n_per_m >= 0.0, "kre_n_per_m", m->kre_n_per_m, "N/m", "must not be negative");
-  } else {
-    const auto& e = std::get<ErmolaevForceLaw>(law);
-    v.require(e.c_n_per_m >= 0.0, "c_n_per_m", e.c_n_per_m, "N/m", "must not be negative");
-    v.require(e.t2_s >= 0.0, "t2_s", e.t2_s, "s", "must not be negative");
-    v.require(e.p0_n >= 0.0, "p0_n", e.p0_n, "N", "must not be negative");
-    v.require_positive("t1_m", e.t1_m, "m");
-  }
   return v.problems();
 }
 
@@ -126,15 +86,17 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
   v.merge(o.validate());
   v.throw_if_any("milling simulation");
 
-  const int z = cut.teeth;
+  const MillingProcess& process = cut.process;
+  const EngagementWindow window = process.engagement.window();
+  const int z = process.tool.teeth;
   const double omega = cut.spindle_rad_s;
   // Time step: a whole number of angle bins per revolution, z·spt.
   // With regeneration the chip follows the cutter's vibration: put 64 steps in the shortest
   // mode period. Without it the exact (zero-order-hold) step needs no such resolution.
   int spt = o.steps_per_tooth;
-  if (!cut.modal.modes.empty() && cut.regenerative) {
+  if (!process.modal.modes.empty() && cut.regenerative) {
     const double tooth_period = kTwoPi / (omega * z);
-    const double shortest = kTwoPi / cut.modal.max_natural_rad_s();
+    const double shortest = kTwoPi / process.modal.max_natural_rad_s();
     spt = std::max(spt, static_cast<int>(std::ceil(64.0 * tooth_period / shortest)));
   }
   const long long bins = static_cast<long long>(z) * spt;
@@ -145,7 +107,7 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
   constexpr long long kMaxWork = 4'000'000'000LL;
 
   // Teeth: angle behind tooth 0, snapped to the bins (uneven pitch), and feed per revolution.
-  std::vector<double> pitch = cut.pitch_rad;
+  std::vector<double> pitch = process.tool.pitch_rad;
   if (pitch.empty()) pitch.assign(static_cast<std::size_t>(z), kTwoPi / z);
   std::vector<long long> behind_bins(static_cast<std::size_t>(z), 0);
   double behind = 0.0;
@@ -212,8 +174,8 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
     Overlap best;
     double total = 0.0;
     for (double turn : {0.0, kTwoPi}) {
-      const double lo = std::max(a, cut.entry_rad + turn);
-      const double hi = std::min(a + dtheta, cut.exit_rad + turn);
+      const double lo = std::max(a, window.entry_rad + turn);
+      const double hi = std::min(a + dtheta, window.exit_rad + turn);
       if (hi <= lo) continue;
       total += hi - lo;
       if (hi - lo > best.fraction * dtheta) best.middle = from + (0.5 * (lo + hi) - a);
@@ -234,18 +196,18 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
           std::cos(theta),
           static_cast<float>(end.fraction),
           static_cast<float>(start.fraction),
-          in_window(theta, cut.entry_rad, cut.exit_rad, 1e-6 * dtheta),
+          in_window(theta, window.entry_rad, window.exit_rad, 1e-6 * dtheta),
           end.fraction > 0.0 || start.fraction > 0.0,
           static_cast<float>(std::sin(inside))};
     }
   }
 
   // Structure.
-  const bool rigid = cut.modal.modes.empty();
+  const bool rigid = process.modal.modes.empty();
   std::optional<ModalStepper> stepper;
   Eigen::MatrixXd c_gamma_end;  // C·Γ1
   if (!rigid) {
-    stepper.emplace(cut.modal, std::vector<Direction>{Direction::kX, Direction::kY}, dt);
+    stepper.emplace(process.modal, std::vector<Direction>{Direction::kX, Direction::kY}, dt);
     c_gamma_end = stepper->output_matrix() * stepper->gamma_end();
   }
 
@@ -268,8 +230,8 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
                : behind_bins[static_cast<std::size_t>(k)] -
                      behind_bins[static_cast<std::size_t>(k - 1)];
 
-  const auto* mech = std::get_if<MechanisticForceLaw>(&cut.law);
-  const auto* erm = std::get_if<ErmolaevForceLaw>(&cut.law);
+  const ErmolaevForceLaw* erm = process.s1_law ? &*process.s1_law : nullptr;
+  const MechanisticForceLaw* mech = erm ? nullptr : &process.cutting;
   std::vector<double> lagged(static_cast<std::size_t>(z * n_slices), 0.0);  // U, S1 law
   const double relax = erm && erm->t2_s > 0.0 ? std::exp(-dt / erm->t2_s) : 0.0;
 
@@ -360,7 +322,7 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
   };
 
   // Once-per-period samples (tooth period; a revolution with uneven pitch).
-  const long long period_steps = cut.pitch_rad.empty() ? spt : bins;
+  const long long period_steps = process.tool.pitch_rad.empty() ? spt : bins;
   Eigen::VectorXd x;                                      // modal state at the last node
   Eigen::Vector2d start_force = Eigen::Vector2d::Zero();  // of the step from the last node
   std::vector<Eigen::VectorXd> ring;                      // the states of the last period
@@ -439,9 +401,9 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
   const auto summary_from = steps - std::llround(o.summary_revolutions * static_cast<double>(bins));
   // The wall is finished where the chip thickness s_z·sin θ vanishes: θ = π (down) or 0 (up).
   std::optional<double> finishing;
-  if (cut.exit_rad >= kPi - 1e-9)
+  if (window.exit_rad >= kPi - 1e-9)
     finishing = kPi;
-  else if (cut.entry_rad <= 1e-9)
+  else if (window.entry_rad <= 1e-9)
     finishing = 0.0;
   // Its bin and the wall's normal there (n·r is the overcut).
   const std::size_t finishing_bin = finishing ? bin_of(std::llround(*finishing / dtheta)) : 0;

@@ -6,8 +6,8 @@
 
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
-#include "cutdyn/simulate/growth_estimate.hpp"
 #include "cutdyn/simulate/detail/modal_stepper.hpp"
+#include "cutdyn/simulate/growth_estimate.hpp"
 
 namespace cutdyn {
 
@@ -28,7 +28,7 @@ std::vector<std::string> TurningSimulationOptions::validate() const {
   return v.problems();
 }
 
-TurningSimulationResult simulate_turning(const TurningModel& model,
+TurningSimulationResult simulate_turning(const TurningProcess& model,
                                          const TurningSimulationOptions& o) {
   Validator v;
   v.merge(model.validate());
@@ -72,8 +72,8 @@ TurningSimulationResult simulate_turning(const TurningModel& model,
   out.duty_cycle = duty;
   out.step_s = h;
   out.steps = steps;
-  const double kw = model.kt_pa * o.depth_m;
-  // Static deflection under the mean force r·Kt·w·h0: each mode deflects by F/k.
+  const double kw = model.kf_pa * o.depth_m;
+  // Static deflection under the mean force r·Kf·w·h0: each mode deflects by F/k.
   const double f_mean = duty * kw * o.feed_m;
   Eigen::VectorXd x0 = Eigen::VectorXd::Zero(d);
   for (Eigen::Index i = 0; i < d / 2; ++i)
@@ -204,8 +204,7 @@ TurningSimulationResult simulate_turning(const TurningModel& model,
   const int count = static_cast<int>(log_amplitude.size());
   const double revolution_s = tau;
   if (const auto multiplier = dominant_multiplier(samples)) {
-    out.growth_rate_per_s =
-        multiplier->growth_per_period / (static_cast<double>(sample_steps) * h);
+    out.growth_rate_per_s = multiplier->growth_per_period / (static_cast<double>(sample_steps) * h);
     out.growth_components = multiplier->components;
     out.growth_settled = true;
   } else if (count >= 2) {

@@ -64,64 +64,6 @@ Eigen::Matrix2d milling_directional_matrix(double phi, double kr) {
   return a;
 }
 
-std::vector<std::string> MillingModel::validate() const {
-  Validator v;
-  v.merge(modal.validate());
-  for (std::size_t i = 0; i < modal.modes.size(); ++i) {
-    v.require(modal.modes[i].damping_ratio > 0.0, "modes[" + std::to_string(i) + "].damping_ratio",
-              modal.modes[i].damping_ratio, "", "must be positive for a stability analysis");
-  }
-  v.require_positive("kt_pa", kt_pa, "N/m²");
-  v.require(kr_pa >= 0.0, "kr_pa", kr_pa, "N/m²", "must not be negative");
-  v.require(teeth >= 1 && teeth <= 200, "teeth", teeth, "", "must be 1 to 200");
-  v.require(radial_immersion > 0.0 && radial_immersion <= 1.0, "radial_immersion", radial_immersion,
-            "", "must be greater than 0 and at most 1");
-  if (window_entry_rad.has_value() != window_exit_rad.has_value()) {
-    v.add("window_entry_rad, window_exit_rad: give both or neither");
-  } else if (window_entry_rad) {
-    v.require(*window_entry_rad >= 0.0 && *window_entry_rad < kPi, "window_entry_rad",
-              *window_entry_rad, "rad", "must be at least 0 and less than π");
-    v.require(*window_exit_rad > *window_entry_rad && *window_exit_rad <= kPi, "window_exit_rad",
-              *window_exit_rad, "rad", "must be greater than window_entry_rad and at most π");
-  }
-  v.require(helix_rad >= 0.0 && helix_rad < 0.5 * kPi, "helix_rad", helix_rad, "rad",
-            "must be at least 0 and less than π/2");
-  if (helix_rad > 0.0) v.require_positive("diameter_m", diameter_m, "m (needed with a helix)");
-  if (!pitch_rad.empty()) {
-    v.require(static_cast<int>(pitch_rad.size()) == teeth, "pitch_rad",
-              static_cast<double>(pitch_rad.size()), "angles",
-              "must give one angle per tooth (" + std::to_string(teeth) + ")");
-    double sum = 0.0;
-    for (std::size_t j = 0; j < pitch_rad.size(); ++j) {
-      v.require(pitch_rad[j] > 0.0, "pitch_rad[" + std::to_string(j) + "]", pitch_rad[j], "rad",
-                "must be positive");
-      sum += pitch_rad[j];
-    }
-    v.require(std::abs(sum - kTwoPi) <= 1e-9 * kTwoPi, "pitch_rad (sum)", sum, "rad",
-              "the pitch angles must add up to one revolution (2π)");
-  }
-  return v.problems();
-}
-
-EngagementWindow engagement_window(double radial_immersion, bool down_milling) {
-  if (down_milling) return {std::acos(2.0 * radial_immersion - 1.0), kPi};
-  return {0.0, std::acos(1.0 - 2.0 * radial_immersion)};
-}
-
-double MillingModel::entry_angle() const {
-  if (window_entry_rad && window_exit_rad) return *window_entry_rad;
-  return engagement_window(radial_immersion, down_milling).entry_rad;
-}
-
-double MillingModel::exit_angle() const {
-  if (window_entry_rad && window_exit_rad) return *window_exit_rad;
-  return engagement_window(radial_immersion, down_milling).exit_rad;
-}
-
-double MillingModel::engaged_immersion() const {
-  return 0.5 * (std::cos(entry_angle()) - std::cos(exit_angle()));
-}
-
 namespace {
 
 // h(t) = scale·Σi weight_i·A(Ωs·t − c_i)·g(Ωs·t − c_i): teeth (and axial slices of them) at
@@ -133,11 +75,11 @@ struct ToothSet {
   std::vector<double> edges_rad;    // offsets of the tooth tips (no helix lag): breakpoints
 };
 
-PeriodicCoefficient tooth_coefficient(const MillingModel& m, double spindle, double period_s,
+PeriodicCoefficient tooth_coefficient(const MillingProcess& m, double spindle, double period_s,
                                       const ToothSet& teeth) {
-  const double st = m.entry_angle(), ex = m.exit_angle();
-  const double kr = m.kr_pa / m.kt_pa;
-  const double scale = -0.5 * m.kt_pa;  // H = −(Kt/2)·A
+  const double st = m.engagement.entry_angle(), ex = m.engagement.exit_angle();
+  const double kr = m.cutting.kr_pa / m.cutting.kt_pa;
+  const double scale = -0.5 * m.cutting.kt_pa;  // H = −(Kt/2)·A
   const double span = spindle * period_s;
   PeriodicCoefficient h;
   h.dim = 2;
@@ -171,22 +113,8 @@ PeriodicCoefficient tooth_coefficient(const MillingModel& m, double spindle, dou
 
 }  // namespace
 
-double MillingModel::lag_angle(double depth_m) const {
-  return helix_rad == 0.0 ? 0.0 : 2.0 * depth_m * std::tan(helix_rad) / diameter_m;
-}
-
-int MillingModel::slices(double depth_m) const {
-  constexpr double kMaxSliceLag = kPi / 360.0;  // 0.5°
-  return std::clamp(static_cast<int>(std::ceil(lag_angle(depth_m) / kMaxSliceLag)), 1, 2000);
-}
-
-std::vector<double> MillingModel::pitch_angles() const {
-  if (!pitch_rad.empty()) return pitch_rad;
-  return std::vector<double>(static_cast<std::size_t>(teeth), kTwoPi / teeth);
-}
-
-DelayedSystem milling_system(const MillingModel& model, double rpm, double depth_m) {
-  if (const auto problems = model.validate(); !problems.empty())
+DelayedSystem milling_system(const MillingProcess& model, double rpm, double depth_m) {
+  if (const auto problems = model.validate_for_stability(); !problems.empty())
     throw InvalidInput(problems, "milling model");
   if (!(depth_m >= 0.0))
     throw InvalidInput({"depth = " + format_value(depth_m) + " m: must not be negative"},
@@ -197,15 +125,15 @@ DelayedSystem milling_system(const MillingModel& model, double rpm, double depth
   s.E = ss.B;
   s.C = ss.C;
   const double spindle = units::rpm_to_rad_per_s(rpm);  // Ωs
-  const int z = model.teeth;
+  const int z = model.tool.teeth;
   // Axial slices: slice k of K lags the tooth tip by (k + 1/2)·λ/K, λ the flute's lag over
   // the depth; each carries 1/K of the depth.
-  const int K = model.slices(depth_m);
-  const double lag = model.lag_angle(depth_m);
+  const int K = model.tool.slices(depth_m);
+  const double lag = model.tool.lag_angle(depth_m);
   std::vector<double> slice_lags;
   for (int k = 0; k < K; ++k) slice_lags.push_back((k + 0.5) * lag / K);
 
-  if (model.even_pitch()) {
+  if (model.tool.even_pitch()) {
     // One term: every tooth sees the previous one's surface τ = T = 2π/(z·Ωs) earlier, and the
     // coefficient has the tooth period.
     const double pitch = kTwoPi / z;
@@ -221,7 +149,7 @@ DelayedSystem milling_system(const MillingModel& model, double rpm, double depth
   }
   // Uneven pitch: tooth j trails tooth j − 1 by pitch_j and cuts its surface pitch_j/Ωs later:
   // one delay term per tooth, all with the period of one revolution.
-  const std::vector<double> pitches = model.pitch_angles();
+  const std::vector<double> pitches = model.tool.pitch_angles();
   const double revolution = kTwoPi / spindle;
   double behind = 0.0;  // angle of tooth j behind tooth 0
   for (int j = 0; j < z; ++j) {
@@ -267,14 +195,14 @@ MillingStabilityOptions extend_search(const MillingStabilityOptions& o, double d
   return out;
 }
 
-MillingBoundary milling_critical_depth(const MillingModel& model, double rpm,
+MillingBoundary milling_critical_depth(const MillingProcess& model, double rpm,
                                        const MillingStabilityOptions& o) {
   Validator v;
-  v.merge(model.validate());
+  v.merge(model.validate_for_stability());
   v.merge(o.validate());
   v.require_positive("spindle speed", rpm, "rpm");
   v.throw_if_any("milling stability");
-  const bool helical = model.helix_rad > 0.0;
+  const bool helical = model.tool.helix_rad > 0.0;
   const auto system_at = [&](double depth) { return milling_system(model, rpm, depth); };
   MillingBoundary out;
   switch (o.method) {
@@ -285,8 +213,8 @@ MillingBoundary milling_critical_depth(const MillingModel& model, double rpm,
       mf.exact_harmonics = o.exact_harmonics;
       // Uneven pitch: H has the period of a revolution, so the same resolution in frequency
       // needs z harmonics of the spindle frequency per harmonic of the tooth frequency.
-      if (!model.even_pitch()) {
-        mf.harmonics *= model.teeth;
+      if (!model.tool.even_pitch()) {
+        mf.harmonics *= model.tool.teeth;
         mf.max_harmonics = std::max(mf.max_harmonics, mf.harmonics);
       }
       mf.depth_max_m = o.depth_max_m;
@@ -324,23 +252,24 @@ MillingBoundary milling_critical_depth(const MillingModel& model, double rpm,
     }
   }
   if (out.boundary.found) {
-    const double tooth_period = 60.0 / (rpm * model.teeth);
+    const double tooth_period = 60.0 / (rpm * model.tool.teeth);
     out.lobe = static_cast<int>(std::floor(out.boundary.chatter_hz * tooth_period));
   }
   return out;
 }
 
-std::optional<std::string> milling_method_caveat(const MillingModel& model, MillingMethod method,
+std::optional<std::string> milling_method_caveat(const MillingProcess& model, MillingMethod method,
                                                  double rpm_min, double /*rpm_max*/) {
   if (method != MillingMethod::kZeroOrder) return std::nullopt;
   std::vector<std::string> reasons;
-  if (model.exit_angle() - model.entry_angle() < units::kPi - 1e-9)
-    reasons.push_back("the cut is not a slot (it misses flip lobes, about half the depth at a/D "
-                      "<= 0.1)");
+  if (model.engagement.exit_angle() - model.engagement.entry_angle() < units::kPi - 1e-9)
+    reasons.push_back(
+        "the cut is not a slot (it misses flip lobes, about half the depth at a/D "
+        "<= 0.1)");
   double lowest_hz = std::numeric_limits<double>::infinity();
   for (const Mode& m : model.modal.modes)
     lowest_hz = std::min(lowest_hz, units::rad_per_s_to_hz(m.natural_rad_s));
-  const double threshold_rpm = 0.5 * lowest_hz * 60.0 / model.teeth;
+  const double threshold_rpm = 0.5 * lowest_hz * 60.0 / model.tool.teeth;
   if (rpm_min < threshold_rpm) {
     char text[160];
     std::snprintf(text, sizeof text,

@@ -10,54 +10,14 @@
 
 namespace cutdyn {
 
-DutyCycle VibrationAssist::at_rpm(double rpm) const {
-  if (duty_cycle) return fixed_duty_cycle(*duty_cycle, frequency_hz);
-  const double v = units::kPi * workpiece_diameter_m.value_or(0.0) * rpm / 60.0;
-  return cutdyn::duty_cycle(v, frequency_hz, amplitude_m);
-}
-
-std::vector<std::string> TurningModel::validate() const {
-  Validator v;
-  v.merge(modal.validate());
-  for (std::size_t i = 0; i < modal.modes.size(); ++i) {
-    if (modal.modes[i].direction != Direction::kX)
-      v.add("modes[" + std::to_string(i) +
-            "].direction = y: turning models the feed direction x only");
-    v.require(modal.modes[i].damping_ratio > 0.0, "modes[" + std::to_string(i) + "].damping_ratio",
-              modal.modes[i].damping_ratio, "", "must be positive for a stability analysis");
-  }
-  v.require_positive("kt_pa", kt_pa, "N/m²");
-  if (vibration) {
-    v.require_positive("vibration.frequency_hz", vibration->frequency_hz, "Hz");
-    if (vibration->duty_cycle) {
-      v.require(*vibration->duty_cycle > 0.0 && *vibration->duty_cycle <= 1.0,
-                "vibration.duty_cycle", *vibration->duty_cycle, "",
-                "must be greater than 0 and at most 1");
-    } else {
-      v.require_positive("vibration.amplitude_m", vibration->amplitude_m, "m");
-      if (!vibration->workpiece_diameter_m)
-        v.add("vibration: give duty_cycle, or workpiece_diameter_m to compute it from the speed");
-      else
-        v.require_positive("vibration.workpiece_diameter_m", *vibration->workpiece_diameter_m, "m");
-    }
-  }
-  return v.problems();
-}
-
-TurningModel TurningModel::conventional() const {
-  TurningModel m = *this;
-  m.vibration.reset();
-  return m;
-}
-
-DelayedSystem turning_system(const TurningModel& model, double rpm) {
+DelayedSystem turning_system(const TurningProcess& model, double rpm) {
   const auto ss = modal_state_space(model.modal, {Direction::kX});
   DelayedSystem s;
   s.A0 = ss.A;
   s.E = ss.B;
   s.C = ss.C;
   s.delay_s = 60.0 / rpm;  // [Chikishev2018, eq. 6]: one revolution
-  const Eigen::MatrixXd kt = Eigen::MatrixXd::Constant(1, 1, model.kt_pa);
+  const Eigen::MatrixXd kt = Eigen::MatrixXd::Constant(1, 1, model.kf_pa);
   if (model.vibration) {
     const DutyCycle dc = model.vibration->at_rpm(rpm);
     const ContactWindow g = dc.window();
@@ -115,7 +75,7 @@ std::string rounded(double value) {
 }
 }  // namespace
 
-void check_speed_domain(const TurningModel& model, double rpm) {
+void check_speed_domain(const TurningProcess& model, double rpm) {
   // The frequency and multiplier scans resolve the delay phase, so their work grows with the
   // number of vibration cycles in one revolution; bound it rather than run for hours.
   constexpr double kMaxModeCycles = 20000.0;
@@ -140,7 +100,7 @@ void check_speed_domain(const TurningModel& model, double rpm) {
   v.throw_if_any();
 }
 
-TurningBoundary turning_critical_depth(const TurningModel& model, double rpm,
+TurningBoundary turning_critical_depth(const TurningProcess& model, double rpm,
                                        const TurningStabilityOptions& o) {
   Validator v;
   v.merge(model.validate());
@@ -152,7 +112,7 @@ TurningBoundary turning_critical_depth(const TurningModel& model, double rpm,
   const double tau = 60.0 / rpm;
   switch (o.method) {
     case TurningMethod::kClosedForm: {
-      const auto t = tlusty_critical_depth(model.modal, Direction::kX, out.duty_cycle * model.kt_pa,
+      const auto t = tlusty_critical_depth(model.modal, Direction::kX, out.duty_cycle * model.kf_pa,
                                            tau, o.depth_max_m);
       out.boundary = t.boundary;
       break;

@@ -22,7 +22,7 @@ TEST(DriveJob, AxesTakeTheirShareOfTheFeedAndLogTheirCurrents) {
   const io::Case c = load_case("", "ermolaev2020");
   const DriveReport r = run_drive(c, cut_of(c), {7});
   ASSERT_EQ(r.axes.size(), c.drives.size());
-  const double feed = r.cut.cut.feed_per_tooth_m * r.cut.cut.teeth * r.cut.rpm / 60.0;
+  const double feed = r.cut.cut.feed_per_tooth_m * r.cut.cut.process.tool.teeth * r.cut.rpm / 60.0;
   for (const DriveAxisReport& a : r.axes) {
     EXPECT_GE(a.axis.direction[0], 0.0);  // turned along the feed
     EXPECT_DOUBLE_EQ(a.feed_speed_m_per_s, feed * a.axis.direction[0]);

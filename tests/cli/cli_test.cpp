@@ -13,9 +13,9 @@
 
 #include "cli/app.hpp"
 #include "cutdyn/core/units.hpp"
+#include "cutdyn/drive/equivalent_current.hpp"
 #include "cutdyn/forces/oxley.hpp"
 #include "cutdyn/io/case_file.hpp"
-#include "cutdyn/drive/equivalent_current.hpp"
 #include "cutdyn/plan/bore_milling.hpp"
 #include "cutdyn/simulate/milling_simulation.hpp"
 #include "cutdyn/stability/full_discretization.hpp"
@@ -104,10 +104,10 @@ TEST_F(Cli, LobesWritesCsvJsonAndPlotForTheDefaultCase) {
   ASSERT_EQ(doc["points"].size(), lines.size() - 1);
   // At 500 rpm against the library's closed forms, in mm and Hz: conventional = Tlusty
   // exactly, vibration-assisted = averaged theory (Kt → 0.6·Kt, exact for f ≫ fn) within 0.1 %.
-  const TurningModel m = cutdyn::testing::table2_conventional();
-  const auto tlusty = tlusty_critical_depth(m.modal, Direction::kX, m.kt_pa, 60.0 / 500.0, 0.03);
+  const TurningProcess m = cutdyn::testing::table2_conventional();
+  const auto tlusty = tlusty_critical_depth(m.modal, Direction::kX, m.kf_pa, 60.0 / 500.0, 0.03);
   const auto averaged =
-      tlusty_critical_depth(m.modal, Direction::kX, 0.6 * m.kt_pa, 60.0 / 500.0, 0.03);
+      tlusty_critical_depth(m.modal, Direction::kX, 0.6 * m.kf_pa, 60.0 / 500.0, 0.03);
   const auto& first = doc["points"][0];
   EXPECT_NEAR(first["spindle_rpm"].get<double>(), 500.0, 1e-9);
   EXPECT_NEAR(first["conventional_depth_mm"].get<double>(), 1e3 * tlusty.boundary.depth_m, 1e-9);
@@ -141,9 +141,9 @@ TEST_F(Cli, CheckReportsStabilityAndMargin) {
   EXPECT_NE(stable.out.find("STABLE"), std::string::npos);
   const auto doc = nlohmann::json::parse(std::ifstream(path("c.json")));
   EXPECT_TRUE(doc["stable"].get<bool>());
-  const TurningModel m = cutdyn::testing::table2_conventional();
+  const TurningProcess m = cutdyn::testing::table2_conventional();
   const double averaged_mm =
-      1e3 * tlusty_critical_depth(m.modal, Direction::kX, 0.6 * m.kt_pa, 60.0 / 1400.0, 0.03)
+      1e3 * tlusty_critical_depth(m.modal, Direction::kX, 0.6 * m.kf_pa, 60.0 / 1400.0, 0.03)
                 .boundary.depth_m;
   EXPECT_NEAR(doc["critical_depth_mm"].get<double>(), averaged_mm, 1e-3 * averaged_mm);
   EXPECT_NEAR(doc["margin"].get<double>(), 1.0 - 10.0 / doc["critical_depth_mm"].get<double>(),
@@ -195,7 +195,7 @@ TEST_F(Cli, ForcePredictsTheCoefficientsFromTheMaterial) {
   EXPECT_NEAR(doc["cutting_force_n"].get<double>(), lib.state.cutting_force_n, 1e-9);
   EXPECT_NEAR(doc["thrust_force_n"].get<double>(), lib.state.thrust_force_n, 1e-9);
   EXPECT_NEAR(doc["kc_n_per_mm2"].get<double>(), lib.kc_pa / 1e6, 1e-9);
-  EXPECT_NEAR(doc["kt_n_per_mm2"].get<double>(), lib.kt_pa / 1e6, 1e-9);
+  EXPECT_NEAR(doc["kf_n_per_mm2"].get<double>(), lib.kt_pa / 1e6, 1e-9);
   EXPECT_NEAR(doc["shear_angle_deg"].get<double>(), units::rad_to_deg(lib.state.phi_rad), 1e-9);
   EXPECT_NEAR(doc["chip_thickness_mm"].get<double>(), lib.state.chip_thickness_m * 1e3, 1e-9);
   EXPECT_NEAR(doc["oxley"]["interface_temperature_c"].get<double>(),
@@ -371,11 +371,11 @@ TEST_F(Cli, MillingLobesAndCheck) {
   ASSERT_EQ(lines.size(), 22u);
   EXPECT_EQ(lines[0].rfind("spindle_rpm,critical_depth_mm,chatter_hz,lobe,bifurcation", 0), 0u);
   const io::Case c = io::parse_case(text, "mill");
-  MillingModel m;
+  MillingProcess m;
   m.modal = c.modal;
-  m.kt_pa = *c.cutting.kt_pa;
-  m.kr_pa = *c.cutting.kr_pa;
-  m.teeth = 2;
+  m.cutting.kt_pa = *c.cutting.kt_pa;
+  m.cutting.kr_pa = *c.cutting.kr_pa;
+  m.tool.teeth = 2;
   const DelayedSystem s = milling_system(m, 5000.0);
   FdOptions o;
   o.depth_max_m = 1e-3;
@@ -403,11 +403,11 @@ TEST_F(Cli, MillingVariablePitchHelicalExample) {
   EXPECT_NE(r.out.find("4 teeth, helix 30°, pitch 70/110/70/110°"), std::string::npos) << r.out;
   const auto lines = csv_lines(path("vp.csv"));
   ASSERT_EQ(lines.size(), 10u);
-  MillingModel m = testing::insperger_benchmark(0.5);
-  m.teeth = 4;
-  m.helix_rad = units::deg_to_rad(30.0);
+  MillingProcess m = testing::insperger_benchmark(0.5);
+  m.tool.teeth = 4;
+  m.tool.helix_rad = units::deg_to_rad(30.0);
   const double a = units::deg_to_rad(70.0), b = units::deg_to_rad(110.0);
-  m.pitch_rad = {a, b, a, b};
+  m.tool.pitch_rad = {a, b, a, b};
   MillingStabilityOptions o;
   o.depth_max_m = 1e-3;
   o.rel_tol = 1e-5;
@@ -466,16 +466,17 @@ TEST_F(Cli, MillingSimulationOfTheS1Preset) {
   MillingCut cut;
   const double k = 1e7, m = 1.0;
   for (Direction d : {Direction::kX, Direction::kY})
-    cut.modal.modes.push_back(Mode{d, std::sqrt(k / m), 0.1 / (2 * std::sqrt(k * m)), k});
-  cut.teeth = 5;
-  cut.diameter_m = 0.02;
-  cut.helix_rad = units::deg_to_rad(30.0);
-  cut.width_m = (units::kPi / 6) * cut.diameter_m / (2 * std::tan(cut.helix_rad));
-  cut.entry_rad = units::kPi / 6;
-  cut.exit_rad = units::kPi;
+    cut.process.modal.modes.push_back(Mode{d, std::sqrt(k / m), 0.1 / (2 * std::sqrt(k * m)), k});
+  cut.process.tool.teeth = 5;
+  cut.process.tool.diameter_m = 0.02;
+  cut.process.tool.helix_rad = units::deg_to_rad(30.0);
+  cut.width_m =
+      (units::kPi / 6) * cut.process.tool.diameter_m / (2 * std::tan(cut.process.tool.helix_rad));
+  cut.process.engagement.entry_rad = units::kPi / 6;
+  cut.process.engagement.exit_rad = units::kPi;
   cut.spindle_rad_s = 2 * units::kPi;
   cut.feed_per_tooth_m = 1e-3;
-  cut.law = ErmolaevForceLaw{25e3, 0.2, 3.0, 0.2e-3, 0.0, units::kPi / 5};
+  cut.process.s1_law = ErmolaevForceLaw{25e3, 0.2, 3.0, 0.2e-3, 0.0, units::kPi / 5};
   cut.regenerative = false;
   MillingSimulationOptions o;
   o.revolutions = 6;
@@ -665,7 +666,8 @@ TEST_F(Cli, DriveSummariesAreOfTheSteadyStateAndSayWhenItIsNotReached) {
   const auto t = nlohmann::json::parse(std::ifstream(path("t.json")));
   EXPECT_FALSE(t["axes"][0]["steady_state"].get<bool>());
   ASSERT_FALSE(t["axes"][0]["warnings"].empty());
-  EXPECT_NE(two.err.find("cutdyn: warning: " + path("two.toml") + ": axis x: no periodic steady "
+  EXPECT_NE(two.err.find("cutdyn: warning: " + path("two.toml") +
+                         ": axis x: no periodic steady "
                          "state within the run"),
             std::string::npos)
       << two.err;
@@ -978,8 +980,7 @@ TEST_F(Cli, SimulateStopsARunawayAndSaysChatter) {
     const Result r = cutdyn({"simulate", "milling-insperger", "--depth-mm", depth, "--out",
                              path("r.csv"), "--json", path("r.json")});
     ASSERT_EQ(r.code, 0) << r.err;
-    EXPECT_NE(r.out.find("→ CHATTER (runaway growth, stopped at t = "), std::string::npos)
-        << r.out;
+    EXPECT_NE(r.out.find("→ CHATTER (runaway growth, stopped at t = "), std::string::npos) << r.out;
     EXPECT_EQ(r.out.find("stable"), std::string::npos) << r.out;
     EXPECT_TRUE(finite_numbers(path("r.csv"))) << depth;
     EXPECT_TRUE(finite_numbers(path("r.json"))) << depth;

@@ -148,15 +148,15 @@ TEST(EndToEnd, ForceFromTheCurrentsOfASimulatedCut) {
   //    teeth the force jumps to zero at the exit, and a sampled estimate cannot follow a jump
   //    within one sample: the error is then 4.6 % instead of 2.7 %.)
   MillingCut cut;
-  cut.teeth = 4;
-  cut.diameter_m = 0.05;
-  cut.helix_rad = units::deg_to_rad(30.0);
-  cut.entry_rad = 0.0;
-  cut.exit_rad = 0.5 * kPi;
+  cut.process.tool.teeth = 4;
+  cut.process.tool.diameter_m = 0.05;
+  cut.process.tool.helix_rad = units::deg_to_rad(30.0);
+  cut.process.engagement.entry_rad = 0.0;
+  cut.process.engagement.exit_rad = 0.5 * kPi;
   cut.spindle_rad_s = units::rpm_to_rad_per_s(600.0);
   cut.feed_per_tooth_m = 0.25e-3;
   cut.width_m = 4e-3;
-  cut.law = MechanisticForceLaw{2e9, 6e8, 0.0, 0.0};
+  cut.process.cutting = MechanisticForceLaw{2e9, 6e8, 0.0, 0.0};
   cut.regenerative = false;
   MillingSimulationOptions so;
   so.revolutions = 12;
@@ -166,7 +166,7 @@ TEST(EndToEnd, ForceFromTheCurrentsOfASimulatedCut) {
   const MillingSimulationResult sim = simulate_milling(cut, so);
   std::vector<double> fn;
   for (double f : sim.fx_n) fn.push_back(-f);  // resistance to the +x feed
-  const double feed = cut.feed_per_tooth_m * cut.teeth * cut.spindle_rad_s / kTwoPi;
+  const double feed = cut.feed_per_tooth_m * cut.process.tool.teeth * cut.spindle_rad_s / kTwoPi;
   const Logged cutting = run_drive(axis, sim.time_s, fn, feed, 99);
 
   // 3. Estimation, sample by sample; compared after the filter has settled (first 0.5 s

@@ -1,6 +1,8 @@
 // The field tables of the case file (src/io/case_fields.hpp): reading every section through
 // them, the echo read back, unknown keys, ranges in the user's unit, sweeps of any number key
 // (indexed ones too) and the old key name of the turning feed-direction coefficient.
+#include "io/case_fields.hpp"
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -13,7 +15,6 @@
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/io/case_file.hpp"
-#include "io/case_fields.hpp"
 
 namespace cutdyn::io {
 namespace {
@@ -343,7 +344,7 @@ TEST(CaseFields, TablesReachTheCaseInSi) {
   EXPECT_FALSE(t.lobes.refine);
   const Case m = parse_case(kFullMilling, "m.toml");
   EXPECT_NEAR(m.tool->pitch_rad[1], units::deg_to_rad(100.0), 1e-15);
-  EXPECT_FALSE(m.operation->down_milling);
+  EXPECT_FALSE(m.operation->engagement.down_milling);
   EXPECT_EQ(m.simulate.slices, 8);
   ASSERT_EQ(m.drives.size(), 2u);
   EXPECT_EQ(m.drives[0].name, "x");
@@ -378,10 +379,10 @@ TEST(CaseFields, UnknownKeysInEverySection) {
       table["colour"] = 1;
       table[std::string(s.fields.front().key) + "x"] = 1;
       const std::string path = s.array ? name + "[0]" : name;
-      std::vector<std::string> expected = {
-          path + ".colour: unknown key",
-          path + "." + std::string(s.fields.front().key) + "x: unknown key (did you mean " +
-              std::string(s.fields.front().key) + "?)"};
+      std::vector<std::string> expected = {path + ".colour: unknown key",
+                                           path + "." + std::string(s.fields.front().key) +
+                                               "x: unknown key (did you mean " +
+                                               std::string(s.fields.front().key) + "?)"};
       auto got = problems_of(toml_of(bad));
       std::sort(expected.begin(), expected.end());
       std::sort(got.begin(), got.end());
@@ -412,9 +413,8 @@ TEST(CaseFields, RangeErrorsNameTheKeyAndTheUsersUnit) {
 // ---- sweeps --------------------------------------------------------------------------------
 
 // A sweep step equals the case file with the key written in by hand.
-void expect_sweep_is_the_edited_file(const std::string& text, const std::string& key,
-                                     double value, const std::string& from,
-                                     const std::string& to) {
+void expect_sweep_is_the_edited_file(const std::string& text, const std::string& key, double value,
+                                     const std::string& from, const std::string& to) {
   const Case swept = with_value(parse_case(text, "a.toml"), key, value);
   std::string edited = text;
   const auto at = edited.find(from);
@@ -438,8 +438,8 @@ TEST(CaseFields, SweepsEqualTheFileWrittenByHand) {
                                   "helix_deg = 12.5");
   expect_sweep_is_the_edited_file(kFullMilling, "cutting.kt_n_per_mm2", 700.3,
                                   "kt_n_per_mm2 = 644.5", "kt_n_per_mm2 = 700.3");
-  expect_sweep_is_the_edited_file(kFullTurning, "vibration.amplitude_um", 7.5,
-                                  "amplitude_um = 15", "amplitude_um = 7.5");
+  expect_sweep_is_the_edited_file(kFullTurning, "vibration.amplitude_um", 7.5, "amplitude_um = 15",
+                                  "amplitude_um = 7.5");
   expect_sweep_is_the_edited_file(kFullTurning, "cutting.speed_m_per_min", 75,
                                   "speed_m_per_min = 200", "speed_m_per_min = 75");
   expect_sweep_is_the_edited_file(kFullTurning, "material.johnson_cook.c", 0.03, "c = 0.02",
@@ -467,8 +467,8 @@ TEST(CaseFields, SweepOfAnAbsentTableCreatesIt) {
   const Case c = parse_case(kForceLawMilling, "a.toml");
   const Case with_operation = with_value(c, "operation.radial_immersion", 0.25);
   ASSERT_TRUE(with_operation.operation.has_value());
-  EXPECT_EQ(with_operation.operation->radial_immersion, 0.25);
-  EXPECT_TRUE(with_operation.operation->down_milling);  // the default
+  EXPECT_EQ(with_operation.operation->engagement.radial_immersion, 0.25);
+  EXPECT_TRUE(with_operation.operation->engagement.down_milling);  // the default
   EXPECT_THAT(sweep_problems(parse_case(kFullTurning, "t"), "simulate.depth_mm", -1),
               ElementsAre("simulate.depth_mm = -1: must be positive"));
 }
@@ -537,9 +537,9 @@ TEST(CaseFields, TurningKtIsTheOldNameOfKfWithAWarning) {
       "damping_ratio = 0.01\nstiffness_n_per_m = 2.26e8\n[cutting]\n";
   const Case kf = parse_case(std::string(kTurning) + "kf_n_per_mm2 = 850\n", "kf.toml");
   EXPECT_TRUE(kf.warnings.empty());
-  EXPECT_EQ(*kf.cutting.kt_pa, 850e6);
+  EXPECT_EQ(*kf.cutting.kf_pa, 850e6);
   const Case kt = parse_case(std::string(kTurning) + "kt_n_per_mm2 = 850\n", "kt.toml");
-  EXPECT_EQ(*kt.cutting.kt_pa, 850e6);
+  EXPECT_EQ(*kt.cutting.kf_pa, 850e6);
   ASSERT_EQ(kt.warnings.size(), 1u);
   EXPECT_THAT(kt.warnings[0], HasSubstr("cutting.kt_n_per_mm2: in a turning case kt_n_per_mm2 "
                                         "is the old name of kf_n_per_mm2"));
@@ -558,8 +558,8 @@ TEST(CaseFields, TurningKtIsTheOldNameOfKfWithAWarning) {
               ElementsAre(HasSubstr("cutting.kf_n_per_mm2 = 644.5: not used in a milling case "
                                     "(milling takes kt_n_per_mm2, kr_n_per_mm2")));
   // A sweep may use either name in turning.
-  EXPECT_EQ(*with_value(kt, "cutting.kt_n_per_mm2", 900).cutting.kt_pa, 900e6);
-  EXPECT_EQ(*with_value(kt, "cutting.kf_n_per_mm2", 900).cutting.kt_pa, 900e6);
+  EXPECT_EQ(*with_value(kt, "cutting.kt_n_per_mm2", 900).cutting.kf_pa, 900e6);
+  EXPECT_EQ(*with_value(kt, "cutting.kf_n_per_mm2", 900).cutting.kf_pa, 900e6);
 }
 
 }  // namespace

@@ -92,8 +92,8 @@ TEST(CaseFileExamples, ListIsSortedAndEveryExampleLoads) {
 TEST(CaseFileExamples, TurningConventionalIsTable2InSi) {
   const Case c = load_example("turning-conventional");
   expect_table2_mode(c);
-  ASSERT_TRUE(c.cutting.kt_pa);
-  EXPECT_DOUBLE_EQ(*c.cutting.kt_pa, 850e6);
+  ASSERT_TRUE(c.cutting.kf_pa);
+  EXPECT_DOUBLE_EQ(*c.cutting.kf_pa, 850e6);
   ASSERT_TRUE(c.cutting.uncut_chip_thickness_m);
   EXPECT_DOUBLE_EQ(*c.cutting.uncut_chip_thickness_m, 0.05e-3);
   EXPECT_FALSE(c.cutting.kc_pa);
@@ -135,7 +135,7 @@ TEST(CaseFileExamples, UltrasonicCasesCarryTheirVibration) {
 
   const Case force = load_example("ultrasonic-force");
   EXPECT_DOUBLE_EQ(*force.cutting.kc_pa, 2100e6);
-  EXPECT_DOUBLE_EQ(*force.cutting.kt_pa, 1200e6);
+  EXPECT_DOUBLE_EQ(*force.cutting.kf_pa, 1200e6);
   EXPECT_DOUBLE_EQ(*force.cutting.speed_m_per_s, 1.0);  // 60 m/min
   EXPECT_DOUBLE_EQ(*force.cutting.uncut_chip_thickness_m, 0.15e-3);
   EXPECT_DOUBLE_EQ(*force.cutting.width_m, 0.2e-3);
@@ -233,8 +233,8 @@ summary_revolutions = 0.5
   EXPECT_DOUBLE_EQ(c.tool->diameter_m, 0.02);
   EXPECT_DOUBLE_EQ(c.tool->helix_rad, units::kPi / 6.0);
   ASSERT_TRUE(c.operation);
-  EXPECT_DOUBLE_EQ(c.operation->radial_immersion, 0.5);
-  EXPECT_FALSE(c.operation->down_milling);
+  EXPECT_DOUBLE_EQ(c.operation->engagement.radial_immersion, 0.5);
+  EXPECT_FALSE(c.operation->engagement.down_milling);
   EXPECT_DOUBLE_EQ(c.lobes.rpm_min, 5000.0);
   EXPECT_DOUBLE_EQ(c.lobes.rpm_max, 25000.0);
   EXPECT_EQ(c.lobes.rpm_steps, 2);
@@ -257,8 +257,8 @@ diameter_mm = 12
 )"),
                             "d.toml");
   EXPECT_DOUBLE_EQ(c.tool->helix_rad, 0.0);
-  EXPECT_DOUBLE_EQ(c.operation->radial_immersion, 1.0);
-  EXPECT_TRUE(c.operation->down_milling);
+  EXPECT_DOUBLE_EQ(c.operation->engagement.radial_immersion, 1.0);
+  EXPECT_TRUE(c.operation->engagement.down_milling);
   EXPECT_FALSE(c.cutting.kt_pa);
   EXPECT_DOUBLE_EQ(c.lobes.rpm_min, 500.0);
   EXPECT_DOUBLE_EQ(c.lobes.rpm_max, 5000.0);
@@ -358,14 +358,16 @@ TEST(CaseFileErrors, ValuesOutOfRange) {
                   "operation.direction = \"climb\": must be one of \"down\", \"up\""));
   EXPECT_THAT(problems_of(with("[lobes]\nrpm_steps = 100001\n")),
               ElementsAre("lobes.rpm_steps = 100001: must be an integer from 2 to 100000"));
-  EXPECT_THAT(problems_of(with("[lobes]\nrpm_steps = 1\nharmonics = 51\nsteps_per_period = -1\n"
-                               "depth_max_mm = 1e5\nmethod = \"fast\"\n")),
-              ElementsAre("lobes.rpm_steps = 1: must be an integer from 2 to 100000",
-                          "lobes.depth_max_mm = 1e5: must be greater than 0 and at most 10000",
-                          "lobes.method = \"fast\": must be one of \"auto\", \"zero-order\", \"closed-form\", "
-                          "\"multi-frequency\", \"full-discretization\", \"full-discretization-dense\"",
-                          "lobes.harmonics = 51: must be an integer from 0 to 50",
-                          "lobes.steps_per_period = -1: must be an integer from 0 to 100000"));
+  EXPECT_THAT(
+      problems_of(with("[lobes]\nrpm_steps = 1\nharmonics = 51\nsteps_per_period = -1\n"
+                       "depth_max_mm = 1e5\nmethod = \"fast\"\n")),
+      ElementsAre(
+          "lobes.rpm_steps = 1: must be an integer from 2 to 100000",
+          "lobes.depth_max_mm = 1e5: must be greater than 0 and at most 10000",
+          "lobes.method = \"fast\": must be one of \"auto\", \"zero-order\", \"closed-form\", "
+          "\"multi-frequency\", \"full-discretization\", \"full-discretization-dense\"",
+          "lobes.harmonics = 51: must be an integer from 0 to 50",
+          "lobes.steps_per_period = -1: must be an integer from 0 to 100000"));
   EXPECT_THAT(problems_of(milling_with("[tool]\nteeth = 0\ndiameter_mm = 20\nhelix_deg = 90\n")),
               ElementsAre("tool.teeth = 0: must be an integer from 1 to 200",
                           "tool.helix_deg = 90: must be at least 0 and less than 90"));
@@ -496,13 +498,15 @@ rpm_stepz = 10
 
 TEST(CaseFileErrors, ValuesAreQuotedAsWritten) {
   // Underscores, exponents, hex and literal strings are echoed exactly, in the user's unit.
-  EXPECT_THAT(problems_of(with("[lobes]\ndepth_max_mm = 1_000_0.5\nrpm_steps = 0x186A1\n"
-                               "method = 'Auto'   # comment\n")),
-              ElementsAre("lobes.rpm_steps = 0x186A1: must be an integer from 2 to 100000",
-                          "lobes.depth_max_mm = 1_000_0.5: must be greater than 0 and at most "
-                          "10000",
-                          "lobes.method = 'Auto': must be one of \"auto\", \"zero-order\", \"closed-form\", "
-                          "\"multi-frequency\", \"full-discretization\", \"full-discretization-dense\""));
+  EXPECT_THAT(
+      problems_of(with("[lobes]\ndepth_max_mm = 1_000_0.5\nrpm_steps = 0x186A1\n"
+                       "method = 'Auto'   # comment\n")),
+      ElementsAre(
+          "lobes.rpm_steps = 0x186A1: must be an integer from 2 to 100000",
+          "lobes.depth_max_mm = 1_000_0.5: must be greater than 0 and at most "
+          "10000",
+          "lobes.method = 'Auto': must be one of \"auto\", \"zero-order\", \"closed-form\", "
+          "\"multi-frequency\", \"full-discretization\", \"full-discretization-dense\""));
   EXPECT_THAT(problems_of(milling_with("[operation]\ndirection = \"é-down\"\n")),
               ElementsAre("operation.direction = \"é-down\": must be one of \"down\", \"up\""));
 }
@@ -764,12 +768,14 @@ TEST(CaseFileProcessKeys, SweepOfAKeyTheProcessDoesNotUseIsAnError) {
 
 // [[drives]] seed: the current noise's seed, with the motor; each axis gets its own stream.
 TEST(CaseFileDrives, SeedOfTheCurrentNoise) {
-  const std::string motor = "[[drives]]\naxis = \"x\"\ntransmission = \"lever\"\n"
-                            "output_diameter_mm = 40\nstiffness_nm_s_per_rad = -100\n"
-                            "pole_pairs = 4\ntorque_constant_nm_per_a = 1.5\n";
-  const std::string second = "[[drives]]\naxis = \"y\"\ntransmission = \"lever\"\n"
-                             "output_diameter_mm = 40\nstiffness_nm_s_per_rad = -100\n"
-                             "pole_pairs = 4\ntorque_constant_nm_per_a = 1.5\n";
+  const std::string motor =
+      "[[drives]]\naxis = \"x\"\ntransmission = \"lever\"\n"
+      "output_diameter_mm = 40\nstiffness_nm_s_per_rad = -100\n"
+      "pole_pairs = 4\ntorque_constant_nm_per_a = 1.5\n";
+  const std::string second =
+      "[[drives]]\naxis = \"y\"\ntransmission = \"lever\"\n"
+      "output_diameter_mm = 40\nstiffness_nm_s_per_rad = -100\n"
+      "pole_pairs = 4\ntorque_constant_nm_per_a = 1.5\n";
   const Case c = parse_case(milling_with(motor + "seed = 42\n" + second), "s.toml");
   ASSERT_EQ(c.drives.size(), 2u);
   EXPECT_EQ(c.drives[0].motor->seed, 42u);

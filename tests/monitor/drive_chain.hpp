@@ -68,22 +68,22 @@ inline AxisModel drive_axis_model(const DriveAxisParameters& p) {
 inline MillingSimulationResult milling_cut(double rpm, bool down, int revolutions,
                                            double& feed_m_per_s) {
   MillingCut cut;
-  cut.teeth = 4;
-  cut.diameter_m = 0.05;
-  cut.helix_rad = units::deg_to_rad(30.0);
-  cut.entry_rad = down ? 0.5 * units::kPi : 0.0;
-  cut.exit_rad = down ? units::kPi : 0.5 * units::kPi;
+  cut.process.tool.teeth = 4;
+  cut.process.tool.diameter_m = 0.05;
+  cut.process.tool.helix_rad = units::deg_to_rad(30.0);
+  cut.process.engagement.entry_rad = down ? 0.5 * units::kPi : 0.0;
+  cut.process.engagement.exit_rad = down ? units::kPi : 0.5 * units::kPi;
   cut.spindle_rad_s = units::rpm_to_rad_per_s(rpm);
   cut.feed_per_tooth_m = 0.25e-3;
   cut.width_m = 4e-3;
-  cut.law = MechanisticForceLaw{2e9, 6e8, 0.0, 0.0};
+  cut.process.cutting = MechanisticForceLaw{2e9, 6e8, 0.0, 0.0};
   cut.regenerative = false;
   MillingSimulationOptions so;
   so.revolutions = revolutions;
   so.summary_revolutions = 1;
   so.steps_per_tooth = 50;
   so.max_recorded_samples = 1000000;
-  feed_m_per_s = cut.feed_per_tooth_m * cut.teeth * cut.spindle_rad_s / units::kTwoPi;
+  feed_m_per_s = cut.feed_per_tooth_m * cut.process.tool.teeth * cut.spindle_rad_s / units::kTwoPi;
   return simulate_milling(cut, so);
 }
 

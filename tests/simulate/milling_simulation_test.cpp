@@ -21,14 +21,14 @@ using units::kPi;
 // A force-only study (no regeneration, rigid cutter): mechanistic law, no edge terms.
 MillingCut force_study(int teeth, double entry, double exit) {
   MillingCut c;
-  c.teeth = teeth;
-  c.diameter_m = 0.02;
-  c.entry_rad = entry;
-  c.exit_rad = exit;
+  c.process.tool.teeth = teeth;
+  c.process.tool.diameter_m = 0.02;
+  c.process.engagement.entry_rad = entry;
+  c.process.engagement.exit_rad = exit;
   c.spindle_rad_s = units::rpm_to_rad_per_s(3000.0);
   c.feed_per_tooth_m = 0.1e-3;
   c.width_m = 2e-3;
-  c.law = MechanisticForceLaw{6e8, 2e8, 0.0, 0.0};
+  c.process.cutting = MechanisticForceLaw{6e8, 2e8, 0.0, 0.0};
   c.regenerative = false;
   return c;
 }
@@ -47,8 +47,9 @@ TEST(MillingSimulation, UniformCutHasNoForcePulsation) {
   // immersion (up-milling), so that the teeth's windows do not overlap.
   for (double q : {1.0, 2.0, 0.5, 1.3}) {
     MillingCut c = force_study(4, 0.0, 0.5 * kPi);
-    c.helix_rad = units::deg_to_rad(30.0);
-    c.width_m = q * kPi * c.diameter_m / (c.teeth * std::tan(c.helix_rad));
+    c.process.tool.helix_rad = units::deg_to_rad(30.0);
+    c.width_m = q * kPi * c.process.tool.diameter_m /
+                (c.process.tool.teeth * std::tan(c.process.tool.helix_rad));
     const MillingSimulationResult r = simulate_milling(c, short_run());
     if (q == 1.0 || q == 2.0)
       EXPECT_LT(r.force_pulsation, 1e-3) << "q " << q;
@@ -87,9 +88,10 @@ TEST(MillingSimulation, ClosedFormHelixAgreesWithSlicesWhenEverySliceIsInCut) {
   // only) the two forms agree at every instant when each tooth's slices are all in or all out of
   // the window. Slotting, 2 teeth, lag 20°.
   MillingCut c = force_study(2, 0.0, kPi);
-  c.law = MechanisticForceLaw{0.0, 0.0, 2e4, 1e4};
-  c.helix_rad = units::deg_to_rad(30.0);
-  c.width_m = units::deg_to_rad(20.0) * c.diameter_m / (2.0 * std::tan(c.helix_rad));
+  c.process.cutting = MechanisticForceLaw{0.0, 0.0, 2e4, 1e4};
+  c.process.tool.helix_rad = units::deg_to_rad(30.0);
+  c.width_m = units::deg_to_rad(20.0) * c.process.tool.diameter_m /
+              (2.0 * std::tan(c.process.tool.helix_rad));
   MillingSimulationOptions o = short_run();
   o.max_recorded_samples = 1000000;  // every step
   const MillingSimulationResult slices = simulate_milling(c, o);
@@ -120,12 +122,12 @@ TEST(MillingSimulation, S1LawWithoutLagAndContactIsTheMechanisticLaw) {
   // c = B·√(Kt² + Kr²) at φrez = atan(Kr/Kt), T2 = 0, P0 = 0: the same force at every step,
   // with regeneration and a helix (docs/models/milling-simulation.md, force frame decision).
   MillingCut mech = force_study(3, 0.3, kPi);
-  mech.modal = testing::insperger_benchmark(1.0).modal;
+  mech.process.modal = testing::insperger_benchmark(1.0).modal;
   mech.regenerative = true;
-  mech.helix_rad = units::deg_to_rad(30.0);
+  mech.process.tool.helix_rad = units::deg_to_rad(30.0);
   mech.width_m = 0.05e-3;
   MillingCut s1 = mech;
-  s1.law = ErmolaevForceLaw{
+  s1.process.s1_law = ErmolaevForceLaw{
       mech.width_m * std::hypot(6e8, 2e8), 0.0, 0.0, 1.0, std::atan2(2e8, 6e8), 0.0};
   MillingSimulationOptions o = short_run();
   o.max_recorded_samples = 1000000;
@@ -160,8 +162,8 @@ TEST(MillingSimulation, ZeroOrderHoldStepIsTheExactFreeVibration) {
 }
 
 // The simulation of `model` at `factor` × the full discretization's critical depth.
-MillingSimulationResult at_factor(const MillingModel& m, double rpm, double critical, double factor,
-                                  MillingSimulationOptions o) {
+MillingSimulationResult at_factor(const MillingProcess& m, double rpm, double critical,
+                                  double factor, MillingSimulationOptions o) {
   return testing::simulate_model(m, rpm, factor * critical, o);
 }
 
@@ -177,7 +179,7 @@ TEST(MillingSimulation, ConfirmsTheLobesAtThreeSpeeds) {
   // The milling-stability default (Insperger–Stépán slotting, both directions): at three
   // speeds the simulation with regeneration is stable at 0.9× the full discretization's
   // critical depth and chatters at 1.1×.
-  const MillingModel m = testing::insperger_benchmark(1.0);
+  const MillingProcess m = testing::insperger_benchmark(1.0);
   for (double rpm : {6000.0, 10000.0, 18000.0}) {
     MillingStabilityOptions so;
     so.depth_max_m = 1e-3;
@@ -200,14 +202,14 @@ TEST(MillingSimulation, ConfirmsTheHelicalAndUnevenPitchLobes) {
   //     the flute's lag matters); (b) 4 teeth, 70°/110° pitch, slotting. Stable at 0.9×, chatter
   //     at 1.1×. (With uneven pitch at partial immersion the forced vibration alone throws the
   //     teeth out of the cut near the boundary, where a linear boundary does not apply.)
-  MillingModel helical = testing::insperger_benchmark(0.5);
-  helical.teeth = 4;
-  helical.helix_rad = units::deg_to_rad(45.0);
+  MillingProcess helical = testing::insperger_benchmark(0.5);
+  helical.tool.teeth = 4;
+  helical.tool.helix_rad = units::deg_to_rad(45.0);
   for (Mode& mode : helical.modal.modes) mode.stiffness_n_per_m *= 30.0;
-  MillingModel uneven = testing::insperger_benchmark(1.0);
-  uneven.teeth = 4;
+  MillingProcess uneven = testing::insperger_benchmark(1.0);
+  uneven.tool.teeth = 4;
   const double a = units::deg_to_rad(70.0), b = units::deg_to_rad(110.0);
-  uneven.pitch_rad = {a, b, a, b};
+  uneven.tool.pitch_rad = {a, b, a, b};
   for (const auto& [model, rpms, depth_max] :
        {std::tuple{helical, std::vector<double>{5000.0, 9500.0}, 0.03},
         std::tuple{uneven, std::vector<double>{7000.0}, 3e-3}}) {
@@ -219,7 +221,7 @@ TEST(MillingSimulation, ConfirmsTheHelicalAndUnevenPitchLobes) {
       for (double factor : {0.9, 1.1}) {
         const MillingSimulationResult r = at_factor(model, rpm, critical, factor, long_run());
         EXPECT_EQ(r.chatter, factor > 1.0)
-            << (model.helix_rad > 0 ? "helix " : "pitch ") << rpm << " rpm, " << factor
+            << (model.tool.helix_rad > 0 ? "helix " : "pitch ") << rpm << " rpm, " << factor
             << "×: indicator " << r.chatter_indicator << ", growth " << r.growth_per_period;
       }
     }
@@ -229,7 +231,7 @@ TEST(MillingSimulation, ConfirmsTheHelicalAndUnevenPitchLobes) {
 // The depth (as a fraction of `critical`) at which the perturbation's fitted growth changes
 // sign, by bisection over [0.9, 1.1]× to 1e-4; each run must call chatter exactly when the
 // growth is positive.
-double simulated_boundary(const MillingModel& m, double rpm, double critical) {
+double simulated_boundary(const MillingProcess& m, double rpm, double critical) {
   double lo = 0.9, hi = 1.1;
   for (int i = 0; i < 11; ++i) {
     const double mid = 0.5 * (lo + hi);
@@ -248,15 +250,15 @@ TEST(MillingSimulation, BoundaryIsTheFullDiscretizationsWithinOnePercent) {
   // ≈0.38 and ≈0.315, 3–7 % low); (b) a/D = 0.05 and 0.1 on their flip lobes and a Hopf lobe;
   // (c) 4 teeth, 45° helix, a/D = 0.5, structure 30× stiffer (35–44 slices). Measured: within
   // 0.72 % everywhere (0.9991–1.0019 except a/D = 0.05 at 20 000 rpm, 0.9929); tolerance 1 %.
-  const MillingModel slot = testing::insperger_benchmark(1.0, false);
-  const MillingModel low5 = testing::insperger_benchmark(0.05, false);
-  const MillingModel low10 = testing::insperger_benchmark(0.1, false);
-  MillingModel helical = testing::insperger_benchmark(0.5);
-  helical.teeth = 4;
-  helical.helix_rad = units::deg_to_rad(45.0);
+  const MillingProcess slot = testing::insperger_benchmark(1.0, false);
+  const MillingProcess low5 = testing::insperger_benchmark(0.05, false);
+  const MillingProcess low10 = testing::insperger_benchmark(0.1, false);
+  MillingProcess helical = testing::insperger_benchmark(0.5);
+  helical.tool.teeth = 4;
+  helical.tool.helix_rad = units::deg_to_rad(45.0);
   for (Mode& mode : helical.modal.modes) mode.stiffness_n_per_m *= 30.0;
   struct Case {
-    const MillingModel* model;
+    const MillingProcess* model;
     double rpm;
     Bifurcation expected;
   };
@@ -267,13 +269,13 @@ TEST(MillingSimulation, BoundaryIsTheFullDiscretizationsWithinOnePercent) {
         Case{&helical, 5000.0, Bifurcation::kHopf}, Case{&helical, 9500.0, Bifurcation::kHopf}}) {
     MillingStabilityOptions so;
     // (Above an island of flip instability the scan would find the next boundary.)
-    so.depth_max_m = c.model->helix_rad > 0.0 ? 0.05 : 0.02;
+    so.depth_max_m = c.model->tool.helix_rad > 0.0 ? 0.05 : 0.02;
     so.rel_tol = 1e-6;
     const CriticalDepth fd = milling_critical_depth(*c.model, c.rpm, so).boundary;
     EXPECT_EQ(fd.bifurcation, c.expected) << c.rpm << " rpm";
     const double ratio = simulated_boundary(*c.model, c.rpm, fd.depth_m);
-    EXPECT_NEAR(ratio, 1.0, 0.01) << "a/D " << c.model->radial_immersion << ", helix "
-                                  << c.model->helix_rad << ", " << c.rpm << " rpm: simulated "
+    EXPECT_NEAR(ratio, 1.0, 0.01) << "a/D " << c.model->engagement.radial_immersion << ", helix "
+                                  << c.model->tool.helix_rad << ", " << c.rpm << " rpm: simulated "
                                   << ratio << " × the lobes' " << fd.depth_m * 1e3 << " mm";
   }
 }
@@ -287,7 +289,7 @@ TEST(MillingSimulation, ZeroChipEdgesKeepTheirRegenerativeForce) {
   // that rounding put a hair inside θ = π). Now the contact at an edge node is decided in the
   // window: measured within 0.03 % of the full discretization (1/512 of the shortest period).
   struct Case {
-    MillingModel model;
+    MillingProcess model;
     double rpm;
     double tolerance;
   };
@@ -301,8 +303,8 @@ TEST(MillingSimulation, ZeroChipEdgesKeepTheirRegenerativeForce) {
     so.fd.max_step_fraction = 1.0 / 512.0;
     const double critical = milling_critical_depth(c.model, c.rpm, so).boundary.depth_m;
     EXPECT_NEAR(simulated_boundary(c.model, c.rpm, critical), 1.0, c.tolerance)
-        << "a/D " << c.model.radial_immersion << (c.model.down_milling ? " down, " : " up, ")
-        << c.rpm << " rpm";
+        << "a/D " << c.model.engagement.radial_immersion
+        << (c.model.engagement.down_milling ? " down, " : " up, ") << c.rpm << " rpm";
   }
 }
 
@@ -310,7 +312,7 @@ TEST(MillingSimulation, RunawayGrowthStopsTheRunWithFiniteOutputs) {
   // The milling-insperger example at 10 000 rpm (lobes: 0.0715 mm) at 1 mm and 1000 mm: the
   // zero-order-hold run reached 4.9e47 µm (1 mm, "stable"), NaN in ΔP (5 mm) and inf (1000 mm).
   // Now: stopped as a runaway, chatter, every trace and summary value finite and bounded.
-  const MillingModel m = testing::insperger_benchmark(1.0);
+  const MillingProcess m = testing::insperger_benchmark(1.0);
   for (double depth : {1e-3, 5e-3, 1.0}) {
     MillingSimulationOptions o;
     o.revolutions = 100;
@@ -377,15 +379,15 @@ TEST(MillingSimulation, ErmolaevPresetPulsationFirstFallsThenRisesWithTheLag) {
   // unit): ΔP falls from T2 = 0 to a minimum near 0.05 s and rises above it by T2 = 0.3 s.
   const auto pulsation = [](double t2) {
     MillingCut c;
-    c.teeth = 5;
-    c.diameter_m = 1.0;
+    c.process.tool.teeth = 5;
+    c.process.tool.diameter_m = 1.0;
     c.width_m = 1.0;
-    c.helix_rad = std::atan(kPi / 12.0);  // φN = 2B·tanβ/d = π/6
-    c.entry_rad = kPi / 6;
-    c.exit_rad = kPi;
+    c.process.tool.helix_rad = std::atan(kPi / 12.0);  // φN = 2B·tanβ/d = π/6
+    c.process.engagement.entry_rad = kPi / 6;
+    c.process.engagement.exit_rad = kPi;
     c.spindle_rad_s = 2 * kPi;
     c.feed_per_tooth_m = 1.0;
-    c.law = ErmolaevForceLaw{25.0, t2, 3.0, 0.2, 0.0, kPi / 5};
+    c.process.s1_law = ErmolaevForceLaw{25.0, t2, 3.0, 0.2, 0.0, kPi / 5};
     c.regenerative = false;
     MillingSimulationOptions o;
     o.revolutions = 6;
@@ -401,7 +403,7 @@ TEST(MillingSimulation, ErmolaevPresetPulsationFirstFallsThenRisesWithTheLag) {
 TEST(MillingSimulation, RejectsABadCutNamingEveryProblem) {
   MillingCut c = force_study(3, 1.0, 0.5);
   c.width_m = -1.0;
-  c.pitch_rad = {1.0, 1.0};
+  c.process.tool.pitch_rad = {1.0, 1.0};
   try {
     simulate_milling(c, short_run());
     FAIL() << "expected InvalidInput";

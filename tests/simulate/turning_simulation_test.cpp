@@ -15,7 +15,7 @@ namespace {
 using testing::table2_conventional;
 using testing::table2_vibration;
 
-TurningSimulationResult run(const TurningModel& m, double rpm, double depth) {
+TurningSimulationResult run(const TurningProcess& m, double rpm, double depth) {
   TurningSimulationOptions o;
   o.rpm = rpm;
   o.depth_m = depth;
@@ -26,7 +26,7 @@ TurningSimulationResult run(const TurningModel& m, double rpm, double depth) {
 
 // [Chikishev2018, fig. 6]: time-domain confirmation of the boundary at 1400 rpm.
 TEST(TurningSimulation, ConfirmsThePredictedBoundaryAt1400Rpm) {
-  for (const TurningModel& m : {table2_conventional(), table2_vibration(20000.0)}) {
+  for (const TurningProcess& m : {table2_conventional(), table2_vibration(20000.0)}) {
     const double critical = turning_critical_depth(m, 1400.0, {}).boundary.depth_m;
     const auto below = run(m, 1400.0, 0.9 * critical);
     const auto above = run(m, 1400.0, 1.1 * critical);
@@ -41,7 +41,7 @@ TEST(TurningSimulation, ConfirmsThePredictedBoundaryAt1400Rpm) {
 
 TEST(TurningSimulation, GrowthRateChangesSignAtTheCriticalDepth) {
   // A closer look: ±3 % around the full-discretization boundary at 800 rpm, vibration-assisted.
-  const TurningModel m = table2_vibration(20000.0);
+  const TurningProcess m = table2_vibration(20000.0);
   const double critical = turning_critical_depth(m, 800.0, {}).boundary.depth_m;
   EXPECT_LT(run(m, 800.0, 0.97 * critical).growth_rate_per_s, 0.0);
   EXPECT_GT(run(m, 800.0, 1.03 * critical).growth_rate_per_s, 0.0);
@@ -50,7 +50,7 @@ TEST(TurningSimulation, GrowthRateChangesSignAtTheCriticalDepth) {
 TEST(TurningSimulation, FreeVibrationMatchesTheAnalyticSolution) {
   // Practically no cut (w = 1e-15 m): the tool rings down from the initial displacement δ as
   // δ·e^(−ζωn t)·(cos ωd t + ζωn/ωd·sin ωd t), which the exact step reproduces to rounding.
-  const TurningModel m = table2_conventional();
+  const TurningProcess m = table2_conventional();
   TurningSimulationOptions o;
   o.rpm = 1400.0;
   o.depth_m = 1e-15;
@@ -74,7 +74,7 @@ TEST(TurningSimulation, FreeVibrationMatchesTheAnalyticSolution) {
 TEST(TurningSimulation, SaturatesWhenTheToolLeavesTheCut) {
   // Far above the boundary the vibration grows until the tool jumps out of the cut; the
   // chip thickness then goes negative and the force is zero there.
-  const TurningModel m = table2_conventional();
+  const TurningProcess m = table2_conventional();
   TurningSimulationOptions o;
   o.rpm = 1400.0;
   o.depth_m = 2.0 * turning_critical_depth(m, 1400.0, {}).boundary.depth_m;
@@ -99,7 +99,7 @@ TEST(TurningSimulation, GrowthRateIsAPropertyOfTheCutNotOfTheRunLength) {
   // and 8 s within 0.02 /s (measured: 0.001 at 4 mm, 0.006 at the boundaries, where the
   // slower-decaying neighbours of the critical root still weigh over 1 s), and its sign
   // follows turning_critical_depth at 0.9× and 1.1× for both processes.
-  for (const TurningModel& m : {table2_conventional(), table2_vibration(20000.0)}) {
+  for (const TurningProcess& m : {table2_conventional(), table2_vibration(20000.0)}) {
     const double critical = turning_critical_depth(m, 1400.0, {}).boundary.depth_m;
     for (double depth : {4e-3, 0.9 * critical, 1.1 * critical}) {
       std::vector<double> rates;
@@ -138,7 +138,7 @@ TEST(TurningSimulation, OneSecondDecidesTheBoundaryAtLowSpeed) {
   // critical depth (stable, wrongly) and +0.004 over 4 s. The dominant root of the sampled
   // free response gives the same rate over 1 s and 4 s, with the sign of the boundary, for
   // both processes.
-  for (const TurningModel& m : {table2_conventional(), table2_vibration(20000.0)}) {
+  for (const TurningProcess& m : {table2_conventional(), table2_vibration(20000.0)}) {
     const double critical = turning_critical_depth(m, 600.0, {}).boundary.depth_m;
     for (double factor : {0.99, 1.01}) {
       double rate_1s = 0.0;
@@ -169,7 +169,7 @@ TEST(TurningSimulation, RunawayGrowthStopsTheRunWithFiniteOutputs) {
   // value is finite and within twice the bound 1000 × (h0 + initial displacement) of the
   // static deflection. (At 100 mm, 15× the boundary, the tool leaves the cut and the vibration
   // saturates near 5 h0: no runaway.)
-  const TurningModel m = table2_conventional();
+  const TurningProcess m = table2_conventional();
   for (double depth : {1e3, 1e6}) {
     TurningSimulationOptions o;
     o.rpm = 1400.0;

@@ -31,13 +31,13 @@ namespace {
 
 struct Cut {
   std::string name;
-  MillingModel model;
+  MillingProcess model;
   double depth_max_m;
 };
 
-MillingModel with_modes(int modes, double immersion, bool down) {
+MillingProcess with_modes(int modes, double immersion, bool down) {
   if (modes == 4) return testing::four_mode_milling(immersion, down);
-  MillingModel m = testing::insperger_benchmark(immersion, modes >= 2, down);
+  MillingProcess m = testing::insperger_benchmark(immersion, modes >= 2, down);
   if (modes == 3) {  // a second, stiffer x mode above the first
     m.modal.modes.push_back(Mode{Direction::kX, units::hz_to_rad_per_s(2300.0), 0.03,
                                  3.0 * m.modal.modes[0].stiffness_n_per_m});
@@ -51,7 +51,7 @@ std::vector<Cut> cuts() {
     for (double immersion : {0.05, 0.25, 0.5, 1.0}) {
       for (bool down : {true, false}) {
         if (immersion == 1.0 && !down) continue;  // slotting: one cut
-        MillingModel m = with_modes(modes, immersion, down);
+        MillingProcess m = with_modes(modes, immersion, down);
         const double limit = modes == 4 ? 0.03 : 0.01;
         out.push_back({std::to_string(modes) + " modes, a/D " + std::to_string(immersion) +
                            (down ? " down" : " up"),
@@ -63,17 +63,17 @@ std::vector<Cut> cuts() {
 }
 
 // Speeds over which the tooth frequency runs from about 0.12 to 1.1 times the lowest mode.
-std::vector<double> speeds(const MillingModel& m) {
+std::vector<double> speeds(const MillingProcess& m) {
   double f_low = 1e30;
   for (const Mode& mode : m.modal.modes)
     f_low = std::min(f_low, units::rad_per_s_to_hz(mode.natural_rad_s));
   std::vector<double> out;
   for (double ratio : {0.13, 0.21, 0.34, 0.55, 0.8, 1.1})
-    out.push_back(ratio * f_low * 60.0 / m.teeth);
+    out.push_back(ratio * f_low * 60.0 / m.tool.teeth);
   return out;
 }
 
-MillingBoundary solve(const MillingModel& m, double rpm, MillingMethod method, double limit) {
+MillingBoundary solve(const MillingProcess& m, double rpm, MillingMethod method, double limit) {
   MillingStabilityOptions o;
   o.method = method;
   o.depth_max_m = limit;
@@ -83,7 +83,7 @@ MillingBoundary solve(const MillingModel& m, double rpm, MillingMethod method, d
 
 // Away from a cusp: the full discretization's lobe and bifurcation are the same 0.5 % either
 // side of the speed.
-bool away_from_cusp(const MillingModel& m, double rpm, const MillingBoundary& at, double limit) {
+bool away_from_cusp(const MillingProcess& m, double rpm, const MillingBoundary& at, double limit) {
   for (double f : {0.995, 1.005}) {
     const MillingBoundary b = solve(m, f * rpm, MillingMethod::kFullDiscretization, limit);
     if (b.lobe != at.lobe || b.boundary.bifurcation != at.boundary.bifurcation ||
@@ -122,7 +122,7 @@ TEST(CrossMethod, MillingMultiFrequencyAgreesWithFullDiscretization) {
 
 TEST(CrossMethod, MillingZeroOrderOnlyWhereItsAveragingHolds) {
   for (const Cut& cut : cuts()) {
-    if (cut.model.radial_immersion < 1.0) continue;
+    if (cut.model.engagement.radial_immersion < 1.0) continue;
     const std::vector<double> fast = speeds(cut.model);
     for (std::size_t k = 3; k < fast.size(); ++k) {
       const double rpm = fast[k];
@@ -156,9 +156,9 @@ TEST(CrossMethod, ZeroOrderIsFlaggedWhereverItIsOff) {
           std::abs(zo.boundary.depth_m - fd.boundary.depth_m) > 0.15 * fd.boundary.depth_m;
       if (!disagree) continue;
       ++off;
-      EXPECT_TRUE(caveat.has_value()) << cut.name << ", " << rpm << " rpm: zero-order "
-                                      << zo.boundary.depth_m << " m, full discretization "
-                                      << fd.boundary.depth_m << " m";
+      EXPECT_TRUE(caveat.has_value())
+          << cut.name << ", " << rpm << " rpm: zero-order " << zo.boundary.depth_m
+          << " m, full discretization " << fd.boundary.depth_m << " m";
     }
   }
   EXPECT_GT(off, 20);   // the matrix does exercise the weakness
@@ -169,11 +169,11 @@ TEST(CrossMethod, ZeroOrderIsFlaggedWhereverItIsOff) {
 
 TEST(CrossMethod, EntryAndExitAnglesAreTheSameCutAsTheImmersion) {
   for (const Cut& cut : cuts()) {
-    MillingModel angles = cut.model;
-    angles.window_entry_rad = cut.model.entry_angle();
-    angles.window_exit_rad = cut.model.exit_angle();
-    angles.radial_immersion = 1.0;  // ignored when the window is given
-    angles.down_milling = !cut.model.down_milling;
+    MillingProcess angles = cut.model;
+    angles.engagement.entry_rad = cut.model.engagement.entry_angle();
+    angles.engagement.exit_rad = cut.model.engagement.exit_angle();
+    angles.engagement.radial_immersion = 1.0;  // ignored when the window is given
+    angles.engagement.down_milling = !cut.model.engagement.down_milling;
     const double rpm = speeds(cut.model)[3];
     for (MillingMethod method : {MillingMethod::kFullDiscretization, MillingMethod::kZeroOrder}) {
       const MillingBoundary a = solve(cut.model, rpm, method, cut.depth_max_m);
@@ -188,9 +188,9 @@ TEST(CrossMethod, HelicalCutterMultiFrequencyAgreesWithFullDiscretization) {
   // depths are long enough for the helix to matter (lag of 10–30° of the flute).
   for (int modes : {1, 2}) {
     for (double immersion : {0.5, 1.0}) {
-      MillingModel m = with_modes(modes, immersion, true);
+      MillingProcess m = with_modes(modes, immersion, true);
       for (Mode& mode : m.modal.modes) mode.stiffness_n_per_m *= 20.0;
-      m.helix_rad = units::deg_to_rad(30.0);
+      m.tool.helix_rad = units::deg_to_rad(30.0);
       for (double rpm : {7000.0, 12000.0}) {
         const MillingBoundary fd = solve(m, rpm, MillingMethod::kFullDiscretization, 0.02);
         const MillingBoundary mf = solve(m, rpm, MillingMethod::kMultiFrequency, 0.02);
@@ -205,7 +205,8 @@ TEST(CrossMethod, HelicalCutterMultiFrequencyAgreesWithFullDiscretization) {
 
 TEST(CrossMethod, TurningMethodsAgree) {
   for (bool assisted : {false, true}) {
-    const TurningModel m = assisted ? testing::table2_vibration() : testing::table2_conventional();
+    const TurningProcess m =
+        assisted ? testing::table2_vibration() : testing::table2_conventional();
     for (double rpm = 600.0; rpm <= 4800.0; rpm += 700.0) {
       TurningStabilityOptions o;
       o.method = TurningMethod::kClosedForm;
@@ -221,7 +222,7 @@ TEST(CrossMethod, TurningMethodsAgree) {
 }
 
 // The simulation's verdict at 0.99× and 1.01× of `critical_m`: decays, then grows.
-void expect_simulation_brackets(const MillingModel& m, double rpm, double critical_m,
+void expect_simulation_brackets(const MillingProcess& m, double rpm, double critical_m,
                                 const std::string& where) {
   const MillingSimulationResult below = testing::simulate_model(m, rpm, 0.99 * critical_m);
   const MillingSimulationResult above = testing::simulate_model(m, rpm, 1.01 * critical_m);
@@ -254,10 +255,10 @@ TEST(CrossMethod, HelicalMillingSimulationBracketsTheBoundaryWithinOnePercent) {
   // 4 teeth, 30° helix, a/D 0.25 up, 0.5 and 1 down, the structure 20× stiffer (the flute's
   // lag matters at these depths).
   for (double immersion : {0.25, 0.5, 1.0}) {
-    MillingModel m = with_modes(2, immersion, immersion > 0.3);
-    m.teeth = 4;
+    MillingProcess m = with_modes(2, immersion, immersion > 0.3);
+    m.tool.teeth = 4;
     for (Mode& mode : m.modal.modes) mode.stiffness_n_per_m *= 20.0;
-    m.helix_rad = units::deg_to_rad(30.0);
+    m.tool.helix_rad = units::deg_to_rad(30.0);
     const double rpm = 6000.0;
     const MillingBoundary fd = solve(m, rpm, MillingMethod::kFullDiscretization, 0.05);
     ASSERT_TRUE(fd.boundary.found) << immersion;
@@ -268,7 +269,8 @@ TEST(CrossMethod, HelicalMillingSimulationBracketsTheBoundaryWithinOnePercent) {
 
 TEST(CrossMethod, TurningSimulationBracketsTheBoundaryWithinOnePercent) {
   for (bool assisted : {false, true}) {
-    const TurningModel m = assisted ? testing::table2_vibration() : testing::table2_conventional();
+    const TurningProcess m =
+        assisted ? testing::table2_vibration() : testing::table2_conventional();
     for (double rpm = 600.0; rpm <= 4800.0; rpm += 700.0) {
       TurningStabilityOptions so;
       so.method = TurningMethod::kFullDiscretization;
@@ -281,9 +283,8 @@ TEST(CrossMethod, TurningSimulationBracketsTheBoundaryWithinOnePercent) {
         o.depth_m = factor * critical;
         o.feed_m = 0.05e-3;
         const TurningSimulationResult r = simulate_turning(m, o);
-        const std::string where =
-            std::string(assisted ? "assisted " : "conventional ") + std::to_string(rpm) +
-            " rpm, " + std::to_string(factor) + "×";
+        const std::string where = std::string(assisted ? "assisted " : "conventional ") +
+                                  std::to_string(rpm) + " rpm, " + std::to_string(factor) + "×";
         EXPECT_EQ(r.growth_rate_per_s > 0.0, factor > 1.0) << where << ": " << r.growth_rate_per_s;
         EXPECT_EQ(r.chatter, factor > 1.0) << where;
       }

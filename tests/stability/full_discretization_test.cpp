@@ -18,8 +18,8 @@ using testing::table2_vibration;
 // Searched up to 0.2 m so that every speed has a boundary (between lobes it exceeds 30 mm).
 constexpr double kDepthLimit = 0.2;
 
-double closed_form(const TurningModel& m, double rpm, double r = 1.0) {
-  return tlusty_critical_depth(m.modal, Direction::kX, r * m.kt_pa, 60.0 / rpm, kDepthLimit)
+double closed_form(const TurningProcess& m, double rpm, double r = 1.0) {
+  return tlusty_critical_depth(m.modal, Direction::kX, r * m.kf_pa, 60.0 / rpm, kDepthLimit)
       .boundary.depth_m;
 }
 
@@ -27,7 +27,7 @@ TEST(FullDiscretization, ZeroDepthSpectralRadiusIsTheStructuresDecay) {
   // At w = 0 the period map is e^(A0·T) plus a nilpotent shift: ρ = exp(−ζ·ωn·T).
   const double zeta_wn = 0.01 * units::hz_to_rad_per_s(testing::kTable2NaturalHz);
   struct Case {
-    TurningModel model;
+    TurningProcess model;
     double rpm;
     int steps;
   };
@@ -44,7 +44,7 @@ TEST(FullDiscretization, ZeroDepthSpectralRadiusIsTheStructuresDecay) {
 }
 
 TEST(FullDiscretization, ConstantCoefficientMatchesClosedFormWithinOnePercent) {
-  const TurningModel m = table2_conventional();
+  const TurningProcess m = table2_conventional();
   TurningStabilityOptions o;
   o.depth_max_m = kDepthLimit;
   for (double rpm = 500.0; rpm <= 5000.0; rpm += 20.0) {
@@ -53,7 +53,7 @@ TEST(FullDiscretization, ConstantCoefficientMatchesClosedFormWithinOnePercent) {
     ASSERT_TRUE(fd.boundary.found);
     EXPECT_NEAR(fd.boundary.depth_m, exact, 0.01 * exact) << "rpm " << rpm;
     EXPECT_NEAR(fd.boundary.chatter_hz,
-                tlusty_critical_depth(m.modal, Direction::kX, m.kt_pa, 60.0 / rpm, kDepthLimit)
+                tlusty_critical_depth(m.modal, Direction::kX, m.kf_pa, 60.0 / rpm, kDepthLimit)
                     .boundary.chatter_hz,
                 0.05);
   }
@@ -61,14 +61,14 @@ TEST(FullDiscretization, ConstantCoefficientMatchesClosedFormWithinOnePercent) {
 
 TEST(FullDiscretization, TwoModesMatchTheClosedForm) {
   // A second, stiffer and more damped mode at 640 Hz: the FRF is the sum of both.
-  TurningModel m = table2_conventional();
+  TurningProcess m = table2_conventional();
   m.modal.modes.push_back(mode_from_mass(Direction::kX, units::hz_to_rad_per_s(640.0), 0.03, 1.5));
   TurningStabilityOptions o;
   o.depth_max_m = kDepthLimit;
   for (double rpm = 700.0; rpm <= 6000.0; rpm += 265.0) {
     const TurningBoundary fd = turning_critical_depth(m, rpm, o);
     const auto exact =
-        tlusty_critical_depth(m.modal, Direction::kX, m.kt_pa, 60.0 / rpm, kDepthLimit);
+        tlusty_critical_depth(m.modal, Direction::kX, m.kf_pa, 60.0 / rpm, kDepthLimit);
     ASSERT_TRUE(fd.boundary.found && exact.boundary.found) << "rpm " << rpm;
     EXPECT_NEAR(fd.boundary.depth_m, exact.boundary.depth_m, 0.01 * exact.boundary.depth_m)
         << "rpm " << rpm;
@@ -79,7 +79,7 @@ TEST(FullDiscretization, TwoModesMatchTheClosedForm) {
 TEST(FullDiscretization, SecondOrderConvergenceInTheStep) {
   // Error against the closed form for steps of 1/16 ... 1/256 of the structural period: each
   // halving divides it by four (the table is in docs/models/turning.md).
-  const TurningModel m = table2_conventional();
+  const TurningProcess m = table2_conventional();
   for (double rpm : {800.0, 1400.0, 3000.0}) {
     const DelayedSystem s = turning_system(m, rpm);
     const double exact = closed_form(m, rpm);
@@ -103,7 +103,7 @@ TEST(FullDiscretization, ReducedFormEqualsDenseTransitionMatrix) {
   // The same discretization: the textbook dense Φ with bisection on its spectral radius, and
   // the reduced multiplier-on-the-unit-circle form, agree to the bisection tolerance.
   struct Case {
-    TurningModel model;
+    TurningProcess model;
     double rpm;
     int steps;
   };
@@ -123,7 +123,7 @@ TEST(FullDiscretization, ReducedFormEqualsDenseTransitionMatrix) {
 
 TEST(FullDiscretization, UltrasonicLobesAgreeWithAveragedTheory) {
   // f = 20 kHz ≫ fn = 228.8 Hz: the contact window only scales Kt by r.
-  const TurningModel m = table2_vibration(20000.0);
+  const TurningProcess m = table2_vibration(20000.0);
   TurningStabilityOptions o;
   o.depth_max_m = kDepthLimit;
   for (double rpm = 500.0; rpm <= 5000.0; rpm += 45.0) {
@@ -139,7 +139,7 @@ TEST(FullDiscretization, UltrasonicLobesAgreeWithAveragedTheory) {
 TEST(FullDiscretization, LowFrequencyVibrationAgreesWithMultiFrequency) {
   // f = 700 Hz, about three times the natural frequency: the averaged theory is no longer
   // exact, the multi-frequency solution is.
-  const TurningModel m = table2_vibration(700.0);
+  const TurningProcess m = table2_vibration(700.0);
   TurningStabilityOptions fd, mf;
   mf.method = TurningMethod::kMultiFrequency;
   mf.harmonics = 8;
@@ -151,7 +151,7 @@ TEST(FullDiscretization, LowFrequencyVibrationAgreesWithMultiFrequency) {
 }
 
 TEST(FullDiscretization, RejectsAnUndampedStructureAndBadOptions) {
-  TurningModel m = table2_conventional();
+  TurningProcess m = table2_conventional();
   DelayedSystem s = turning_system(m, 2000.0);
   s.A0(1, 1) = 0.0;  // no damping: not asymptotically stable alone
   EXPECT_THROW(fd_critical_depth(s, FdOptions{}), InvalidInput);

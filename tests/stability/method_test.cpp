@@ -27,7 +27,8 @@ TEST(StabilityMethodNames, ZeroOrderAndClosedFormAreOneMethodInEachProcess) {
   // Turning: the zero-order solution is the closed form (exact without vibration, the averaged
   // theory with it); milling: the closed form is the zero-order solution. Same numbers.
   for (bool vibration : {false, true}) {
-    const TurningModel m = vibration ? testing::table2_vibration() : testing::table2_conventional();
+    const TurningProcess m =
+        vibration ? testing::table2_vibration() : testing::table2_conventional();
     EXPECT_EQ(turning_method(StabilityMethod::kZeroOrder, vibration), TurningMethod::kClosedForm);
     EXPECT_EQ(turning_method(StabilityMethod::kClosedForm, vibration), TurningMethod::kClosedForm);
     EXPECT_EQ(turning_method(StabilityMethod::kAuto, vibration),

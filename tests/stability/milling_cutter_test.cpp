@@ -22,8 +22,8 @@ using units::kTwoPi;
 
 // The benchmark structure made `scale` times stiffer (modal mass × scale, same 922 Hz), so
 // that critical depths are millimetres and the flute's lag over the depth matters.
-MillingModel stiff_benchmark(double immersion, double scale) {
-  MillingModel m = insperger_benchmark(immersion);
+MillingProcess stiff_benchmark(double immersion, double scale) {
+  MillingProcess m = insperger_benchmark(immersion);
   for (Mode& mode : m.modal.modes) mode.stiffness_n_per_m *= scale;
   return m;
 }
@@ -42,12 +42,12 @@ TEST(MillingHelix, SlicesAverageTheStraightToothOverTheFluteLength) {
   // Step means of H against a fine quadrature (400 × 2000 points) of the force model over
   // the step and the flute length. The slices are a midpoint rule in depth with jumps at the
   // window edges: allowance 0.5 % of ‖H‖.
-  MillingModel m = insperger_benchmark(0.5);
-  m.helix_rad = units::deg_to_rad(30.0);
+  MillingProcess m = insperger_benchmark(0.5);
+  m.tool.helix_rad = units::deg_to_rad(30.0);
   const double depth = 8e-3, rpm = 7000.0;
-  const double lag = m.lag_angle(depth);
-  EXPECT_NEAR(lag, 2.0 * depth * std::tan(m.helix_rad) / m.diameter_m, 1e-15);
-  EXPECT_EQ(m.slices(depth), static_cast<int>(std::ceil(lag / (kPi / 360.0))));
+  const double lag = m.tool.lag_angle(depth);
+  EXPECT_NEAR(lag, 2.0 * depth * std::tan(m.tool.helix_rad) / m.tool.diameter_m, 1e-15);
+  EXPECT_EQ(m.tool.slices(depth), static_cast<int>(std::ceil(lag / (kPi / 360.0))));
   const DelayedSystem s = milling_system(m, rpm, depth);
   const double T = s.delay_s;
   const Eigen::Matrix2d h0 = s.H.mean(0.0, T);
@@ -65,9 +65,9 @@ TEST(MillingHelix, SlicesAverageTheStraightToothOverTheFluteLength) {
 
 TEST(MillingHelix, ZeroOrderSolutionDoesNotDependOnTheHelix) {
   // The mean of H over a period is the same for every slice: H0 is that of straight teeth.
-  MillingModel m = insperger_benchmark(0.3);
+  MillingProcess m = insperger_benchmark(0.3);
   const Eigen::MatrixXcd straight = milling_system(m, 9000.0).H.fourier(0);
-  m.helix_rad = units::deg_to_rad(40.0);
+  m.tool.helix_rad = units::deg_to_rad(40.0);
   for (double depth : {1e-3, 5e-3, 20e-3}) {
     EXPECT_LT((milling_system(m, 9000.0, depth).H.fourier(0) - straight).norm(),
               1e-12 * straight.norm());
@@ -81,13 +81,13 @@ TEST(MillingHelix, UniformCutMakesTheCoefficientConstantAndTheBoundaryTheZeroOrd
   // chosen for a = the zero-order critical depth a0, the full discretization's spectral radius
   // at a0 is 1 (to its step error, 0.1 %), and equals that of a constant-coefficient system H0.
   const double rpm = 6000.0;
-  MillingModel m = stiff_benchmark(0.5, 100.0);
+  MillingProcess m = stiff_benchmark(0.5, 100.0);
   const MillingBoundary zero =
       milling_critical_depth(m, rpm, options(MillingMethod::kZeroOrder, 0.05));
   ASSERT_TRUE(zero.boundary.found);
   const double a0 = zero.boundary.depth_m;
-  m.helix_rad = std::atan(kTwoPi / m.teeth * m.diameter_m / (2.0 * a0));
-  EXPECT_NEAR(m.lag_angle(a0), kPi, 1e-12);
+  m.tool.helix_rad = std::atan(kTwoPi / m.tool.teeth * m.tool.diameter_m / (2.0 * a0));
+  EXPECT_NEAR(m.tool.lag_angle(a0), kPi, 1e-12);
   const DelayedSystem helical = milling_system(m, rpm, a0);
   const Eigen::Matrix2d h0 = helical.H.fourier(0).real();
   for (double f : {0.0, 0.2, 0.5, 0.8}) {
@@ -109,8 +109,8 @@ TEST(MillingHelix, MultiFrequencyAndFullDiscretizationAgree) {
   // depth with H(a) rebuilt at each a; the multi-frequency method (8 harmonics) solves
   // a = w_crit(H(a)). a/D = 0.5, 6000 rpm (critical depth about 12.8 mm): within 0.5 %.
   for (double helix_deg : {30.0, 45.0}) {
-    MillingModel m = stiff_benchmark(0.5, 100.0);
-    m.helix_rad = units::deg_to_rad(helix_deg);
+    MillingProcess m = stiff_benchmark(0.5, 100.0);
+    m.tool.helix_rad = units::deg_to_rad(helix_deg);
     const MillingBoundary fd =
         milling_critical_depth(m, 6000.0, options(MillingMethod::kFullDiscretization, 0.03));
     const MillingBoundary mf =
@@ -120,7 +120,7 @@ TEST(MillingHelix, MultiFrequencyAndFullDiscretizationAgree) {
         << "helix " << helix_deg;
     EXPECT_NEAR(mf.boundary.chatter_hz, fd.boundary.chatter_hz, 1.0);
     // The flute length is 12.8 mm·tan β / (π·20 mm / 2) of a pitch: the helix matters.
-    m.helix_rad = 0.0;
+    m.tool.helix_rad = 0.0;
     const MillingBoundary straight =
         milling_critical_depth(m, 6000.0, options(MillingMethod::kFullDiscretization, 0.03));
     EXPECT_GT(std::abs(fd.boundary.depth_m - straight.boundary.depth_m),
@@ -131,10 +131,10 @@ TEST(MillingHelix, MultiFrequencyAndFullDiscretizationAgree) {
 TEST(MillingPitch, EqualPitchAnglesGiveTheEvenCutter) {
   // Four teeth given as four equal pitch angles: one delay term per tooth over a revolution
   // instead of one term over a tooth period. Same boundary to the step error.
-  MillingModel even = insperger_benchmark(0.5);
-  even.teeth = 4;
-  MillingModel listed = even;
-  listed.pitch_rad.assign(4, kTwoPi / 4);
+  MillingProcess even = insperger_benchmark(0.5);
+  even.tool.teeth = 4;
+  MillingProcess listed = even;
+  listed.tool.pitch_rad.assign(4, kTwoPi / 4);
   const DelayedSystem s = milling_system(listed, 7000.0);
   EXPECT_EQ(s.more_delays.size(), 3u);
   EXPECT_NEAR(s.H.period_s, 60.0 / 7000.0, 1e-15);
@@ -152,11 +152,11 @@ TEST(MillingPitch, UnevenPitchMethodsAgree) {
   // 70°/110°/70°/110°, a/D = 0.5: the full discretization (four delays) and the
   // multi-frequency method (6 harmonics of the mean tooth frequency = 24 of the spindle
   // frequency) within 0.5 %; the pitch changes the limit (by +4 % to +60 % here).
-  MillingModel even = insperger_benchmark(0.5);
-  even.teeth = 4;
-  MillingModel uneven = even;
+  MillingProcess even = insperger_benchmark(0.5);
+  even.tool.teeth = 4;
+  MillingProcess uneven = even;
   const double a = units::deg_to_rad(70.0), b = units::deg_to_rad(110.0);
-  uneven.pitch_rad = {a, b, a, b};
+  uneven.tool.pitch_rad = {a, b, a, b};
   for (double rpm : {5000.0, 9500.0}) {
     const MillingBoundary fd =
         milling_critical_depth(uneven, rpm, options(MillingMethod::kFullDiscretization, 3e-3));
@@ -176,7 +176,7 @@ TEST(MillingLobes, UnstableIslandAtLowImmersionIsNotSkipped) {
   // process is unstable in a band near 1.7–2.0 mm, stable above it up to about 4.5 mm.
   // The search (16 coarse depths to 10 mm, then Brent) must return the island's lower edge,
   // as a fine scan of 400 depths (second method) shows it.
-  const MillingModel m = insperger_benchmark(0.05, false);
+  const MillingProcess m = insperger_benchmark(0.05, false);
   const double rpm = 10900.0, depth_max = 10e-3;
   const DelayedSystem s = milling_system(m, rpm);
   FdOptions o;
@@ -204,7 +204,7 @@ TEST(MillingLobes, TurningIsTheSpecialCaseOfTheSameMachinery) {
   // The solver the milling lobes use (period map, Arnoldi radius, coarse scan and Brent) on
   // the turning system of table 2 of [Chikishev2018] (one mode, constant coefficient): the
   // critical depth agrees with Tlusty's closed form to 0.5 % (the step error is about 0.1 %).
-  const TurningModel t = testing::table2_conventional();
+  const TurningProcess t = testing::table2_conventional();
   for (double rpm : {2900.0, 3500.0, 4200.0, 5000.0}) {
     const DelayedSystem s = turning_system(t, rpm);
     FdOptions o;
@@ -212,7 +212,7 @@ TEST(MillingLobes, TurningIsTheSpecialCaseOfTheSameMachinery) {
     o.steps_per_period = static_cast<int>(std::ceil(s.delay_s * 64.0 * testing::kTable2NaturalHz));
     const CriticalDepth fd = fd_critical_depth_by_radius(s, o, RadiusSolver::kArnoldi, 1e-5, 16);
     const auto closed =
-        tlusty_critical_depth(t.modal, Direction::kX, t.kt_pa, 60.0 / rpm, o.depth_max_m);
+        tlusty_critical_depth(t.modal, Direction::kX, t.kf_pa, 60.0 / rpm, o.depth_max_m);
     ASSERT_TRUE(fd.found && closed.boundary.found);
     EXPECT_NEAR(fd.depth_m, closed.boundary.depth_m, 5e-3 * closed.boundary.depth_m) << rpm;
     EXPECT_NEAR(fd.chatter_hz, closed.boundary.chatter_hz, 0.5) << rpm;

@@ -33,7 +33,7 @@ constexpr double kZeta = testing::kInspergerDamping;
 constexpr double kMassKg = testing::kInspergerMassKg;
 
 // The benchmark with one mode in x only (the published 1-DOF figures).
-MillingModel one_dof(double immersion, bool down_milling) {
+MillingProcess one_dof(double immersion, bool down_milling) {
   return testing::insperger_benchmark(immersion, false, down_milling);
 }
 
@@ -58,13 +58,14 @@ struct ClosedFormMinimum {
   }
 };
 
-ClosedFormMinimum altintas_budak_minimum(const MillingModel& m) {
-  const double kr = m.kr_pa / m.kt_pa, a = m.entry_angle(), b = m.exit_angle();
+ClosedFormMinimum altintas_budak_minimum(const MillingProcess& m) {
+  const double kr = m.cutting.kr_pa / m.cutting.kt_pa, a = m.engagement.entry_angle(),
+               b = m.engagement.exit_angle();
   const auto f = [&](double p) { return std::cos(2 * p) - 2 * kr * p + kr * std::sin(2 * p); };
   const double axx = 0.5 * (f(b) - f(a));
   const double k = kMassKg * std::pow(units::hz_to_rad_per_s(kFnHz), 2);
   const double s = axx < 0 ? 1.0 : -1.0;  // which side of the resonance chatters
-  return {8 * kPi * k * kZeta * (1 + s * kZeta) / (m.teeth * m.kt_pa * std::abs(axx)),
+  return {8 * kPi * k * kZeta * (1 + s * kZeta) / (m.tool.teeth * m.cutting.kt_pa * std::abs(axx)),
           kFnHz * std::sqrt(1 + s * 2 * kZeta)};
 }
 
@@ -91,13 +92,13 @@ TEST(MillingPublished, OneDofZeroOrderMinimumIsAltintasBudakClosedForm) {
   // the depth must be larger.
   for (double immersion : {1.0, 0.5, 0.1, 0.05}) {
     for (bool down : {true, false}) {
-      const MillingModel m = one_dof(immersion, down);
+      const MillingProcess m = one_dof(immersion, down);
       const ClosedFormMinimum ab = altintas_budak_minimum(m);
       MultiFrequencyOptions zoa;
       zoa.harmonics = 0;
       zoa.depth_max_m = 0.05;
       for (int n : {1, 2, 3}) {
-        const double rpm = ab.rpm(n, m.teeth);
+        const double rpm = ab.rpm(n, m.tool.teeth);
         const CriticalDepth c = multi_frequency_critical_depth(milling_system(m, rpm), zoa);
         ASSERT_TRUE(c.found) << "a/D " << immersion << " down " << down << " rpm " << rpm;
         EXPECT_NEAR(c.depth_m, ab.depth_m, 1e-6 * ab.depth_m)
@@ -127,10 +128,10 @@ TEST(MillingPublished, OneDofSlottingFullDiscretizationAtTheClosedFormLobeBottom
   // solution is documented to hold (milling-stability.md). The multi-frequency solution with
   // 10 harmonics is independent of the discretization and must agree to 0.5 % (the step error
   // of the default step is about 0.1 %).
-  const MillingModel m = one_dof(1.0, true);
+  const MillingProcess m = one_dof(1.0, true);
   const ClosedFormMinimum ab = altintas_budak_minimum(m);
   for (int n : {1, 2, 3}) {
-    const double rpm = ab.rpm(n, m.teeth);
+    const double rpm = ab.rpm(n, m.tool.teeth);
     const DelayedSystem s = milling_system(m, rpm);
     FdOptions fd;
     fd.depth_max_m = 0.01;

@@ -16,23 +16,23 @@ namespace {
 using units::kPi;
 using units::kTwoPi;
 
-MillingModel benchmark(double immersion, bool both_directions = true) {
+MillingProcess benchmark(double immersion, bool both_directions = true) {
   return testing::insperger_benchmark(immersion, both_directions);
 }
 
-Eigen::Matrix2d direct_h(const MillingModel& m, double rpm, double t) {
+Eigen::Matrix2d direct_h(const MillingProcess& m, double rpm, double t) {
   return testing::direct_milling_h(m, rpm, t);
 }
 
 TEST(Milling, EntryAndExitAngles) {
-  MillingModel m = benchmark(1.0);
-  EXPECT_NEAR(m.entry_angle(), 0.0, 1e-12);
-  EXPECT_NEAR(m.exit_angle(), kPi, 1e-12);
-  m.radial_immersion = 0.5;
-  EXPECT_NEAR(m.entry_angle(), kPi / 2, 1e-12);
-  m.down_milling = false;
-  EXPECT_NEAR(m.entry_angle(), 0.0, 1e-12);
-  EXPECT_NEAR(m.exit_angle(), kPi / 2, 1e-12);
+  MillingProcess m = benchmark(1.0);
+  EXPECT_NEAR(m.engagement.entry_angle(), 0.0, 1e-12);
+  EXPECT_NEAR(m.engagement.exit_angle(), kPi, 1e-12);
+  m.engagement.radial_immersion = 0.5;
+  EXPECT_NEAR(m.engagement.entry_angle(), kPi / 2, 1e-12);
+  m.engagement.down_milling = false;
+  EXPECT_NEAR(m.engagement.entry_angle(), 0.0, 1e-12);
+  EXPECT_NEAR(m.engagement.exit_angle(), kPi / 2, 1e-12);
 }
 
 TEST(Milling, DirectionalMatrixIsTheForceProjection) {
@@ -55,9 +55,10 @@ TEST(Milling, AverageCoefficientIsAltintasClosedForm) {
   // [Altintas & Budak 1995]: A0 = (z/2π)·[α], with the integrals evaluated at φst, φex.
   for (double immersion : {1.0, 0.5, 0.05}) {
     for (bool down : {true, false}) {
-      MillingModel m = benchmark(immersion);
-      m.down_milling = down;
-      const double kr = m.kr_pa / m.kt_pa, a = m.entry_angle(), b = m.exit_angle();
+      MillingProcess m = benchmark(immersion);
+      m.engagement.down_milling = down;
+      const double kr = m.cutting.kr_pa / m.cutting.kt_pa, a = m.engagement.entry_angle(),
+                   b = m.engagement.exit_angle();
       const auto F = [&](auto f) { return 0.5 * (f(b) - f(a)); };
       const double axx =
           F([&](double p) { return std::cos(2 * p) - 2 * kr * p + kr * std::sin(2 * p); });
@@ -69,19 +70,19 @@ TEST(Milling, AverageCoefficientIsAltintasClosedForm) {
           F([&](double p) { return -std::cos(2 * p) - 2 * kr * p - kr * std::sin(2 * p); });
       Eigen::Matrix2d a0;
       a0 << axx, axy, ayx, ayy;
-      a0 *= m.teeth / kTwoPi;
+      a0 *= m.tool.teeth / kTwoPi;
       const DelayedSystem s = milling_system(m, 9000.0);
       const Eigen::MatrixXcd h0 = s.H.fourier(0);
-      EXPECT_NEAR((h0.real() - (-0.5 * m.kt_pa) * a0).norm(), 0.0, 1e-6 * m.kt_pa);
-      EXPECT_NEAR(h0.imag().norm(), 0.0, 1e-6 * m.kt_pa);
+      EXPECT_NEAR((h0.real() - (-0.5 * m.cutting.kt_pa) * a0).norm(), 0.0, 1e-6 * m.cutting.kt_pa);
+      EXPECT_NEAR(h0.imag().norm(), 0.0, 1e-6 * m.cutting.kt_pa);
       // The mean over one whole period is the same matrix.
-      EXPECT_NEAR((s.H.mean(0.0, s.H.period_s) - h0.real()).norm(), 0.0, 1e-6 * m.kt_pa);
+      EXPECT_NEAR((s.H.mean(0.0, s.H.period_s) - h0.real()).norm(), 0.0, 1e-6 * m.cutting.kt_pa);
     }
   }
 }
 
 TEST(Milling, StepMeansAndFourierCoefficientsMatchTheForceModel) {
-  const MillingModel m = benchmark(0.3);
+  const MillingProcess m = benchmark(0.3);
   const double rpm = 7300.0;
   const DelayedSystem s = milling_system(m, rpm);
   const double T = s.H.period_s;
@@ -90,7 +91,7 @@ TEST(Milling, StepMeansAndFourierCoefficientsMatchTheForceModel) {
   // Mean over a short step ≈ the direct value at its middle (away from the window edges).
   for (double t : {0.11 * T, 0.37 * T, 0.8 * T}) {
     const double h = 1e-7 * T;
-    EXPECT_NEAR((s.H.mean(t - h, t + h) - direct_h(m, rpm, t)).norm(), 0.0, 1e-3 * m.kt_pa)
+    EXPECT_NEAR((s.H.mean(t - h, t + h) - direct_h(m, rpm, t)).norm(), 0.0, 1e-3 * m.cutting.kt_pa)
         << "t/T = " << t / T;
   }
   // Fourier coefficients against a midpoint-rule quadrature of the direct H(t).
@@ -103,12 +104,13 @@ TEST(Milling, StepMeansAndFourierCoefficientsMatchTheForceModel) {
            std::exp(std::complex<double>(0.0, -kTwoPi * p * t / T));
     }
     q /= n;
-    EXPECT_NEAR((s.H.fourier(p) - Eigen::MatrixXcd(q)).norm(), 0.0, 1e-4 * m.kt_pa) << "p = " << p;
+    EXPECT_NEAR((s.H.fourier(p) - Eigen::MatrixXcd(q)).norm(), 0.0, 1e-4 * m.cutting.kt_pa)
+        << "p = " << p;
   }
 }
 
 TEST(Milling, ZeroDepthSpectralRadiusIsTheStructuresDecay) {
-  const MillingModel m = benchmark(1.0);
+  const MillingProcess m = benchmark(1.0);
   for (double rpm : {6000.0, 17000.0}) {
     const DelayedSystem s = milling_system(m, rpm);
     FdOptions o;
@@ -124,7 +126,7 @@ TEST(Milling, SlottingMethodsAgree) {
   // window raised from 6 to cover the mode) are independent and agree to 0.5 %; the zero-order
   // solution keeps only the mean coefficient and is within 10 % (within
   // 5 % except near the lobe peaks at 12 500 and 22 500–25 000 rpm, where it is 6–8 % low).
-  const MillingModel m = benchmark(1.0);
+  const MillingProcess m = benchmark(1.0);
   for (double rpm = 5000.0; rpm <= 25000.0; rpm += 2500.0) {
     const DelayedSystem s = milling_system(m, rpm);
     MultiFrequencyOptions zoa, mf;
@@ -149,7 +151,7 @@ TEST(Milling, LowImmersionFlipLobesThatTheZeroOrderSolutionMisses) {
   // a/D = 0.05 (one direction, as in Insperger & Stépán's figures): at 10 000 and 15 000 rpm
   // the full discretization finds period-doubling boundaries — chatter at an odd multiple of
   // half the tooth-passing frequency — far below the zero-order lobes.
-  const MillingModel m = benchmark(0.05, false);
+  const MillingProcess m = benchmark(0.05, false);
   for (double rpm : {10000.0, 15000.0}) {
     const DelayedSystem s = milling_system(m, rpm);
     MultiFrequencyOptions zoa;
@@ -165,7 +167,7 @@ TEST(Milling, LowImmersionFlipLobesThatTheZeroOrderSolutionMisses) {
     EXPECT_EQ(reduced.bifurcation, Bifurcation::kFlip) << "rpm " << rpm;
     EXPECT_EQ(dense.bifurcation, Bifurcation::kFlip) << "rpm " << rpm;
     EXPECT_NEAR(reduced.depth_m, dense.depth_m, 1e-6 * dense.depth_m);
-    const double tooth_hz = rpm / 60.0 * m.teeth;
+    const double tooth_hz = rpm / 60.0 * m.tool.teeth;
     const double harmonic = reduced.chatter_hz / (0.5 * tooth_hz);
     EXPECT_NEAR(harmonic, std::round(harmonic), 1e-6);
     EXPECT_EQ(static_cast<long>(std::round(harmonic)) % 2, 1);
@@ -176,7 +178,7 @@ TEST(Milling, LowImmersionFlipLobesThatTheZeroOrderSolutionMisses) {
 TEST(Milling, ArnoldiSpectralRadiusEqualsTheDenseOne) {
   // Slotting at 5000 rpm with 120 steps per tooth period (a 244-row map): the matrix-free
   // Arnoldi iteration converges and gives the dense eigenvalues' largest modulus.
-  const MillingModel m = benchmark(1.0);
+  const MillingProcess m = benchmark(1.0);
   const DelayedSystem s = milling_system(m, 5000.0);
   FdOptions o;
   o.steps_per_period = 120;
@@ -192,7 +194,7 @@ TEST(Milling, ArnoldiSpectralRadiusEqualsTheDenseOne) {
 TEST(Milling, DefaultStepIsConvergedWithinHalfAPercent) {
   // The default step (1/64 of the structural period) against half of it, slotting, by the Arnoldi
   // radius: the critical depth moves by less than 0.5 % (the accuracy asked of the default).
-  const MillingModel m = benchmark(1.0);
+  const MillingProcess m = benchmark(1.0);
   for (double rpm : {5000.0, 11000.0, 21000.0}) {
     const DelayedSystem s = milling_system(m, rpm);
     FdOptions coarse, fine;

@@ -18,11 +18,11 @@ using testing::table2_vibration;
 TEST(MultiFrequency, ConstantCoefficientIsTlusty) {
   // Every 15 rpm over 500–5000: two independent root searches (phase condition on a
   // frequency grid; eigenvalue crossings of the scan) must find the same boundary.
-  const TurningModel m = table2_conventional();
+  const TurningProcess m = table2_conventional();
   for (double rpm = 500.0; rpm <= 5000.0; rpm += 15.0) {
     MultiFrequencyOptions o;
     const CriticalDepth mf = multi_frequency_critical_depth(turning_system(m, rpm), o);
-    const auto exact = tlusty_critical_depth(m.modal, Direction::kX, m.kt_pa, 60.0 / rpm, 0.03);
+    const auto exact = tlusty_critical_depth(m.modal, Direction::kX, m.kf_pa, 60.0 / rpm, 0.03);
     ASSERT_EQ(mf.found, exact.boundary.found) << "rpm " << rpm;
     EXPECT_NEAR(mf.depth_m, exact.boundary.depth_m, 1e-9 * exact.boundary.depth_m) << "rpm " << rpm;
     EXPECT_NEAR(mf.chatter_hz, exact.boundary.chatter_hz, 1e-6) << "rpm " << rpm;
@@ -30,19 +30,19 @@ TEST(MultiFrequency, ConstantCoefficientIsTlusty) {
 }
 
 TEST(MultiFrequency, AveragedFormScalesKtByTheDutyCycle) {
-  const TurningModel m = table2_vibration(20000.0);
+  const TurningProcess m = table2_vibration(20000.0);
   MultiFrequencyOptions o;
   o.harmonics = 0;
   for (double rpm : {700.0, 2600.0}) {
     const CriticalDepth mf = multi_frequency_critical_depth(turning_system(m, rpm), o);
     const auto exact =
-        tlusty_critical_depth(m.modal, Direction::kX, 0.6 * m.kt_pa, 60.0 / rpm, 0.03);
+        tlusty_critical_depth(m.modal, Direction::kX, 0.6 * m.kf_pa, 60.0 / rpm, 0.03);
     EXPECT_NEAR(mf.depth_m, exact.boundary.depth_m, 1e-9 * exact.boundary.depth_m);
   }
 }
 
 TEST(MultiFrequency, ConvergesWithTheNumberOfHarmonics) {
-  const TurningModel m = table2_vibration(500.0);  // about 2.2 times fn
+  const TurningProcess m = table2_vibration(500.0);  // about 2.2 times fn
   const DelayedSystem s = turning_system(m, 2500.0);
   double previous = 0.0;
   double previous_change = 1.0;
@@ -63,7 +63,7 @@ TEST(MultiFrequency, ConvergesWithTheNumberOfHarmonics) {
 
 // The full discretization (steps 1/128 of the shortest period, depth to 1e-5) and the
 // multi-frequency method at one speed, both searched up to `depth_max_m`.
-std::pair<MillingBoundary, MillingBoundary> reference_and_multi_frequency(const MillingModel& m,
+std::pair<MillingBoundary, MillingBoundary> reference_and_multi_frequency(const MillingProcess& m,
                                                                           double rpm,
                                                                           double depth_max_m) {
   MillingStabilityOptions fd, mf;
@@ -80,7 +80,7 @@ std::pair<MillingBoundary, MillingBoundary> reference_and_multi_frequency(const 
 // full discretization (steps 1/128 of the shortest period, depth to 1e-5) within 1 % away from
 // cusps, and the bifurcation type (flip at 12 800 rpm) too.
 TEST(MultiFrequency, WindowCoversEveryModeOfAFourModeStructure) {
-  const MillingModel m = testing::four_mode_milling();
+  const MillingProcess m = testing::four_mode_milling();
   for (double rpm : {2000.0, 3000.0, 5000.0, 7000.0, 9000.0, 12800.0, 16000.0}) {
     const auto [a, b] = reference_and_multi_frequency(m, rpm, 0.02);
     ASSERT_TRUE(a.boundary.found) << rpm;
@@ -96,7 +96,7 @@ TEST(MultiFrequency, AnswerDoesNotDependOnTheRequestedHarmonics) {
   // At 7000 rpm a fixed window gave 1.33 mm (P = 0), > 20 mm (P = 1, 2, 5), 8.29 mm (P = 3)
   // and 1.35 mm (P = 10); the full discretization gives 1.345 mm. The requested number is
   // now a floor and the window is widened to the structure's response band.
-  const MillingModel m = testing::four_mode_milling();
+  const MillingProcess m = testing::four_mode_milling();
   MillingStabilityOptions mf;
   mf.method = MillingMethod::kMultiFrequency;
   mf.depth_max_m = 0.02;
@@ -112,7 +112,7 @@ TEST(MultiFrequency, AnswerDoesNotDependOnTheRequestedHarmonics) {
 
 TEST(MultiFrequency, HarmonicWindowReachesTheResponseBand) {
   // One mode: the band is ωn·sqrt(1 + 40ζ), where the response has fallen to 5 % of its peak.
-  const MillingModel one = testing::insperger_benchmark(1.0, false);
+  const MillingProcess one = testing::insperger_benchmark(1.0, false);
   const DelayedSystem s1 = milling_system(one, 5000.0);
   const double wn = units::hz_to_rad_per_s(testing::kInspergerHz);
   EXPECT_NEAR(response_band_rad_s(s1), wn * std::sqrt(1.0 + 40.0 * testing::kInspergerDamping),
@@ -122,7 +122,7 @@ TEST(MultiFrequency, HarmonicWindowReachesTheResponseBand) {
   EXPECT_NEAR(std::abs(s1.frequency_response(w_band)(0, 0)) / peak, 0.05, 0.002);
   // The window p = −P−1..P covers ±P·Ω for every scanned ω in [0, Ω/2]: the band, plus
   // 3 harmonics for the spread of the half-period contact pulse (half immersion).
-  const MillingModel m = testing::four_mode_milling();
+  const MillingProcess m = testing::four_mode_milling();
   for (double rpm : {2000.0, 6000.0, 16000.0}) {
     const DelayedSystem s = milling_system(m, rpm);
     MultiFrequencyOptions o;
@@ -145,7 +145,7 @@ TEST(MultiFrequency, FlipBoundaryAtTheEndOfTheScan) {
   // a/D = 0.05, one direction: at 10 000 and 15 000 rpm the full discretization finds
   // period-doubling boundaries at about half the zero-order depth; the multi-frequency method
   // finds them as real eigenvalues at ω = Ω/2 and says "flip".
-  const MillingModel m = testing::insperger_benchmark(0.05, false);
+  const MillingProcess m = testing::insperger_benchmark(0.05, false);
   for (double rpm : {10000.0, 15000.0}) {
     const auto [a, b] = reference_and_multi_frequency(m, rpm, 0.01);
     ASSERT_TRUE(a.boundary.found && b.boundary.found) << rpm;
@@ -161,7 +161,7 @@ TEST(MultiFrequency, SwappedEigenvaluesAreNotTakenForABoundary) {
   // (0.0479 mm at 7915 rpm, 2.3 % low) was reported. A refined point must be real; a bracket
   // where it is not is scanned again finely. Slotting benchmark, against the full
   // discretization.
-  const MillingModel m = testing::insperger_benchmark(1.0);
+  const MillingProcess m = testing::insperger_benchmark(1.0);
   for (double rpm : {7914.572864321608, 18467.336683417085}) {
     MillingStabilityOptions fd, mf;
     fd.depth_max_m = mf.depth_max_m = 1e-3;

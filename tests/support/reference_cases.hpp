@@ -18,17 +18,17 @@ inline constexpr double kTable2Damping = 0.01;
 inline constexpr double kTable2Kt = 850e6;  // N/m²
 inline constexpr double kTable2DutyCycle = 0.6;
 
-inline TurningModel table2_conventional() {
-  TurningModel m;
+inline TurningProcess table2_conventional() {
+  TurningProcess m;
   m.modal.modes.push_back(Mode{Direction::kX, units::hz_to_rad_per_s(kTable2NaturalHz),
                                kTable2Damping, kTable2Stiffness});
-  m.kt_pa = kTable2Kt;
+  m.kf_pa = kTable2Kt;
   return m;
 }
 
 /// The same with ultrasonic vibration at `frequency_hz` and the fixed duty cycle r = 0.6.
-inline TurningModel table2_vibration(double frequency_hz = 20000.0) {
-  TurningModel m = table2_conventional();
+inline TurningProcess table2_vibration(double frequency_hz = 20000.0) {
+  TurningProcess m = table2_conventional();
   VibrationAssist v;
   v.frequency_hz = frequency_hz;
   v.duty_cycle = kTable2DutyCycle;
@@ -49,19 +49,19 @@ inline constexpr double kInspergerHz = 922.0;
 inline constexpr double kInspergerDamping = 0.011;
 inline constexpr double kInspergerMassKg = 0.03993;
 
-inline MillingModel insperger_benchmark(double immersion, bool both_directions = true,
-                                        bool down_milling = true) {
-  MillingModel m;
+inline MillingProcess insperger_benchmark(double immersion, bool both_directions = true,
+                                          bool down_milling = true) {
+  MillingProcess m;
   const double wn = units::hz_to_rad_per_s(kInspergerHz);
   m.modal.modes.push_back(mode_from_mass(Direction::kX, wn, kInspergerDamping, kInspergerMassKg));
   if (both_directions)
     m.modal.modes.push_back(mode_from_mass(Direction::kY, wn, kInspergerDamping, kInspergerMassKg));
-  m.kt_pa = 6e8;
-  m.kr_pa = 2e8;
-  m.teeth = 2;
-  m.diameter_m = 0.02;
-  m.radial_immersion = immersion;
-  m.down_milling = down_milling;
+  m.cutting.kt_pa = 6e8;
+  m.cutting.kr_pa = 2e8;
+  m.tool.teeth = 2;
+  m.tool.diameter_m = 0.02;
+  m.engagement.radial_immersion = immersion;
+  m.engagement.down_milling = down_milling;
   return m;
 }
 
@@ -69,58 +69,53 @@ inline MillingModel insperger_benchmark(double immersion, bool both_directions =
 // tooth-passing frequencies of 2000–16 000 rpm): Kt = 1300 N/mm², Kr = 780 N/mm², two straight
 // teeth, D 30 mm, a_e/D = 0.5, down-milling. With a fixed window of 5 harmonics the
 // multi-frequency method did not see the upper modes at low speed.
-inline MillingModel four_mode_milling(double immersion = 0.5, bool down_milling = true) {
-  MillingModel m;
+inline MillingProcess four_mode_milling(double immersion = 0.5, bool down_milling = true) {
+  MillingProcess m;
   const auto mode = [](Direction d, double hz, double zeta, double k) {
     return Mode{d, units::hz_to_rad_per_s(hz), zeta, k};
   };
   m.modal.modes = {
       mode(Direction::kX, 480.0, 0.09, 8.0e6), mode(Direction::kX, 1500.0, 0.02, 1.5e7),
       mode(Direction::kY, 530.0, 0.03, 9.0e6), mode(Direction::kY, 1420.0, 0.03, 1.2e7)};
-  m.kt_pa = 1300e6;
-  m.kr_pa = 780e6;
-  m.teeth = 2;
-  m.diameter_m = 0.03;
-  m.radial_immersion = immersion;
-  m.down_milling = down_milling;
+  m.cutting.kt_pa = 1300e6;
+  m.cutting.kr_pa = 780e6;
+  m.tool.teeth = 2;
+  m.tool.diameter_m = 0.03;
+  m.engagement.radial_immersion = immersion;
+  m.engagement.down_milling = down_milling;
   return m;
 }
 
 // H(t) straight from the force model: Σ over teeth in cut of −(Kt/2)·A(φj), tooth j at
 // Ωs·t + 2πj/z (even pitch), or trailing tooth 0 by pitch_1 + ... + pitch_j, all lagging by
 // `lag_rad` (a slice of a helical flute).
-inline Eigen::Matrix2d direct_milling_h(const MillingModel& m, double rpm, double t,
+inline Eigen::Matrix2d direct_milling_h(const MillingProcess& m, double rpm, double t,
                                         double lag_rad = 0.0) {
   const double spindle = units::rpm_to_rad_per_s(rpm);
-  const std::vector<double> pitch = m.pitch_angles();
+  const std::vector<double> pitch = m.tool.pitch_angles();
   Eigen::Matrix2d h = Eigen::Matrix2d::Zero();
   double behind = 0.0;
-  for (int j = 0; j < m.teeth; ++j) {
+  for (int j = 0; j < m.tool.teeth; ++j) {
     if (j > 0) behind += pitch[static_cast<std::size_t>(j)];
     double phi = std::fmod(spindle * t - behind - lag_rad, units::kTwoPi);
     if (phi < 0.0) phi += units::kTwoPi;
-    if (phi > m.entry_angle() && phi < m.exit_angle())
-      h += -0.5 * m.kt_pa * milling_directional_matrix(phi, m.kr_pa / m.kt_pa);
+    if (phi > m.engagement.entry_angle() && phi < m.engagement.exit_angle())
+      h += -0.5 * m.cutting.kt_pa *
+           milling_directional_matrix(phi, m.cutting.kr_pa / m.cutting.kt_pa);
   }
   return h;
 }
 
 // The time-domain simulation of the cut `m` at `rpm` and depth `width_m` (0.05 mm per tooth,
 // the mechanistic law of the model without edge terms): the stability model's cut, integrated.
-inline MillingSimulationResult simulate_model(const MillingModel& m, double rpm, double width_m,
+inline MillingSimulationResult simulate_model(const MillingProcess& m, double rpm, double width_m,
                                               const MillingSimulationOptions& options = {}) {
   MillingCut c;
-  c.modal = m.modal;
-  c.teeth = m.teeth;
-  c.pitch_rad = m.pitch_rad;
-  c.diameter_m = m.diameter_m;
-  c.helix_rad = m.helix_rad;
-  c.entry_rad = m.entry_angle();
-  c.exit_rad = m.exit_angle();
+  c.process = m;
+  c.process.cutting.kte_n_per_m = c.process.cutting.kre_n_per_m = 0.0;
   c.spindle_rad_s = units::rpm_to_rad_per_s(rpm);
   c.feed_per_tooth_m = 0.05e-3;
   c.width_m = width_m;
-  c.law = MechanisticForceLaw{m.kt_pa, m.kr_pa, 0.0, 0.0};
   return simulate_milling(c, options);
 }
 

@@ -20,10 +20,10 @@ io::Case load_case(const std::string& path, std::string_view default_example);
 /// Throws unless the case is a turning case; `command` names the job in the message.
 void require_turning(const io::Case& c, std::string_view command);
 
-/// The turning model of a case: modes, Kt (given, or predicted by Oxley's theory from
-/// [material]) and vibration. Checks that Kt can be had and, with vibration, that the duty
+/// The turning process of a case: modes, Kf (given, or predicted by Oxley's theory from
+/// [material]) and vibration. Checks that Kf can be had and, with vibration, that the duty
 /// cycle can be had at every speed.
-TurningModel turning_model(const io::Case& c, std::string_view command);
+TurningProcess turning_process(const io::Case& c, std::string_view command);
 
 /// Oxley's prediction for a case with [material], at its [cutting] speed_m_per_min,
 /// uncut_chip_thickness_mm, rake_deg and width_mm (1 mm when absent and `need_width` is
@@ -34,8 +34,13 @@ struct OxleyPrediction {
 };
 OxleyPrediction predict_with_oxley(const io::Case& c, std::string_view command, bool need_width);
 
-/// The milling model of a case: modes in x and y, Kt and Kr, [tool] and [operation].
-MillingModel milling_model(const io::Case& c, std::string_view command);
+/// The milling process of a case for a stability analysis: modes in x and y, [cutting] Kt and
+/// Kr, [tool] and [operation]; throws where a key it needs is missing.
+MillingProcess milling_process(const io::Case& c, std::string_view command);
+
+/// The case's [[modes]], [tool], [operation], [cutting] and [force_law] as a process, absent
+/// tables and keys left at their defaults (unchecked: a job checks what it uses).
+MillingProcess milling_process_as_given(const io::Case& c);
 
 /// The speed grid of the case's [lobes] table (validated), on `threads` threads (0: all).
 LobesOptions lobes_grid(const io::Case& c, int threads);

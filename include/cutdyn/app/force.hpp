@@ -20,7 +20,7 @@ struct ChipThicknessPoint {
 };
 
 struct ForceJobReport {
-  double kc_pa = 0.0, kt_pa = 0.0;       // cutting- and feed-direction coefficients used
+  double kc_pa = 0.0, kf_pa = 0.0;       // cutting- and feed-direction coefficients used
   std::optional<OxleyPrediction> oxley;  // where they were predicted from [material]
   double uncut_chip_thickness_m = 0.0, width_m = 0.0;
   std::optional<double> speed_m_per_s;

@@ -80,7 +80,7 @@ CheckJobReport run_check(const io::Case& c, const CheckRequest& request);
 
 /// One line about the turning model actually used: modes, Kt (and whether Oxley's theory
 /// predicted it), the vibration.
-std::string describe_turning(const io::Case& c, const TurningModel& m);
+std::string describe_turning(const io::Case& c, const TurningProcess& m);
 /// The stability options of the case's [lobes] table for `method`.
 TurningStabilityOptions turning_stability_options(const io::Case& c, TurningMethod method);
 

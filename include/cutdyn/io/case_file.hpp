@@ -22,9 +22,11 @@
 #include "cutdyn/drive/feed_drive.hpp"
 #include "cutdyn/forces/oxley.hpp"
 #include "cutdyn/forces/work_material.hpp"
-#include "cutdyn/stability/method.hpp"
 #include "cutdyn/modal/modal_model.hpp"
 #include "cutdyn/plan/bore_milling.hpp"
+#include "cutdyn/process/milling.hpp"
+#include "cutdyn/process/turning.hpp"
+#include "cutdyn/stability/method.hpp"
 
 namespace cutdyn::io {
 
@@ -38,9 +40,10 @@ const char* to_string(Process process);
 
 /// [cutting]. Which keys a command needs is checked by that command.
 struct CuttingSection {
-  /// Turning: kf_n_per_mm2, the feed-direction coefficient (kt_n_per_mm2 is its old name,
-  /// read with a warning). Milling: kt_n_per_mm2, the tangential coefficient.
-  std::optional<double> kt_pa;
+  std::optional<double> kt_pa;  // kt_n_per_mm2: milling tangential coefficient
+  /// kf_n_per_mm2: turning feed-direction coefficient (kt_n_per_mm2 in a turning case is its
+  /// old name, read into this member with a warning).
+  std::optional<double> kf_pa;
   std::optional<double> kc_pa;          // kc_n_per_mm2: turning cutting-direction coefficient
   std::optional<double> kr_pa;          // kr_n_per_mm2: milling radial coefficient
   std::optional<double> speed_m_per_s;  // speed_m_per_min
@@ -53,40 +56,10 @@ struct CuttingSection {
                                                   // material's Johnson–Cook reference
 };
 
-/// [force_law]: the S1 force law of milling ([Ermolaev2020]) for `cutdyn simulate`; without
-/// it the simulation uses the mechanistic law of [cutting].
-struct ForceLawSection {
-  double c_n_per_m = 0.0;    // c_n_per_mm: cutting stiffness of the engaged flute
-  double t2_s = 0.0;         // chip-formation time constant
-  double p0_n = 0.0;         // flank contact force scale
-  double t1_m = 1.0;         // t1_mm
-  double phi_rez_rad = 0.0;  // phi_rez_deg
-  double phi_skv_rad = 0.0;  // phi_skv_deg
-};
-
-/// [tool] (milling; loaded and range-checked now, used by the milling commands).
-struct ToolSection {
-  int teeth = 0;
-  double diameter_m = 0.0;
-  double helix_rad = 0.0;
-  std::vector<double> pitch_rad;  // pitch_deg: uneven pitch, one angle per tooth; empty: even
-};
-
-/// [operation] (milling).
+/// [operation] (milling): the engagement, and the feed per tooth of `cutdyn simulate`.
 struct OperationSection {
-  double radial_immersion = 1.0;           // a_e / D, 0 < . <= 1
-  bool down_milling = true;                // direction = "down" | "up"
+  MillingEngagement engagement;            // radial_immersion, direction, entry_deg, exit_deg
   std::optional<double> feed_per_tooth_m;  // feed_per_tooth_mm (simulation)
-  /// entry_deg, exit_deg: the engagement window itself, instead of immersion and direction.
-  std::optional<double> entry_rad, exit_rad;
-};
-
-/// [vibration]: vibration-assisted cutting along the cutting direction.
-struct VibrationSection {
-  double frequency_hz = 0.0;
-  std::optional<double> amplitude_m;           // amplitude_um
-  std::optional<double> workpiece_diameter_m;  // workpiece_diameter_mm: speed from rpm
-  std::optional<double> duty_cycle;            // fixed duty cycle, 0 < r <= 1
 };
 
 /// [lobes]: the spindle-speed grid and the depth search range.
@@ -125,10 +98,12 @@ struct Case {
   /// the stiffness follows it and natural_hz.
   std::vector<std::optional<double>> mode_mass_kg;
   CuttingSection cutting;
-  std::optional<ToolSection> tool;
-  std::optional<OperationSection> operation;
-  std::optional<VibrationSection> vibration;
-  std::optional<ForceLawSection> force_law;
+  std::optional<MillingTool> tool;            // [tool]
+  std::optional<OperationSection> operation;  // [operation]
+  std::optional<VibrationAssist> vibration;   // [vibration]: vibration-assisted turning
+  /// [force_law]: the S1 force law of milling ([Ermolaev2020]) for `cutdyn simulate`; without
+  /// it the simulation uses the mechanistic law of [cutting].
+  std::optional<ErmolaevForceLaw> force_law;
   /// [material]: the work material for Oxley's predictive force model (`cutdyn force`, and
   /// Kt for the turning commands when [cutting] gives none), complete and validated. `name`
   /// picks a library entry; [material.johnson_cook] and [material.thermal] give or override

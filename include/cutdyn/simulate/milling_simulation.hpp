@@ -15,53 +15,24 @@
 
 #include <optional>
 #include <string>
-#include <variant>
 #include <vector>
 
-#include "cutdyn/modal/modal_model.hpp"
+#include "cutdyn/process/milling.hpp"
 #include "cutdyn/simulate/simulation_status.hpp"
 
 namespace cutdyn {
 
-/// S1 law ([Ermolaev2020]; docs/models/milling-simulation.md, "Force laws"): P = c·U with
-/// T2·dU/dt + U = X (the chip thickness), the flank contact force F = P0·e^(−X/T1); P at the angle
-/// φrez and F at φskv from the tangent (towards the cutter's centre).
-struct ErmolaevForceLaw {
-  double c_n_per_m = 0.0;  // cutting stiffness of the whole engaged flute, N/m
-  double t2_s = 0.0;       // chip-formation time constant (0: no lag)
-  double p0_n = 0.0;       // flank contact force scale, N
-  double t1_m = 1.0;       // chip thickness over which the contact force falls by e
-  double phi_rez_rad = 0.0;
-  double phi_skv_rad = 0.0;
-};
-
-/// Linear mechanistic law per unit width: Ft = Kt·b·h + Kte·b, Fr = Kr·b·h + Kre·b.
-struct MechanisticForceLaw {
-  double kt_pa = 0.0;
-  double kr_pa = 0.0;
-  double kte_n_per_m = 0.0;
-  double kre_n_per_m = 0.0;
-};
-
-using MillingForceLaw = std::variant<MechanisticForceLaw, ErmolaevForceLaw>;
-
+/// One cut of a milling process: the process at a spindle speed, feed and axial depth.
 struct MillingCut {
-  ModalModel modal;  // modes in x (feed) and y; none: a rigid cutter
-  int teeth = 2;
-  std::vector<double> pitch_rad;  // uneven pitch (as MillingModel); empty: even
-  double diameter_m = 0.0;
-  double helix_rad = 0.0;
-  double entry_rad = 0.0;  // window of the tooth angle, measured clockwise from +y
-  double exit_rad = 3.141592653589793;
+  MillingProcess process;  // its modes may be empty: a rigid cutter
   double spindle_rad_s = 0.0;
   double feed_per_tooth_m = 0.0;
-  double width_m = 0.0;  // B, the axial depth of cut
-  MillingForceLaw law;
+  double width_m = 0.0;      // B, the axial depth of cut
   bool regenerative = true;  // false: chip = s_z·sin θ from the feed alone (force studies)
 
   std::vector<std::string> validate() const;
   /// φN = 2B·tanβ/d: the lag between the flute's two extreme sections.
-  double lag_angle() const;
+  double lag_angle() const { return process.tool.lag_angle(width_m); }
 };
 
 struct MillingSimulationOptions {

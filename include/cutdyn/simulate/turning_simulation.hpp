@@ -2,7 +2,7 @@
 // [Chikishev2018, eq. 8]; docs/models/turning.md §6.
 //
 //     M·q̈ + C·q̇ + K·q = F(t),   y = Σ q,
-//     F(t) = g(t)·Kt·w·h(t),   h(t) = h0 + S(t − τ) − y(t)   while h > 0, else F = 0,
+//     F(t) = g(t)·Kf·w·h(t),   h(t) = h0 + S(t − τ) − y(t)   while h > 0, else F = 0,
 //
 // with S the surface the tool left one revolution earlier: S(t) = y(t) while the tool is in
 // the material (h > 0), and S(t) = S(t − τ) + h0 when it has jumped out (the older surface
@@ -81,7 +81,7 @@ struct TurningSimulationResult {
   }
 };
 
-TurningSimulationResult simulate_turning(const TurningModel& model,
+TurningSimulationResult simulate_turning(const TurningProcess& model,
                                          const TurningSimulationOptions& options);
 
 }  // namespace cutdyn

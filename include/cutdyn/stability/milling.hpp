@@ -14,52 +14,13 @@
 #include <string>
 #include <vector>
 
-#include "cutdyn/modal/modal_model.hpp"
+#include "cutdyn/process/milling.hpp"
 #include "cutdyn/stability/critical_depth.hpp"
 #include "cutdyn/stability/delayed_system.hpp"
 #include "cutdyn/stability/full_discretization.hpp"
 #include "cutdyn/stability/method.hpp"
 
 namespace cutdyn {
-
-/// The tooth's engagement window for a radial immersion a_e/D: down-milling [acos(2a_e/D − 1),
-/// π], up-milling [0, acos(1 − 2a_e/D)] (rad).
-struct EngagementWindow {
-  double entry_rad = 0.0, exit_rad = 0.0;
-};
-EngagementWindow engagement_window(double radial_immersion, bool down_milling);
-
-struct MillingModel {
-  ModalModel modal;               // modes in x (feed) and y
-  double kt_pa = 0.0;             // tangential cutting coefficient, N/m²
-  double kr_pa = 0.0;             // radial cutting coefficient, N/m²
-  int teeth = 2;                  // z
-  double radial_immersion = 1.0;  // a_e / D, 0 < . <= 1
-  bool down_milling = true;
-  /// The engagement window given directly (rad, 0 <= entry < exit <= π): when both are set
-  /// they replace radial_immersion and down_milling, which then play no part.
-  std::optional<double> window_entry_rad;
-  std::optional<double> window_exit_rad;
-  double diameter_m = 0.0;  // D, needed with a helix
-  double helix_rad = 0.0;   // β, 0 <= β < π/2
-  /// Uneven pitch: z angles, pitch_rad[j] the angle by which tooth j trails tooth j − 1 (tooth
-  /// 0 trails the last one), adding up to 2π. Empty: evenly spaced teeth.
-  std::vector<double> pitch_rad;
-
-  std::vector<std::string> validate() const;
-  bool even_pitch() const { return pitch_rad.empty(); }
-  std::vector<double> pitch_angles() const;  // pitch_rad, or z equal angles
-  /// Angle by which the flute at depth a lags the tooth tip: 2·a·tanβ/D.
-  double lag_angle(double depth_m) const;
-  /// Axial slices at depth a: lag of at most 0.5° each (1 for straight teeth).
-  int slices(double depth_m) const;
-  /// Entry and exit angles (rad) of a tooth: the given window, else down-milling
-  /// [acos(2a_e/D − 1), π], up-milling [0, acos(1 − 2a_e/D)].
-  double entry_angle() const;
-  double exit_angle() const;
-  /// The radial width of the window as a fraction of D, (cos φst − cos φex)/2: a_e/D.
-  double engaged_immersion() const;
-};
 
 /// The neutral description at spindle speed `rpm` and depth `depth_m`: x = the modal states of
 /// the x and y modes, y = (x, y) displacements of the cutter, H(t) = −(Kt/2)·A(t) per unit
@@ -68,7 +29,7 @@ struct MillingModel {
 /// their average: it depends on the depth, which straight teeth do not. Even pitch: one delay
 /// τ = T = 60/(rpm·z) and H of period T. Uneven pitch: one delay term per tooth,
 /// τj = pitch_j/Ωs, each with the period of one revolution.
-DelayedSystem milling_system(const MillingModel& model, double rpm, double depth_m = 0.0);
+DelayedSystem milling_system(const MillingProcess& model, double rpm, double depth_m = 0.0);
 
 enum class MillingMethod {
   kZeroOrder,                // Altintas & Budak 1995: multi-frequency with no harmonics
@@ -108,7 +69,7 @@ struct MillingBoundary {
 /// mean of H over a period is the same for every slice). With a helix, the depth-dependent H
 /// is handled by the full discretization's depth search directly, and by the multi-frequency
 /// method through the margin a − w_crit(H(a)) (coarse scan, then Brent).
-MillingBoundary milling_critical_depth(const MillingModel& model, double rpm,
+MillingBoundary milling_critical_depth(const MillingProcess& model, double rpm,
                                        const MillingStabilityOptions& options);
 
 /// Where `method` is known to be weak for this cut over rpm_min..rpm_max, the warning a front
@@ -116,7 +77,7 @@ MillingBoundary milling_critical_depth(const MillingModel& model, double rpm,
 /// agree"); empty where the method is within its stated tolerance. Today: the zero-order
 /// method at partial immersion (window under 180°) or with the tooth frequency below half the
 /// lowest mode's.
-std::optional<std::string> milling_method_caveat(const MillingModel& model, MillingMethod method,
+std::optional<std::string> milling_method_caveat(const MillingProcess& model, MillingMethod method,
                                                  double rpm_min, double rpm_max);
 
 /// The same search carried on to at least `depth_m`, with the same coarse depth step
