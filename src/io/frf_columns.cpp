@@ -181,7 +181,8 @@ CsvColumns csv_columns(const TextLine& line, const std::string& source) {
   if (!letters || parse_number(names[0]))
     fail_at(source, line.number,
             "a CSV FRF file starts with a header naming its columns, e.g. "
-            "frequency_hz,real_m_per_n,imag_m_per_n; this line has none");
+            "frequency_hz,real_m_per_n,imag_m_per_n; this line has none (numbers with "
+            "decimal commas also look like CSV: write decimal points)");
   const auto find = [&](const char* name) {
     int found = -1;
     for (std::size_t i = 0; i < names.size(); ++i) {

@@ -111,15 +111,23 @@ FrfReadResult parse_frf(std::string_view content, const std::string& source,
                         const FrfFileOptions& options, std::string_view extension) {
   if (content.starts_with("\xef\xbb\xbf")) content.remove_prefix(3);  // UTF-8 byte order mark
   const FrfFormat format = options.format ? *options.format : detect(content, source, extension);
+  FrfReadResult result;
   switch (format) {
     case FrfFormat::kCutPro:
-      return io::detail::read_cutpro_text(content, source);
+      result = io::detail::read_cutpro_text(content, source);
+      break;
     case FrfFormat::kCsv:
-      return io::detail::read_csv_text(content, source);
+      result = io::detail::read_csv_text(content, source);
+      break;
     case FrfFormat::kUff:
-      return io::detail::read_uff_text(content, source, options);
+      result = io::detail::read_uff_text(content, source, options);
+      break;
   }
-  return io::detail::read_cutpro_text(content, source);
+  if (options.dataset && format != FrfFormat::kUff)
+    result.warnings.push_back("dataset = " + std::to_string(*options.dataset) +
+                              " chooses among the datasets of a universal file; this is a " +
+                              to_string(format) + " file, ignored");
+  return result;
 }
 
 FrfReadResult read_frf_file(const std::filesystem::path& file, const FrfFileOptions& options) {

@@ -80,6 +80,16 @@ void append_header(std::string& out, const MeasuredFrf& frf, const FrfWriteOptio
 
 FrfText format_uff(const MeasuredFrf& frf, const FrfWriteOptions& options) {
   FrfText result;
+  Validator v("options");
+  for (const auto& [field, direction] :
+       {std::pair{"uff_response_direction", options.uff_response_direction},
+        std::pair{"uff_reference_direction", options.uff_reference_direction}})
+    v.require(direction >= -6 && direction <= 6, field, direction, "",
+              "must be a UFF direction from -6 to 6 (1 = +X, 2 = +Y, 3 = +Z)");
+  for (const auto& [field, node] : {std::pair{"uff_response_node", options.uff_response_node},
+                                    std::pair{"uff_reference_node", options.uff_reference_node}})
+    v.require(node >= 0, field, node, "", "must be a node number, at least 0");
+  v.throw_if_any();
   const std::vector<double>& f = frf.frequency_hz;
   double minimum = 0.0, increment = 0.0;
   const bool spaced = evenly_spaced(f, minimum, increment);

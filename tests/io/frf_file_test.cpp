@@ -276,6 +276,10 @@ TEST(FrfFileUff, ImpactTestExportWithHeaderUnitsCoherenceAndCrlf) {
       "line 24: dataset 58 index 0 (line 17, function type 6, coherence) is not a frequency");
   EXPECT_HAS(refusal([&] { parse_frf(file, "t", dataset(2)); }), "indices 0 to 1");
   EXPECT_EQ(parse_frf(file, "t", dataset(1)).frf.frequency_hz.size(), 4u);
+  // A dataset index given for a file that is not a universal file is said to be ignored.
+  const FrfReadResult text = parse_frf("1 1 2\n2 1 2\n3 1 2\n", "t", dataset(1));
+  ASSERT_EQ(text.warnings.size(), 1u);
+  EXPECT_HAS(text.warnings[0], "this is a frf file, ignored");
 }
 
 TEST(FrfFileUff, AccelerationInGAndMobilityInMillimetresConvertToReceptance) {
@@ -418,6 +422,11 @@ TEST(FrfFileText, SloppyButValidCutProIsAccepted) {
   EXPECT_DOUBLE_EQ(mm.frf.receptance_m_per_n[2].imag(), 6e-3);
   const FrfReadResult um = parse_frf("1 1 2 Hz um/N\n2 3 4\n3 5 6\n", "um");
   EXPECT_DOUBLE_EQ(um.frf.receptance_m_per_n[1].real(), 3e-6);
+  const FrfReadResult inch = parse_frf("1 1 2 Hz in/lbf\n2 3 4\n3 5 6\n", "in");
+  EXPECT_DOUBLE_EQ(inch.frf.receptance_m_per_n[0].imag(), 2 * 0.0254 / 4.4482216152605);
+  const FrfReadResult rad = parse_frf("w[rad/s] G[µm/N]\n1 1 2\n2 3 4\n3 5 6\n", "rad");
+  EXPECT_DOUBLE_EQ(rad.frf.frequency_hz[2], 3 / kTwoPi);
+  EXPECT_DOUBLE_EQ(rad.frf.receptance_m_per_n[2].real(), 5e-6);
   const FrfReadResult odd = parse_frf("1 1 2 furlongs\n2 3 4\n3 5 6\n", "odd");
   ASSERT_EQ(odd.warnings.size(), 1u);
   EXPECT_HAS(odd.warnings[0], "line 1: the word \"furlongs\"");
@@ -563,6 +572,13 @@ TEST_F(FrfFileRefusalOfFiles, MissingEmptyBinaryAndDirectoriesAreClear) {
   // Writing: an invalid table, a folder that does not exist.
   const MeasuredFrf two{{1.0, 2.0}, {{1, 0}, {1, 0}}};
   EXPECT_HAS(refusal([&] { write_frf(dir_ / "two.frf", two, FrfFormat::kCutPro); }), "at least 3");
+  FrfWriteOptions z;
+  z.uff_response_direction = 7;
+  EXPECT_HAS(
+      refusal([&] {
+        format_frf(sample_frf(tool_model(), Direction::kX, {1.0, 2.0, 3.0}), FrfFormat::kUff, z);
+      }),
+      "options.uff_response_direction = 7: must be a UFF direction from -6 to 6");
   const MeasuredFrf g = sample_frf(tool_model(), Direction::kX, {1.0, 2.0, 3.0});
   EXPECT_HAS(refusal([&] { write_frf(dir_ / "no" / "g.frf", g, FrfFormat::kCsv); }, &where),
              "cannot be opened");
