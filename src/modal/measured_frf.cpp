@@ -49,6 +49,62 @@ std::complex<double> MeasuredFrf::at(double f_hz) const {
   return receptance_m_per_n[j - 1] + t * (receptance_m_per_n[j] - receptance_m_per_n[j - 1]);
 }
 
+MeasuredFrf add_frf(const MeasuredFrf& a, const MeasuredFrf& b) {
+  MeasuredFrf sum;
+  for (std::size_t i = 0; i < a.frequency_hz.size(); ++i) {
+    const double f = a.frequency_hz[i];
+    if (!b.covers(f)) continue;
+    sum.frequency_hz.push_back(f);
+    sum.receptance_m_per_n.push_back(a.receptance_m_per_n[i] + b.at(f));
+  }
+  if (sum.frequency_hz.size() < 3) {
+    throw InvalidInput({"the two FRFs' bands (" + format_value(a.min_hz()) + "–" +
+                        format_value(a.max_hz()) + " Hz and " + format_value(b.min_hz()) + "–" +
+                        format_value(b.max_hz()) + " Hz) share fewer than 3 points: they cannot "
+                        "be added"},
+                       "frf");
+  }
+  return sum;
+}
+
+Eigen::MatrixXcd MeasuredStructure::at(const std::vector<Direction>& directions,
+                                       double omega_rad_s) const {
+  const auto n = static_cast<Eigen::Index>(directions.size());
+  Eigen::MatrixXcd g = Eigen::MatrixXcd::Zero(n, n);
+  const double f = std::abs(omega_rad_s) / (2.0 * std::numbers::pi);
+  const auto value = [&](const MeasuredFrf* table) {
+    if (table == nullptr || !table->covers(f)) return std::complex<double>{};
+    const std::complex<double> v = table->at(f);
+    return omega_rad_s < 0.0 ? std::conj(v) : v;  // G(−ω) = conj G(ω): a real structure
+  };
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const Direction di = directions[static_cast<std::size_t>(i)];
+      const Direction dj = directions[static_cast<std::size_t>(j)];
+      g(i, j) = di == dj ? value(direct(di)) : value(ptr(xy));
+    }
+  }
+  return g;
+}
+
+Eigen::MatrixXcd combined_receptance(const ModalModel& given, const MeasuredStructure& measured,
+                                     const std::vector<Direction>& directions,
+                                     double omega_rad_s) {
+  Eigen::MatrixXcd g = measured.at(directions, omega_rad_s);
+  for (std::size_t i = 0; i < directions.size(); ++i) {
+    const auto k = static_cast<Eigen::Index>(i);
+    g(k, k) += frf(given, directions[i], omega_rad_s);
+  }
+  return g;
+}
+
+double MeasuredStructure::max_hz() const {
+  double top = 0.0;
+  for (const auto* t : {ptr(xx), ptr(yy), ptr(xy)})
+    if (t != nullptr) top = std::max(top, t->max_hz());
+  return top;
+}
+
 MeasuredFrf sample_frf(const ModalModel& model, Direction direction,
                        const std::vector<double>& frequency_hz) {
   MeasuredFrf out;

@@ -108,10 +108,20 @@ std::vector<std::string> MillingProcess::validate() const {
   return v.problems();
 }
 
+ModalModel MillingProcess::structure_modes() const {
+  ModalModel all = modal;
+  if (measured)
+    all.modes.insert(all.modes.end(), measured->fitted.modes.begin(), measured->fitted.modes.end());
+  return all;
+}
+
 std::vector<std::string> MillingProcess::validate_for_stability() const {
   Validator v;
   v.merge(validate());
-  if (modal.modes.empty()) v.add("modes: at least one mode is required");
+  if (modal.modes.empty() && !measured)
+    v.add("modes: at least one mode (or a measured FRF) is required");
+  if (measured && measured->fitted.modes.empty())
+    v.add("measured: no modes fitted to the measured FRFs (the time-domain methods need them)");
   for (std::size_t i = 0; i < modal.modes.size(); ++i) {
     v.require(modal.modes[i].damping_ratio > 0.0, "modes[" + std::to_string(i) + "].damping_ratio",
               modal.modes[i].damping_ratio, "", "must be positive for a stability analysis");

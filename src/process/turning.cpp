@@ -30,9 +30,18 @@ DutyCycle VibrationAssist::at_rpm(double rpm) const {
   return cutdyn::duty_cycle(v, frequency_hz, amplitude_m.value_or(0.0));
 }
 
+ModalModel TurningProcess::structure_modes() const {
+  ModalModel all = modal;
+  if (measured)
+    all.modes.insert(all.modes.end(), measured->fitted.modes.begin(), measured->fitted.modes.end());
+  return all;
+}
+
 std::vector<std::string> TurningProcess::validate() const {
   Validator v;
-  v.merge(modal.validate());
+  if (!measured || !modal.modes.empty()) v.merge(modal.validate());
+  if (measured && measured->fitted.modes.empty())
+    v.add("measured: no modes fitted to the measured FRF (the time-domain methods need them)");
   for (std::size_t i = 0; i < modal.modes.size(); ++i) {
     if (modal.modes[i].direction != Direction::kX)
       v.add("modes[" + std::to_string(i) +

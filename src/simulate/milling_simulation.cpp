@@ -87,6 +87,7 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
   v.throw_if_any("milling simulation");
 
   const MillingProcess& process = cut.process;
+  const ModalModel modes = process.structure_modes();  // fitted to a measured FRF too
   const EngagementWindow window = process.engagement.window();
   const int z = process.tool.teeth;
   const double omega = cut.spindle_rad_s;
@@ -94,9 +95,9 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
   // With regeneration the chip follows the cutter's vibration: put 64 steps in the shortest
   // mode period. Without it the exact (zero-order-hold) step needs no such resolution.
   int spt = o.steps_per_tooth;
-  if (!process.modal.modes.empty() && cut.regenerative) {
+  if (!modes.modes.empty() && cut.regenerative) {
     const double tooth_period = kTwoPi / (omega * z);
-    const double shortest = kTwoPi / process.modal.max_natural_rad_s();
+    const double shortest = kTwoPi / modes.max_natural_rad_s();
     spt = std::max(spt, static_cast<int>(std::ceil(64.0 * tooth_period / shortest)));
   }
   const long long bins = static_cast<long long>(z) * spt;
@@ -203,11 +204,11 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
   }
 
   // Structure.
-  const bool rigid = process.modal.modes.empty();
+  const bool rigid = modes.modes.empty();
   std::optional<ModalStepper> stepper;
   Eigen::MatrixXd c_gamma_end;  // C·Γ1
   if (!rigid) {
-    stepper.emplace(process.modal, std::vector<Direction>{Direction::kX, Direction::kY}, dt);
+    stepper.emplace(modes, std::vector<Direction>{Direction::kX, Direction::kY}, dt);
     c_gamma_end = stepper->output_matrix() * stepper->gamma_end();
   }
 

@@ -35,13 +35,14 @@ TurningSimulationResult simulate_turning(const TurningProcess& model,
   v.merge(o.validate());
   v.throw_if_any("turning simulation");
 
-  const auto ss = modal_state_space(model.modal, {Direction::kX});
+  const ModalModel modes = model.structure_modes();  // fitted to a measured FRF too
+  const auto ss = modal_state_space(modes, {Direction::kX});
   const auto d = ss.A.rows();
   const double tau = 60.0 / o.rpm;
 
   // Step: divides the revolution; resolves the structure and the vibration.
   double w_top = 0.0;
-  for (const Mode& m : model.modal.modes) w_top = std::max(w_top, m.natural_rad_s);
+  for (const Mode& m : modes.modes) w_top = std::max(w_top, m.natural_rad_s);
   double h_target = o.max_step_fraction * units::kTwoPi / w_top;
   ContactWindow window;  // g ≡ 1
   double duty = 1.0;
@@ -64,7 +65,7 @@ TurningSimulationResult simulate_turning(const TurningProcess& model,
         "turning simulation");
   }
 
-  const ModalStepper stepper(model.modal, {Direction::kX}, h);
+  const ModalStepper stepper(modes, {Direction::kX}, h);
   const Eigen::RowVectorXd c = ss.C.row(0);
   const double c_gamma_end = (c * stepper.gamma_end())(0, 0);  // C·Γ1
 
@@ -77,7 +78,7 @@ TurningSimulationResult simulate_turning(const TurningProcess& model,
   const double f_mean = duty * kw * o.feed_m;
   Eigen::VectorXd x0 = Eigen::VectorXd::Zero(d);
   for (Eigen::Index i = 0; i < d / 2; ++i)
-    x0(2 * i) = f_mean / model.modal.modes[static_cast<std::size_t>(i)].stiffness_n_per_m;
+    x0(2 * i) = f_mean / modes.modes[static_cast<std::size_t>(i)].stiffness_n_per_m;
   out.static_deflection_m = c * x0;
   // Runaway: a vibration of a thousand feeds is far beyond any cut (and before overflow).
   const double runaway_bound = 1e3 * (o.feed_m + o.initial_displacement_m);

@@ -119,11 +119,16 @@ DelayedSystem milling_system(const MillingProcess& model, double rpm, double dep
   if (!(depth_m >= 0.0))
     throw InvalidInput({"depth = " + format_value(depth_m) + " m: must not be negative"},
                        "milling model");
-  const auto ss = modal_state_space(model.modal, {Direction::kX, Direction::kY});
+  const auto ss = modal_state_space(model.structure_modes(), {Direction::kX, Direction::kY});
   DelayedSystem s;
   s.A0 = ss.A;
   s.E = ss.B;
   s.C = ss.C;
+  if (model.measured) {
+    s.measured_response = [given = model.modal, measured = *model.measured](double w) {
+      return combined_receptance(given, measured, {Direction::kX, Direction::kY}, w);
+    };
+  }
   const double spindle = units::rpm_to_rad_per_s(rpm);  // Ωs
   const int z = model.tool.teeth;
   // Axial slices: slice k of K lags the tooth tip by (k + 1/2)·λ/K, λ the flute's lag over
@@ -267,7 +272,7 @@ std::optional<std::string> milling_method_caveat(const MillingProcess& model, Mi
         "the cut is not a slot (it misses flip lobes, about half the depth at a/D "
         "<= 0.1)");
   double lowest_hz = std::numeric_limits<double>::infinity();
-  for (const Mode& m : model.modal.modes)
+  for (const Mode& m : model.structure_modes().modes)
     lowest_hz = std::min(lowest_hz, units::rad_per_s_to_hz(m.natural_rad_s));
   const double threshold_rpm = 0.5 * lowest_hz * 60.0 / model.tool.teeth;
   if (rpm_min < threshold_rpm) {

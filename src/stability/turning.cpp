@@ -11,11 +11,16 @@
 namespace cutdyn {
 
 DelayedSystem turning_system(const TurningProcess& model, double rpm) {
-  const auto ss = modal_state_space(model.modal, {Direction::kX});
+  const auto ss = modal_state_space(model.structure_modes(), {Direction::kX});
   DelayedSystem s;
   s.A0 = ss.A;
   s.E = ss.B;
   s.C = ss.C;
+  if (model.measured) {
+    s.measured_response = [given = model.modal, measured = *model.measured](double w) {
+      return combined_receptance(given, measured, {Direction::kX}, w);
+    };
+  }
   s.delay_s = 60.0 / rpm;  // [Chikishev2018, eq. 6]: one revolution
   const Eigen::MatrixXd kt = Eigen::MatrixXd::Constant(1, 1, model.kf_pa);
   if (model.vibration) {
@@ -84,7 +89,7 @@ void check_speed_domain(const TurningProcess& model, double rpm) {
   v.require_positive("spindle speed", rpm, "rpm");
   v.throw_if_any();
   const double tau = 60.0 / rpm;
-  const double f_top = units::rad_per_s_to_hz(model.modal.max_natural_rad_s());
+  const double f_top = units::rad_per_s_to_hz(model.structure_modes().max_natural_rad_s());
   if (tau * f_top > kMaxModeCycles) {
     v.add("spindle speed = " + rounded(rpm) + " rpm: one revolution spans " +
           rounded(std::round(tau * f_top)) + " periods of the " + rounded(f_top) +
@@ -112,6 +117,16 @@ TurningBoundary turning_critical_depth(const TurningProcess& model, double rpm,
   const double tau = 60.0 / rpm;
   switch (o.method) {
     case TurningMethod::kClosedForm: {
+      if (model.measured) {  // Tlusty's solution is the averaged one on the tabulated FRF
+        MultiFrequencyOptions mf;
+        mf.harmonics = 0;
+        mf.depth_max_m = o.depth_max_m;
+        TurningProcess averaged = model;
+        averaged.kf_pa *= out.duty_cycle;
+        averaged.vibration.reset();
+        out.boundary = multi_frequency_critical_depth(turning_system(averaged, rpm), mf);
+        break;
+      }
       const auto t = tlusty_critical_depth(model.modal, Direction::kX, out.duty_cycle * model.kf_pa,
                                            tau, o.depth_max_m);
       out.boundary = t.boundary;

@@ -5,7 +5,9 @@
 // table there is no value (a stability method that needs one there is told so).
 #pragma once
 
+#include <Eigen/Dense>
 #include <complex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +27,33 @@ struct MeasuredFrf {
   /// G at f (linear interpolation of real and imaginary parts). Precondition: covers(f).
   std::complex<double> at(double f_hz) const;
 };
+
+/// a + b on a's frequencies inside the band both cover (tool and workpiece compliances add for
+/// the relative displacement). Throws cutdyn::InvalidInput when the bands do not overlap in at
+/// least 3 of a's points.
+MeasuredFrf add_frf(const MeasuredFrf& a, const MeasuredFrf& b);
+
+/// The measured receptances of a structure: direct in x and in y, and the cross receptance
+/// (x response to a y force, taken equal to the reverse) where it was measured; plus modes
+/// fitted to them, which the time-domain methods use.
+struct MeasuredStructure {
+  std::optional<MeasuredFrf> xx, yy, xy;
+  ModalModel fitted;  // modes fitted to xx and yy
+  /// Receptance matrix over `directions` at ω (rad/s): the tables interpolated, zero outside
+  /// each table's band.
+  Eigen::MatrixXcd at(const std::vector<Direction>& directions, double omega_rad_s) const;
+  const MeasuredFrf* direct(Direction d) const { return d == Direction::kX ? ptr(xx) : ptr(yy); }
+  /// The highest frequency any table reaches (Hz).
+  double max_hz() const;
+
+ private:
+  static const MeasuredFrf* ptr(const std::optional<MeasuredFrf>& f) { return f ? &*f : nullptr; }
+};
+
+/// The receptance over `directions` at ω of the measured tables plus the modes of `given`
+/// (a structure measured in part and modelled in part).
+Eigen::MatrixXcd combined_receptance(const ModalModel& given, const MeasuredStructure& measured,
+                                     const std::vector<Direction>& directions, double omega_rad_s);
 
 /// The receptance of `model` in `direction` sampled at `frequency_hz`.
 MeasuredFrf sample_frf(const ModalModel& model, Direction direction,

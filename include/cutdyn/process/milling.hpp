@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "cutdyn/modal/measured_frf.hpp"
 #include "cutdyn/modal/modal_model.hpp"
 
 namespace cutdyn {
@@ -88,6 +89,9 @@ struct ErmolaevForceLaw {
 
 struct MillingProcess {
   ModalModel modal;  // modes in x (feed) and y; none: a rigid cutter (simulation only)
+  /// Measured receptances, beside or instead of `modal`: the zero-order and multi-frequency
+  /// methods take the tables (plus `modal`'s response), the others the fitted modes.
+  std::optional<MeasuredStructure> measured;
   MillingTool tool;
   MillingEngagement engagement;
   MechanisticForceLaw cutting;  // the linear law: the stability methods use it
@@ -100,6 +104,8 @@ struct MillingProcess {
   /// validate() and what a stability analysis needs besides: at least one mode, every mode
   /// damped, Kt > 0.
   std::vector<std::string> validate_for_stability() const;
+  /// The modes the time-domain methods use: `modal` and the modes fitted to `measured`.
+  ModalModel structure_modes() const;
 };
 
 }  // namespace cutdyn

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cutdyn/forces/duty_cycle.hpp"
+#include "cutdyn/modal/measured_frf.hpp"
 #include "cutdyn/modal/modal_model.hpp"
 
 namespace cutdyn {
@@ -28,12 +29,16 @@ struct VibrationAssist {
 
 struct TurningProcess {
   ModalModel modal;    // modes in direction x
+  /// A measured receptance in x, beside or instead of `modal` (as MillingProcess::measured).
+  std::optional<MeasuredStructure> measured;
   double kf_pa = 0.0;  // feed-direction cutting coefficient, N/m²
   std::optional<VibrationAssist> vibration;
 
   /// Problems naming the member; empty when a stability analysis or a simulation can run
   /// (modes in x only, each damped; Kf > 0; a vibration whose duty cycle can be had).
   std::vector<std::string> validate() const;
+  /// The modes the time-domain methods use: `modal` and the modes fitted to `measured`.
+  ModalModel structure_modes() const;
   /// The same process without the vibration.
   TurningProcess conventional() const;
 };

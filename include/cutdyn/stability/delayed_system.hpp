@@ -63,7 +63,13 @@ struct DelayedSystem {
   std::vector<DelayTerm> delay_terms() const;
   /// Problems as "field = value: rule"; empty when valid.
   std::vector<std::string> validate() const;
-  /// Frequency response of the structure alone, C·(iωI − A0)⁻¹·E (r×r).
+  /// A measured structure's receptance (r×r) at ω: when set, the frequency-domain methods
+  /// take it instead of the state space's, which then holds modes fitted to it (for the
+  /// time-domain methods, and for the frequency grids).
+  std::function<Eigen::MatrixXcd(double omega_rad_s)> measured_response;
+
+  /// Frequency response of the structure alone: measured_response when set, else
+  /// C·(iωI − A0)⁻¹·E (r×r).
   Eigen::MatrixXcd frequency_response(double omega_rad_s) const;
 };
 
