@@ -22,8 +22,11 @@ constexpr int kMinBandPoints = 10;
 constexpr double kStableFrequency = 0.01;  // relative change between orders
 constexpr double kStableDamping = 0.05;
 constexpr double kPhaseWarningDeg = 10.0;
-constexpr double kPoorFit = 0.1;       // RMS relative error
-constexpr double kSignificance = 1.1;  // RMS error ratio without / with a mode
+constexpr double kPoorFit = 0.1;  // RMS relative error
+// A mode the automatic choice keeps raises the RMS error by 10 % when removed from a good fit
+// (RMS error <= kPoorFit), by 1 % from a poor one (where a missing mode inflates the error).
+constexpr double kSignificance = 1.1;
+constexpr double kSignificancePoorFit = 1.01;
 
 std::string fixed(double value, int digits) {
   char buf[48];
@@ -166,19 +169,16 @@ cd representative(const Cluster& c, const std::vector<StabilisationPoint>& point
   return {-zeta * wn, wn * std::sqrt(1.0 - zeta * zeta)};
 }
 
-}  // namespace
-
-// ---- fit ------------------------------------------------------------------------------------
-
-namespace {
-
 struct Selection {
   std::vector<cd> poles;
   int min_stable_orders = 0;
 };
 
+// The diagram's highest order: 4 per mode (2 poles per mode, doubled for the noise), at least
+// 24, and below half the band's points (the LSCF unknowns, 2·order + 1, against 2 equations
+// per point).
 int max_order_for(int modes, int points) {
-  return std::clamp(4 * modes, 24, std::max(2, points / 2 - 1));
+  return std::min(std::max(4 * modes, 24), std::max(2, points / 2 - 1));
 }
 
 // The poles to refine: the groups of stable poles of score >= min_stable_orders (automatic
@@ -187,7 +187,7 @@ int max_order_for(int modes, int points) {
 Selection select_poles(const std::vector<StabilisationPoint>& points, int modes, int max_order,
                        FrfFit& out) {
   Selection s;
-  s.min_stable_orders = std::max(5, (3 * max_order) / 10);
+  s.min_stable_orders = std::max(5, max_order / 10);
   const auto add = [&](const Cluster& c) {
     const cd pole = representative(c, points);
     for (const cd& q : s.poles)
@@ -207,9 +207,7 @@ Selection select_poles(const std::vector<StabilisationPoint>& points, int modes,
   return s;
 }
 
-}  // namespace
-
-namespace {
+// ---- refinement and pruning -----------------------------------------------------------------
 
 double phase_deg(cd residue) {  // relative to the real-mode residue −i·|A|
   return std::arg(residue * cd(0.0, 1.0)) * 180.0 / std::numbers::pi;
@@ -225,13 +223,17 @@ double rms_without(const BandData& band, const PoleResidueModel& model, std::siz
   return fit_detail::rms_relative_error(band, m);
 }
 
-// Of two poles within 1 % in frequency (both standing for one mode), the one the fit misses
-// less; -1 when there are none.
+// Of two poles closer than 1 % in frequency or a quarter of the sum of their damping ratios
+// (half their mean half-power width: both stand for one mode), the one the fit misses less;
+// -1 when there are none.
 int duplicate_pole(const BandData& band, const PoleResidueModel& model) {
+  const auto zeta = [](cd pole) { return -pole.real() / std::abs(pole); };
   for (std::size_t r = 0; r < model.poles.size(); ++r) {
     for (std::size_t q = r + 1; q < model.poles.size(); ++q) {
       const double a = std::abs(model.poles[r]), b = std::abs(model.poles[q]);
-      if (std::abs(a - b) > kStableFrequency * std::min(a, b)) continue;
+      const double gap =
+          std::max(kStableFrequency, 0.25 * (zeta(model.poles[r]) + zeta(model.poles[q])));
+      if (std::abs(a - b) > gap * std::min(a, b)) continue;
       return static_cast<int>(rms_without(band, model, r) < rms_without(band, model, q) ? r : q);
     }
   }
@@ -240,8 +242,8 @@ int duplicate_pole(const BandData& band, const PoleResidueModel& model) {
 
 // The pole to drop from a refined model, with the reason, or -1: one of two poles on one
 // mode, a negative stiffness (the residue more than 90° from the real mode's), a pole that
-// left the physical range or the band, or (automatic choice only) one whose removal raises the
-// RMS error by less than 10 %.
+// left the physical range or the band, or (automatic choice only) the least significant one
+// if its removal raises the RMS error by less than kSignificance (kSignificancePoorFit).
 int pole_to_drop(const BandData& band, const PoleResidueModel& model, bool automatic,
                  std::string& why) {
   if (const int r = duplicate_pole(band, model); r >= 0) {
@@ -250,21 +252,25 @@ int pole_to_drop(const BandData& band, const PoleResidueModel& model, bool autom
   }
   for (std::size_t r = 0; r < model.poles.size(); ++r) {
     const double phase = phase_deg(model.residues[r]);
+    if (!(std::abs(model.residues[r]) > 0.0) || !std::isfinite(std::abs(model.residues[r]))) {
+      why = "no finite residue: dropped";
+      return static_cast<int>(r);
+    }
     if (std::abs(phase) > 90.0) {
       why = "negative stiffness (residue " + fixed(phase, 0) + "° from a real mode's): dropped";
       return static_cast<int>(r);
     }
     const double wn = std::abs(model.poles[r]), zeta = -model.poles[r].real() / wn;
     if (!(zeta < 0.5) || wn < band.lo_rad_s || wn > band.hi_rad_s) {
-      why = "damping " + fixed(zeta, 3) +
-            " or frequency outside the band after refinement: " + "dropped";
+      why = "damping " + fixed(zeta, 3) + " (at most 0.5) or frequency outside the band " +
+            "after refinement: dropped";
       return static_cast<int>(r);
     }
   }
   if (!automatic || model.poles.empty()) return -1;
   const double rms = fit_detail::rms_relative_error(band, model);
   int worst = -1;
-  double worst_ratio = kSignificance;
+  double worst_ratio = rms <= kPoorFit ? kSignificance : kSignificancePoorFit;
   for (std::size_t r = 0; r < model.poles.size(); ++r) {
     const double ratio = rms_without(band, model, r) / rms;
     if (ratio < worst_ratio) {
