@@ -32,7 +32,10 @@ NormalBlocks normal_blocks(const BandData& band, int max_order, double dt) {
       basis *= step;
     }
   }
-  return {(x.adjoint() * x).real(), (x.adjoint() * y).real(), (y.adjoint() * y).real()};
+  // Coefficient-wise products: small results, and no worker threads that a busy machine's
+  // other work would slow down (Eigen's blocked product uses OpenMP where it is enabled).
+  const auto xh = x.adjoint();
+  return {xh.lazyProduct(x).real(), xh.lazyProduct(y).real(), y.adjoint().lazyProduct(y).real()};
 }
 
 // Roots of z^n + a[n−1]·z^(n−1) + … + a[0] from the companion matrix.
@@ -55,7 +58,8 @@ std::vector<std::vector<cd>> lscf_poles(const BandData& band, int max_order) {
     const Eigen::MatrixXd r = nb.r.topLeftCorner(m, m);
     const Eigen::MatrixXd s = nb.s.topLeftCorner(m, m);
     // Reduced normal equations M·a = 0 with a_n = 1 [Peeters2004].
-    const Eigen::MatrixXd mm = nb.t.topLeftCorner(m, m) - s.transpose() * r.ldlt().solve(s);
+    const Eigen::MatrixXd rs = r.ldlt().solve(s);
+    const Eigen::MatrixXd mm = nb.t.topLeftCorner(m, m) - s.transpose().lazyProduct(rs);
     const Eigen::VectorXd a = mm.topLeftCorner(n, n).ldlt().solve(-mm.col(n).head(n));
     if (!a.allFinite()) continue;
     const Eigen::VectorXcd z = monic_roots(a);

@@ -153,7 +153,7 @@ RefineStats refine(const BandData& band, PoleResidueModel& model, int max_iterat
     ++stats.iterations;
     const Eigen::VectorXd d = column_scale(jac);
     const Eigen::MatrixXd js = jac * d.cwiseInverse().asDiagonal();
-    Eigen::MatrixXd h = js.transpose() * js;
+    const Eigen::MatrixXd h = js.transpose().lazyProduct(js);  // no OpenMP threads (lscf)
     const Eigen::VectorXd grad = js.transpose() * e;
     bool accepted = false;
     while (!accepted && mu < 1e12) {
