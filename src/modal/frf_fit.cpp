@@ -240,32 +240,30 @@ int duplicate_pole(const BandData& band, const PoleResidueModel& model) {
   return -1;
 }
 
-// The pole to drop from a refined model, with the reason, or -1: one of two poles on one
-// mode, a negative stiffness (the residue more than 90° from the real mode's), a pole that
-// left the physical range or the band, or (automatic choice only) the least significant one
-// if its removal raises the RMS error by less than kSignificance (kSignificancePoorFit).
+// The pole to drop from a refined model, with the reason, or -1: a pole that left the band or
+// the physical range, a negative stiffness (the residue more than 90° from the real mode's),
+// one of two poles on one mode, or (automatic choice only) the least significant one if its
+// removal raises the RMS error by less than kSignificance (kSignificancePoorFit).
 int pole_to_drop(const BandData& band, const PoleResidueModel& model, bool automatic,
                  std::string& why) {
+  for (std::size_t r = 0; r < model.poles.size(); ++r) {
+    const double wn = std::abs(model.poles[r]), zeta = -model.poles[r].real() / wn;
+    const double a = std::abs(model.residues[r]);
+    if (wn < band.lo_rad_s || wn > band.hi_rad_s)
+      why = "left the band during the refinement: dropped";
+    else if (!(zeta < 0.5))
+      why = "damping ratio " + fixed(zeta, 3) + " after the refinement (at most 0.5): dropped";
+    else if (!(a > 0.0) || !std::isfinite(a))
+      why = "no finite residue: dropped";
+    else if (const double phase = phase_deg(model.residues[r]); std::abs(phase) > 90.0)
+      why = "negative stiffness (residue " + fixed(phase, 0) + "° from a real mode's): dropped";
+    else
+      continue;
+    return static_cast<int>(r);
+  }
   if (const int r = duplicate_pole(band, model); r >= 0) {
     why = "a second pole on the same mode: dropped";
     return r;
-  }
-  for (std::size_t r = 0; r < model.poles.size(); ++r) {
-    const double phase = phase_deg(model.residues[r]);
-    if (!(std::abs(model.residues[r]) > 0.0) || !std::isfinite(std::abs(model.residues[r]))) {
-      why = "no finite residue: dropped";
-      return static_cast<int>(r);
-    }
-    if (std::abs(phase) > 90.0) {
-      why = "negative stiffness (residue " + fixed(phase, 0) + "° from a real mode's): dropped";
-      return static_cast<int>(r);
-    }
-    const double wn = std::abs(model.poles[r]), zeta = -model.poles[r].real() / wn;
-    if (!(zeta < 0.5) || wn < band.lo_rad_s || wn > band.hi_rad_s) {
-      why = "damping " + fixed(zeta, 3) + " (at most 0.5) or frequency outside the band " +
-            "after refinement: dropped";
-      return static_cast<int>(r);
-    }
   }
   if (!automatic || model.poles.empty()) return -1;
   const double rms = fit_detail::rms_relative_error(band, model);
@@ -292,7 +290,7 @@ fit_detail::RefineStats refine_and_prune(const BandData& band, PoleResidueModel&
   fit_detail::RefineStats stats = fit_detail::refine(band, model);
   std::string why;
   for (int r; (r = pole_to_drop(band, model, automatic, why)) >= 0;) {
-    out.warnings.push_back("mode at " + mode_text(model.poles[r]) + ": " + why);
+    out.warnings.push_back("pole at " + mode_text(model.poles[r]) + ": " + why);
     model.poles.erase(model.poles.begin() + r);
     fit_detail::fit_residues(band, model);
     stats = fit_detail::refine(band, model);

@@ -1,4 +1,4 @@
-// Modal fitting (docs/models/modal-fitting.md §6): synthetic receptances of known modes, with
+// Modal fitting (docs/models/modal-fitting.md §7): synthetic receptances of known modes, with
 // and without 1 % complex Gaussian noise (fixed seeds), fitted with the number of modes given
 // and chosen automatically; bands that cut modes away; bad input; flat and pure-noise tables.
 #include "cutdyn/modal/frf_fit.hpp"
@@ -165,7 +165,7 @@ TEST(FrfFit, FittedFrfIsCloserToTheTruthThanTheNoisyData) {
   EXPECT_NEAR(std::sqrt(data_error / n), 0.01 * std::sqrt(2.0), 0.001);
   // 16 real-mode parameters and 3 residual terms against 3002 noisy numbers: the fit averages
   // the noise away (its error is near 1.4 %·sqrt(19/3002) ≈ 0.1 %).
-  EXPECT_LT(std::sqrt(fit_error / n), 0.003);
+  EXPECT_LT(std::sqrt(fit_error / n), 0.003) << std::sqrt(fit_error / n);
 }
 
 // ---- bands --------------------------------------------------------------------------------
@@ -287,7 +287,7 @@ TEST(FrfFit, NegativeStiffnessModeIsDropped) {
     const FrfFit fit = fit_modes(frf, Direction::kX, FrfFitOptions{.modes = modes});
     ASSERT_EQ(fit.modes.size(), 1u) << modes;
     EXPECT_NEAR(fit.modes[0].natural_hz, 500.0, 25.0) << modes;
-    EXPECT_TRUE(has_warning(fit, "mode at 1200.0 Hz: negative stiffness")) << modes;
+    EXPECT_TRUE(has_warning(fit, "pole at 1200.0 Hz: negative stiffness")) << modes;
     EXPECT_TRUE(has_warning(fit, "poor fit")) << modes;
     EXPECT_TRUE(fit.model.validate().empty()) << modes;
   }

@@ -58,7 +58,7 @@ struct StabilisationPoint {
   bool stable = false;
 };
 
-/// The residual terms fitted (docs §1), 0 when unused, ω in rad/s:
+/// The residual terms fitted (docs/models/modal-fitting.md §1), 0 when unused, ω in rad/s:
 ///   lower (modes below the band):  −L2/ω² + i·L3/ω³
 ///   upper (modes above the band):  U0 + i·ω·U1 − ω²·U2
 /// L2 is the inverse of the classical residual mass (−1/(M·ω²)), U0 the residual flexibility;
@@ -88,9 +88,10 @@ struct FrfFit {
   ModalModel model;  // the modes as real modes (ωn, ζ, k) acting in `direction`
 };
 
-/// Fits modes to `frf` over the band of `options`. Throws InvalidInput (problems naming the
-/// field: "frf.frequency_hz[3]", "band", "modes") for an invalid table, a band with fewer
-/// than 10 table points, or more modes than a quarter of the band's points.
+/// Fits modes to `frf` over the band of `options`. Throws InvalidInput (where() = "fit",
+/// problems naming the field: "frf.frequency_hz[3]", "band", "modes") for an invalid table, a
+/// band with fewer than 10 table points, or more modes than a quarter of the band's points; a
+/// fit that finds nothing or fits badly is reported in `warnings`, never thrown.
 FrfFit fit_modes(const MeasuredFrf& frf, Direction direction, const FrfFitOptions& options = {});
 
 /// The fitted model (complex residues, and the residual terms inside the fitted band only —
