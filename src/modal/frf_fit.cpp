@@ -187,7 +187,8 @@ int max_order_for(int modes, int points) {
 Selection select_poles(const std::vector<StabilisationPoint>& points, int modes, int max_order,
                        FrfFit& out) {
   Selection s;
-  s.min_stable_orders = std::max(5, max_order / 10);
+  // 5 orders (N/10 above N = 50); fewer in a band too short for a diagram of 15 orders.
+  s.min_stable_orders = std::min(std::max(5, max_order / 10), std::max(1, max_order / 3));
   const auto add = [&](const Cluster& c) {
     const cd pole = representative(c, points);
     for (const cd& q : s.poles)
@@ -202,7 +203,7 @@ Selection select_poles(const std::vector<StabilisationPoint>& points, int modes,
       if (room()) add(c);
   if (modes > 0 && room())
     out.warnings.push_back("the diagram holds " + std::to_string(s.poles.size()) +
-                           " distinct physical poles: " + std::to_string(s.poles.size()) +
+                           " distinct physical pole(s): " + std::to_string(s.poles.size()) +
                            " of the " + std::to_string(modes) + " modes asked are fitted");
   return s;
 }
