@@ -1,11 +1,14 @@
 #include "cutdyn/app/case_models.hpp"
 
+#include <fmt/format.h>
+
 #include <filesystem>
 #include <string>
 #include <system_error>
 #include <vector>
 
 #include "cutdyn/core/error.hpp"
+#include "cutdyn/modal/frf_fit.hpp"
 
 namespace cutdyn::app {
 
@@ -62,9 +65,9 @@ OxleyPrediction predict_with_oxley(const io::Case& c, std::string_view command, 
 TurningProcess turning_process(const io::Case& c, std::string_view command) {
   require_turning(c, command);
   Validator v;
-  if (c.modal.modes.empty())
+  if (c.modal.modes.empty() && c.frfs.empty())
     v.add("modes: missing (required by `cutdyn " + std::string(command) +
-          "`: at least one [[modes]] table)");
+          "`: at least one [[modes]] or [[frf]] table)");
   if (!c.cutting.kf_pa && !c.material)
     v.add("cutting.kf_n_per_mm2: missing (required by `cutdyn " + std::string(command) + "`)");
   if (c.vibration && !c.vibration->duty_cycle && !c.vibration->workpiece_diameter_m)
@@ -74,6 +77,7 @@ TurningProcess turning_process(const io::Case& c, std::string_view command) {
   v.throw_if_any(c.source);
   TurningProcess m;
   m.modal = c.modal;
+  m.measured = measured_structure(c);
   // Given, or predicted from [material] (the loader allows only one of the two).
   m.kf_pa = c.cutting.kf_pa ? *c.cutting.kf_pa : predict_with_oxley(c, command, false).result.kt_pa;
   m.vibration = c.vibration;
@@ -88,9 +92,9 @@ MillingProcess milling_process(const io::Case& c, std::string_view command) {
   if (c.process != io::Process::kMilling)
     v.add("process = \"" + std::string(io::to_string(c.process)) +
           "\": this is not a milling case");
-  if (c.modal.modes.empty())
+  if (c.modal.modes.empty() && c.frfs.empty())
     v.add("modes: missing (required by `cutdyn " + std::string(command) +
-          "`: at least one [[modes]] table)");
+          "`: at least one [[modes]] or [[frf]] table)");
   if (!c.cutting.kt_pa)
     v.add("cutting.kt_n_per_mm2: missing (required by `cutdyn " + std::string(command) + "`)");
   if (!c.tool)
@@ -102,9 +106,40 @@ MillingProcess milling_process(const io::Case& c, std::string_view command) {
   return m;
 }
 
+std::optional<MeasuredStructure> measured_structure(const io::Case& c) {
+  if (c.frfs.empty()) return std::nullopt;
+  MeasuredStructure s;
+  const auto where = [&](std::size_t i) {
+    return c.source + ": frf[" + std::to_string(i) + "] (" + c.frfs[i].path.string() + ")";
+  };
+  for (std::size_t i = 0; i < c.frfs.size(); ++i) {
+    const io::FrfTable& t = c.frfs[i];
+    std::optional<MeasuredFrf>& slot = t.direction == "x" ? s.xx : t.direction == "y" ? s.yy : s.xy;
+    rethrow_as(where(i), "", [&] { slot = slot ? add_frf(*slot, t.data) : t.data; });
+  }
+  for (const auto& [direction, table] :
+       {std::pair{Direction::kX, &s.xx}, std::pair{Direction::kY, &s.yy}}) {
+    if (!*table) continue;
+    const FrfFit fit = fit_modes(**table, direction);
+    s.fitted.modes.insert(s.fitted.modes.end(), fit.model.modes.begin(), fit.model.modes.end());
+    std::string modes;
+    for (const FittedMode& m : fit.modes)
+      modes += fmt::format("{}{:.5g} Hz ζ {:.3g} k {:.3g} N/m", modes.empty() ? "" : ", ",
+                           m.natural_hz, m.damping_ratio, m.stiffness_n_per_m);
+    s.fit_notes.push_back(fmt::format("{}: {} (fitted over {:.5g}–{:.5g} Hz, RMS error {:.2g} %)",
+                                      to_string(direction), modes.empty() ? "no mode" : modes,
+                                      fit.lo_hz, fit.hi_hz, 100.0 * fit.rms_relative_error));
+    for (const std::string& w : fit.warnings)
+      s.fit_warnings.push_back(std::string("fit of the measured FRF in ") + to_string(direction) +
+                               ": " + w);
+  }
+  return s;
+}
+
 MillingProcess milling_process_as_given(const io::Case& c) {
   MillingProcess m;
   m.modal = c.modal;
+  m.measured = measured_structure(c);
   if (c.tool) m.tool = *c.tool;
   if (c.operation) m.engagement = c.operation->engagement;
   m.cutting.kt_pa = c.cutting.kt_pa.value_or(0.0);

@@ -1,6 +1,7 @@
 #include "cutdyn/app/stability.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -42,10 +43,32 @@ TurningStabilityOptions turning_stability_options(const io::Case& c, TurningMeth
   return o;
 }
 
+namespace {
+
+// "2 modes", "measured FRF (x, y; x: 2 modes fitted …)", or both.
+std::string structure_text(const ModalModel& modal,
+                           const std::optional<MeasuredStructure>& measured,
+                           std::string_view directions) {
+  const std::size_t n = modal.modes.size();
+  std::string s =
+      n == 0 && measured ? "" : fmt::format("{} mode{}{}", n, n == 1 ? "" : "s", directions);
+  if (!measured) return s;
+  if (!s.empty()) s += " and ";
+  std::vector<std::string> tables;
+  if (measured->xx) tables.emplace_back("x");
+  if (measured->yy) tables.emplace_back("y");
+  if (measured->xy) tables.emplace_back("xy");
+  s += fmt::format("measured FRF ({}; {})", fmt::join(tables, ", "),
+                   fmt::join(measured->fit_notes, "; "));
+  return s;
+}
+
+}  // namespace
+
 std::string describe_turning(const io::Case& c, const TurningProcess& m) {
   std::string s =
-      fmt::format("turning, {} mode{} in x, Kf = {} N/mm²", m.modal.modes.size(),
-                  m.modal.modes.size() == 1 ? "" : "s", human(units::pa_to_n_per_mm2(m.kf_pa)));
+      fmt::format("turning, {}, Kf = {} N/mm²", structure_text(m.modal, m.measured, " in x"),
+                  human(units::pa_to_n_per_mm2(m.kf_pa)));
   if (c.material && !c.cutting.kf_pa)
     s += fmt::format(" (predicted for {} by Oxley's theory at {} m/min)", c.material->name,
                      human(units::m_per_s_to_m_per_min(*c.cutting.speed_m_per_s)));
@@ -63,6 +86,12 @@ std::string describe_turning(const io::Case& c, const TurningProcess& m) {
 }
 
 namespace {
+
+void add_fit_warnings(const std::optional<MeasuredStructure>& measured,
+                      std::vector<std::string>& warnings) {
+  if (measured)
+    warnings.insert(warnings.end(), measured->fit_warnings.begin(), measured->fit_warnings.end());
+}
 
 void turning_lobes(const io::Case& c, const LobesRequest& request, LobesJobReport& r) {
   const TurningProcess model = turning_process(c, "lobes");
@@ -97,6 +126,7 @@ void turning_lobes(const io::Case& c, const LobesRequest& request, LobesJobRepor
     r.duty_cycle = true;
   }
   r.description = describe_turning(c, model);
+  add_fit_warnings(model.measured, r.warnings);
   r.method = to_string(method);
   r.depth_max_m = options.depth_max_m;
   r.title = assisted ? "Stability lobes: vibration-assisted and conventional turning"
@@ -118,6 +148,7 @@ void turning_check(const io::Case& c, const CheckRequest& request, CheckJobRepor
     throw InvalidInput(problems, c.source);
   const TurningBoundary b = turning_critical_depth(model, request.rpm, options);
   r.description = describe_turning(c, model);
+  add_fit_warnings(model.measured, r.warnings);
   r.method = to_string(method);
   r.boundary = b.boundary;
   r.lobe = b.lobe;
@@ -192,8 +223,8 @@ std::string engagement(const MillingProcess& m) {
 }
 
 std::string describe(const MillingProcess& m) {
-  return fmt::format("milling, {}, {} mode{}, Kt = {} N/mm², Kr = {} N/mm², {}", cutter(m),
-                     m.modal.modes.size(), m.modal.modes.size() == 1 ? "" : "s",
+  return fmt::format("milling, {}, {}, Kt = {} N/mm², Kr = {} N/mm², {}", cutter(m),
+                     structure_text(m.modal, m.measured, ""),
                      human(units::pa_to_n_per_mm2(m.cutting.kt_pa)),
                      human(units::pa_to_n_per_mm2(m.cutting.kr_pa)), engagement(m));
 }
@@ -211,6 +242,7 @@ void milling_lobes(const io::Case& c, const LobesRequest& request, LobesJobRepor
       },
       grid, request.progress);
   r.description = describe(model);
+  add_fit_warnings(model.measured, r.warnings);
   r.method = to_string(method);
   r.depth_max_m = c.lobes.depth_max_m;
   r.title = "Stability lobes: milling";
@@ -243,6 +275,7 @@ void milling_check(const io::Case& c, const CheckRequest& request, CheckJobRepor
     b = milling_critical_depth(model, request.rpm, extend_search(options, reach));
   }
   r.description = describe(model);
+  add_fit_warnings(model.measured, r.warnings);
   r.method = to_string(method);
   r.boundary = b.boundary;
   r.lobe = b.lobe;

@@ -357,7 +357,7 @@ std::vector<Section> make_sections() {
   Section top;
   top.name = "";
   top.subtables = {"modes",    "cutting",   "tool",   "operation", "vibration", "lobes",
-                   "simulate", "force_law", "drives", "material",  "oxley"};
+                   "simulate", "force_law", "drives", "material",  "oxley",     "frf"};
   top.fields = {choice("process", {"turning", "milling"})
                     .access(
                         [](const Case& c, std::size_t) -> std::optional<Value> {
@@ -437,6 +437,51 @@ std::vector<Section> make_sections() {
   modes.count = [](const Case& c) { return c.modal.modes.size(); };
   modes.create = refuse("");
   all.push_back(std::move(modes));
+
+  Section frf;
+  frf.name = "frf";
+  frf.array = true;
+  const auto frf_text = [](std::string FrfTable::*member) {
+    return [member](const Case& c, std::size_t i) -> std::optional<Value> {
+      if (i >= c.frfs.size() || (c.frfs[i].*member).empty()) return std::nullopt;
+      return Value(c.frfs[i].*member);
+    };
+  };
+  const auto set_frf_text = [](std::string FrfTable::*member) {
+    return [member](Case& c, std::size_t i, const Value& v) -> std::string {
+      c.frfs.at(i).*member = text_of(v);
+      return {};
+    };
+  };
+  frf.fields = {
+      choice("direction", {"x", "y", "xy"})
+          .required()
+          .meaning("the direct receptance in x (feed) or y, or the cross receptance `\"xy\"` "
+                   "(taken equal to yx); tables of one direction add (tool and workpiece)")
+          .access(frf_text(&FrfTable::direction), set_frf_text(&FrfTable::direction)),
+      Row("file", Type::kText)
+          .required()
+          .meaning("the measured FRF, relative to the case file: CutPro text (`.frf`), CSV or "
+                   "UFF 58/58b (docs/frf-files.md)")
+          .access(frf_text(&FrfTable::file), set_frf_text(&FrfTable::file)),
+      choice("format", {"frf", "csv", "uff"})
+          .deflt("from the content")
+          .access(frf_text(&FrfTable::format), set_frf_text(&FrfTable::format)),
+      integer("dataset", 0, 100000)
+          .deflt("the first FRF")
+          .meaning("UFF: which dataset 58 of the file (0-based)")
+          .access(
+              [](const Case& c, std::size_t i) -> std::optional<Value> {
+                if (i >= c.frfs.size() || !c.frfs[i].dataset) return std::nullopt;
+                return Value(static_cast<double>(*c.frfs[i].dataset));
+              },
+              [](Case& c, std::size_t i, const Value& v) -> std::string {
+                c.frfs.at(i).dataset = static_cast<int>(std::get<double>(v));
+                return {};
+              })};
+  frf.count = [](const Case& c) { return c.frfs.size(); };
+  frf.create = refuse("");
+  all.push_back(std::move(frf));
 
   Section cut;
   cut.name = "cutting";

@@ -17,6 +17,7 @@
 #include "case_fields.hpp"
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
+#include "cutdyn/io/frf_file.hpp"
 
 namespace cutdyn::io {
 
@@ -747,6 +748,55 @@ void read_drives(Reading& r, const toml::table& root) {
   }
 }
 
+void read_frfs(Reading& r, const toml::table& root) {
+  Problems& problems = r.problems;
+  const toml::node* node = root.get("frf");
+  if (node == nullptr) return;
+  const toml::array* array = node->as_array();
+  if (array == nullptr || array->empty() || !array->is_array_of_tables()) {
+    problems.at("frf", *node, "must be one or more [[frf]] tables");
+    return;
+  }
+  const Section& s = *find_section("frf", false);
+  for (std::size_t i = 0; i < array->size(); ++i) {
+    const std::size_t index = r.c.frfs.size();
+    r.c.frfs.emplace_back();
+    read_fields(r, s, *array->get(i)->as_table(), index);
+    if (r.process == Process::kTurning && r.c.frfs.back().direction != "x" &&
+        !r.c.frfs.back().direction.empty())
+      problems.at("frf[" + std::to_string(i) + "].direction",
+                  *array->get(i)->as_table()->get("direction"),
+                  "turning models the feed direction \"x\" only");
+    report_unknown(r, s, *array->get(i)->as_table(), index);
+  }
+}
+
+// The measured FRFs of [[frf]], read from their files (relative to the case file's folder).
+// A file's faults name the file and its line; its reader's assumptions become warnings.
+void load_frf_files(Case& c) {
+  const std::filesystem::path base = std::filesystem::path(c.source).parent_path();
+  for (std::size_t i = 0; i < c.frfs.size(); ++i) {
+    FrfTable& t = c.frfs[i];
+    t.path =
+        std::filesystem::path(t.file).is_absolute() ? std::filesystem::path(t.file) : base / t.file;
+    FrfFileOptions options;
+    if (!t.format.empty()) options.format = parse_frf_format(t.format);
+    options.dataset = t.dataset;
+    FrfReadResult read;
+    try {
+      read = read_frf_file(t.path, options);
+    } catch (const InvalidInput& e) {
+      std::vector<std::string> problems;
+      for (const std::string& p : e.problems())
+        problems.push_back("frf[" + std::to_string(i) + "].file = \"" + t.file + "\": " + p);
+      throw InvalidInput(problems, e.where());
+    }
+    t.data = std::move(read.frf);
+    for (const std::string& w : read.warnings)
+      c.warnings.push_back("frf[" + std::to_string(i) + "] (" + t.path.string() + "): " + w);
+  }
+}
+
 void read_material(Reading& r, const toml::table& t) {
   Problems& problems = r.problems;
   const Section& s = *find_section("material", false);
@@ -906,6 +956,7 @@ Case parse_case(std::string_view toml_text, std::string_view source) {
     remove_unused(root, c.process, problems);
   }
   read_modes(r, root);
+  read_frfs(r, root);
   read_drives(r, root);
   const auto nothing = [] {};
   read_table(r, root, "cutting", nothing);
@@ -937,6 +988,7 @@ Case parse_case(std::string_view toml_text, std::string_view source) {
   report_unknown(r, top, root, 0);
 
   if (!problems.empty()) throw InvalidInput(problems.take(), std::string(source));
+  load_frf_files(c);
   return c;
 }
 

@@ -34,6 +34,11 @@ struct OxleyPrediction {
 };
 OxleyPrediction predict_with_oxley(const io::Case& c, std::string_view command, bool need_width);
 
+/// The measured structure of the case's [[frf]] tables (tables of one direction added: tool
+/// and workpiece), with modes fitted to each direct receptance (the number chosen from the
+/// stabilisation diagram); nullopt without [[frf]].
+std::optional<MeasuredStructure> measured_structure(const io::Case& c);
+
 /// The milling process of a case for a stability analysis: modes in x and y, [cutting] Kt and
 /// Kr, [tool] and [operation]; throws where a key it needs is missing.
 MillingProcess milling_process(const io::Case& c, std::string_view command);

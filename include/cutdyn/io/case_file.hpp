@@ -22,6 +22,7 @@
 #include "cutdyn/drive/feed_drive.hpp"
 #include "cutdyn/forces/oxley.hpp"
 #include "cutdyn/forces/work_material.hpp"
+#include "cutdyn/modal/measured_frf.hpp"
 #include "cutdyn/modal/modal_model.hpp"
 #include "cutdyn/plan/bore_milling.hpp"
 #include "cutdyn/process/milling.hpp"
@@ -62,6 +63,16 @@ struct OperationSection {
   std::optional<double> feed_per_tooth_m;  // feed_per_tooth_mm (simulation)
 };
 
+/// [[frf]]: a measured receptance of the structure, read from `file` when the case is loaded.
+struct FrfTable {
+  std::string direction;  // "x", "y" or "xy" (cross)
+  std::string file;       // as written: relative to the case file
+  std::string format;     // "frf", "csv", "uff"; empty: from the content
+  std::optional<int> dataset;
+  std::filesystem::path path;  // the file resolved
+  MeasuredFrf data;            // receptance, m/N
+};
+
 /// [lobes]: the spindle-speed grid and the depth search range.
 struct LobesSection {
   double rpm_min = 500.0;
@@ -97,6 +108,7 @@ struct Case {
   /// [[modes]] mass_kg as given, one entry per mode (nullopt: given by stiffness_n_per_m);
   /// the stiffness follows it and natural_hz.
   std::vector<std::optional<double>> mode_mass_kg;
+  std::vector<FrfTable> frfs;  // [[frf]]: measured receptances, beside or instead of [[modes]]
   CuttingSection cutting;
   std::optional<MillingTool> tool;            // [tool]
   std::optional<OperationSection> operation;  // [operation]

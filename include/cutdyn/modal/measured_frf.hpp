@@ -39,6 +39,9 @@ MeasuredFrf add_frf(const MeasuredFrf& a, const MeasuredFrf& b);
 struct MeasuredStructure {
   std::optional<MeasuredFrf> xx, yy, xy;
   ModalModel fitted;  // modes fitted to xx and yy
+  /// How the modes were had, one line per direct table ("x: 2 modes fitted over 50–3000 Hz,
+  /// RMS error 1.4 %"), and the fit's warnings: what a report shows of the structure.
+  std::vector<std::string> fit_notes, fit_warnings;
   /// Receptance matrix over `directions` at ω (rad/s): the tables interpolated, zero outside
   /// each table's band.
   Eigen::MatrixXcd at(const std::vector<Direction>& directions, double omega_rad_s) const;
