@@ -172,15 +172,15 @@ TEST(IdentifyClosedForm, WindowMatricesAreScaledRotations) {
 MillingCut rigid_cut(const IdentifyCut& cut, const CuttingCoefficients& k, double c, double a,
                      double helix_deg) {
   MillingCut m;
-  m.teeth = cut.teeth;
-  m.diameter_m = 0.02;
-  m.helix_rad = units::deg_to_rad(helix_deg);
-  m.entry_rad = cut.entry_rad;
-  m.exit_rad = cut.exit_rad;
+  m.process.tool.teeth = cut.teeth;
+  m.process.tool.diameter_m = 0.02;
+  m.process.tool.helix_rad = units::deg_to_rad(helix_deg);
+  m.process.engagement.entry_rad = cut.entry_rad;
+  m.process.engagement.exit_rad = cut.exit_rad;
   m.spindle_rad_s = units::rpm_to_rad_per_s(3000.0);
   m.feed_per_tooth_m = c;
   m.width_m = a;
-  m.law = MechanisticForceLaw{k.kt_pa, k.kr_pa, k.kte_n_per_m, k.kre_n_per_m};
+  m.process.cutting = MechanisticForceLaw{k.kt_pa, k.kr_pa, k.kte_n_per_m, k.kre_n_per_m};
   m.regenerative = false;
   return m;
 }
