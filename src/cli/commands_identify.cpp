@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "cli/commands.hpp"
@@ -23,12 +24,19 @@ using units::m_to_mm;
 void check_outputs_are_not_inputs(const IdentifyArgs& args) {
   namespace fs = std::filesystem;
   std::vector<std::string> inputs = args.force_files;
-  if (fs::is_regular_file(args.case_path)) inputs.push_back(args.case_path);
+  std::error_code ec;  // a path that cannot be resolved names no input
+  if (fs::is_regular_file(args.case_path, ec)) inputs.push_back(args.case_path);
+  const auto same = [&](const std::string& a, const std::string& b) {
+    const fs::path x = fs::weakly_canonical(a, ec);
+    if (ec) return false;
+    const fs::path y = fs::weakly_canonical(b, ec);
+    return !ec && x == y;
+  };
   Validator v;
   const auto check = [&](const char* flag, const std::string& path) {
     if (path.empty() || path == "-") return;
     for (const std::string& input : inputs)
-      if (fs::weakly_canonical(path) == fs::weakly_canonical(input))
+      if (same(path, input))
         v.add(std::string(flag) + " = " + path + ": it is an input of the command (" + input +
               ") and would be overwritten");
   };
