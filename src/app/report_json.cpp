@@ -395,4 +395,72 @@ json to_json(const EstimateReport& r) {
   return summary;
 }
 
+// ---- identify ------------------------------------------------------------------------------
+
+namespace {
+
+// A coefficient: value, and its uncertainty (null without residual degrees of freedom).
+json identified_json(const IdentifiedValue& v) {
+  const IdentifiedCoefficient& k = v.value;
+  const auto known = [&](double x) { return k.uncertainty_known ? json(x) : json(nullptr); };
+  return {{"name", v.name},
+          {"unit", v.unit},
+          {"case_key", v.case_key},
+          {"value", k.value},
+          {"std_error", known(k.std_error)},
+          {"ci95_low", known(k.ci95_low)},
+          {"ci95_high", known(k.ci95_high)},
+          {"determined", k.determined()},
+          {"case_value", v.case_value ? json(*v.case_value) : json(nullptr)}};
+}
+
+json identified_sample_json(const IdentifiedSample& s) {
+  const MeanForce& m = s.measured;
+  json j{{"label", m.label},
+         {"feed_per_tooth_mm", m_to_mm(m.feed_per_tooth_m)},
+         {"depth_mm", m_to_mm(m.depth_m)},
+         {"revolutions", m.revolutions},
+         {"fx_n", m.fx_n},
+         {"fy_n", m.fy_n},
+         {"fitted_fx_n", s.fitted_fx_n},
+         {"fitted_fy_n", s.fitted_fy_n},
+         {"residual_fx_n", s.residual.fx_n},
+         {"residual_fy_n", s.residual.fy_n}};
+  if (m.fz_n && s.fitted_fz_n && s.residual.fz_n) {
+    j["fz_n"] = *m.fz_n;
+    j["fitted_fz_n"] = *s.fitted_fz_n;
+    j["residual_fz_n"] = *s.residual.fz_n;
+  }
+  return j;
+}
+
+}  // namespace
+
+json to_json(const io::Case& c, const IdentifyJobReport& r) {
+  const CoefficientFit& f = r.fit;
+  json doc = json_document("identify", c);
+  doc["force_files"] = r.force_files;
+  doc["teeth"] = r.cut.teeth;
+  doc["entry_deg"] = units::rad_to_deg(r.cut.entry_rad);
+  doc["exit_deg"] = units::rad_to_deg(r.cut.exit_rad);
+  json coefficients = json::object();
+  for (const IdentifiedValue& v : r.values) coefficients[v.key] = identified_json(v);
+  doc["coefficients"] = std::move(coefficients);
+  json samples = json::array();
+  for (const IdentifiedSample& s : r.samples) samples.push_back(identified_sample_json(s));
+  doc["samples"] = std::move(samples);
+  doc["r_squared"] = {{"x", f.r_squared_x},
+                      {"y", f.r_squared_y},
+                      {"z", f.r_squared_z ? json(*f.r_squared_z) : json(nullptr)}};
+  doc["relative_residual"] = f.relative_residual;
+  doc["distinct_feeds"] = f.distinct_feeds;
+  doc["degrees_of_freedom"] = f.degrees_of_freedom;
+  doc["t_quantile"] = f.degrees_of_freedom > 0 ? json(f.t_quantile) : json(nullptr);
+  doc["chip_gain_ratio"] = f.chip_gain_ratio;
+  doc["edge_gain_ratio"] = f.edge_gain_ratio;
+  doc["notes"] = r.notes;
+  doc["warnings"] = r.warnings;
+  return doc;
+}
+
 }  // namespace cutdyn::app

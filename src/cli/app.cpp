@@ -50,10 +50,12 @@ struct Commands {
   DriveArgs drive;
   PlanArgs plan;
   ForceArgs force;
+  IdentifyArgs identify;
   bool list = false;
   std::string example_name;
   CLI::App *example = nullptr, *lobes_cmd = nullptr, *check_cmd = nullptr, *sim_cmd = nullptr,
            *drive_cmd = nullptr, *plan_cmd = nullptr, *force_cmd = nullptr;
+  CLI::App* identify_cmd = nullptr;
   std::function<int(std::ostream&, std::ostream&)> run_monitor;
 };
 
@@ -167,6 +169,28 @@ void add_plan_and_force_commands(CLI::App& app, Commands& c) {
                     "prediction against the uncut chip thickness");
 }
 
+void add_identify_command(CLI::App& app, Commands& c) {
+  c.identify_cmd = app.add_subcommand(
+      "identify",
+      "milling cutting and edge coefficients (Kt, Kr, Kte, Kre) from the measured forces of test "
+      "cuts at several feeds");
+  CLI::App* identify = c.identify_cmd;
+  identify
+      ->add_option("CASE", c.identify.case_path,
+                   "milling case file (TOML) with [tool] and [operation]: the cutter and the "
+                   "engagement of the test cuts; or a built-in example's name")
+      ->required();
+  identify
+      ->add_option("FORCES", c.identify.force_files,
+                   "force files (CSV): mean forces feed_per_tooth_mm,depth_mm,fx_n,fy_n[,fz_n], "
+                   "or one force record time_s,fx_n,fy_n[,fz_n] per feed with its cut in "
+                   "comments (# feed_per_tooth_mm = , # depth_mm = , # rpm = )")
+      ->required();
+  add_outputs(identify, c.identify.outputs,
+              "write the coefficients as a [cutting] table (TOML) to paste into the case, with "
+              "their 95 % intervals as comments");
+}
+
 // `cutdyn example [--list] [NAME]`: the built-in cases, each with its whole description (the
 // comment lines it opens with).
 int run_example(const Commands& c, std::ostream& out) {
@@ -197,7 +221,7 @@ int dispatch(Commands& c, CLI::App& app, std::ostream& out, std::ostream& err) {
   } reset_standard_output;
   std::ostream* report = &out;
   for (const CLI::App* sub :
-       {c.lobes_cmd, c.check_cmd, c.sim_cmd, c.drive_cmd, c.plan_cmd, c.force_cmd})
+       {c.lobes_cmd, c.check_cmd, c.sim_cmd, c.drive_cmd, c.plan_cmd, c.force_cmd, c.identify_cmd})
     if (sub->parsed() && writes_to_standard_output(*sub)) report = &err;
   if (c.lobes_cmd->parsed()) return run_lobes(c.lobes, *report, err);
   if (c.check_cmd->parsed()) return run_check(c.check, *report, err);
@@ -205,6 +229,7 @@ int dispatch(Commands& c, CLI::App& app, std::ostream& out, std::ostream& err) {
   if (c.drive_cmd->parsed()) return run_drive(c.drive, *report, err);
   if (c.plan_cmd->parsed()) return run_plan(c.plan, *report, err);
   if (c.force_cmd->parsed()) return run_force(c.force, *report, err);
+  if (c.identify_cmd->parsed()) return run_identify(c.identify, *report, err);
   if (const int code = c.run_monitor(out, err); code >= 0) return code;
   err << app.help();
   return 2;
@@ -253,6 +278,7 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       "cycle\n"
       "  drive           feed drives under the milling load: ripple, kδ, position error, "
       "currents\n"
+      "  identify        milling cutting and edge coefficients from measured forces\n"
       "  monitor         cutting force from servo-motor currents: calibrate, estimate, teach-in\n"
       "  plan            two-edge face milling of a large bore: feeds, speeds, quality\n"
       "Without CASE a command runs its built-in default case (see `cutdyn example --list`).",
@@ -269,6 +295,7 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   add_simulate_command(app, c);
   add_drive_command(app, c);
   add_plan_and_force_commands(app, c);
+  add_identify_command(app, c);
   c.run_monitor = add_monitor_command(app);
   if (const auto code = parse(app, args, out, err)) return *code;
   if (version) {

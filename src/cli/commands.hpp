@@ -82,6 +82,15 @@ struct PlanArgs {
 };
 int run_plan(const PlanArgs& args, std::ostream& out, std::ostream& err);
 
+// ---- identify: milling coefficients from measured forces (docs/models/identification.md) --
+
+struct IdentifyArgs {
+  std::string case_path;
+  std::vector<std::string> force_files;  // FORCES.csv...
+  Outputs outputs;  // --out: the [cutting] table (TOML); --json; --plot: force against feed
+};
+int run_identify(const IdentifyArgs& args, std::ostream& out, std::ostream& err);
+
 /// The milling half of `simulate` (the command dispatches on the case's process).
 int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostream& out,
                          std::ostream& err);

@@ -293,6 +293,26 @@ INSTANTIATE_TEST_SUITE_P(Monitor, MonitorGoldenOutputs, ::testing::ValuesIn(moni
                            return n;
                          });
 
+// ---- identify: the example force file, copied into the folder (its path is in the output) --
+
+TEST(IdentifyGoldenOutputs, AreUnchanged) {
+  const std::string name = "identify-milling-insperger";
+  const fs::path dir_ = golden_folder(name);
+  const std::string dir = dir_.string();
+  fs::copy_file(
+      fs::path(CUTDYN_SOURCE_DIR) / "examples" / "forces" / "milling-insperger-mean-forces.csv",
+      dir_ / "forces.csv");
+  const auto r = testing::run_cutdyn(in_folder({"identify", "milling-insperger", "{dir}/forces.csv",
+                                                "--out", "{dir}/c.toml", "--json", "{dir}/i.json"},
+                                               dir));
+  ASSERT_EQ(r.code, 0) << r.err;
+  expect_golden({{name + ".txt", r.out},
+                 {name + ".c.toml", read_file(dir_ / "c.toml")},
+                 {name + ".i.json", read_file(dir_ / "i.json")}},
+                dir);
+  fs::remove_all(dir_);
+}
+
 TEST(GoldenCompare, NumbersWithinTheToleranceAndTextExactly) {
   EXPECT_EQ(compare("depth 1.0000000000 mm", "depth 1.0000000001 mm"), "");
   EXPECT_NE(compare("depth 1.00000 mm", "depth 1.00001 mm"), "");

@@ -10,6 +10,7 @@
 
 #include "cutdyn/app/drive.hpp"
 #include "cutdyn/app/force.hpp"
+#include "cutdyn/app/identify.hpp"
 #include "cutdyn/app/monitor.hpp"
 #include "cutdyn/app/plan.hpp"
 #include "cutdyn/app/simulate.hpp"
@@ -48,5 +49,8 @@ nlohmann::json to_json(const EstimateReport& report);
 /// A sweep of the drives, with the metric it tabulates.
 nlohmann::json to_json(const io::Case& c, const DriveSweepReport& report,
                        const std::string& metric);
+/// `identify`: the cut, the coefficients in the case's units with their intervals, the samples
+/// with their fitted forces and residuals, the fit's quality, notes and warnings.
+nlohmann::json to_json(const io::Case& c, const IdentifyJobReport& report);
 
 }  // namespace cutdyn::app
