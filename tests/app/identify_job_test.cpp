@@ -90,7 +90,9 @@ TEST(IdentifyJob, RecoversTheExampleCoefficientsWithinTheReportedIntervals) {
     EXPECT_GE(v.value.ci95_high, e.truth) << e.name;
     EXPECT_TRUE(v.value.determined()) << e.name;
     EXPECT_EQ(v.case_value.has_value(), !std::isnan(e.case_value)) << e.name;
-    if (v.case_value) EXPECT_EQ(*v.case_value, e.case_value) << e.name;
+    if (v.case_value) {
+      EXPECT_EQ(*v.case_value, e.case_value) << e.name;
+    }
   }
   // The library's fit of the same samples, in N/mm² and N/mm.
   const CoefficientFit f = identify_coefficients(r.cut, io::read_force_files({kExampleForces}));
