@@ -463,4 +463,36 @@ json to_json(const io::Case& c, const IdentifyJobReport& r) {
   return doc;
 }
 
+json to_json(const FitJobReport& r) {
+  const FrfFit& f = r.fit;
+  json modes = json::array();
+  for (const FittedMode& m : f.modes)
+    modes.push_back({{"natural_hz", m.natural_hz},
+                     {"damping_ratio", m.damping_ratio},
+                     {"stiffness_n_per_m", m.stiffness_n_per_m},
+                     {"residue_phase_deg", m.residue_phase_deg},
+                     {"contribution", m.contribution}});
+  json points = json::array();
+  for (const StabilisationPoint& p : f.stabilisation)
+    points.push_back({{"order", p.order},
+                      {"natural_hz", p.natural_hz},
+                      {"damping_ratio", p.damping_ratio},
+                      {"stable", p.stable}});
+  return {{"schema_version", kJsonSchemaVersion},
+          {"command", "fit"},
+          {"source", r.source},
+          {"format", to_string(r.read.format)},
+          {"quantity", to_string(r.read.quantity)},
+          {"units", r.read.units},
+          {"direction", to_string(f.direction)},
+          {"band_hz", {f.lo_hz, f.hi_hz}},
+          {"points", f.points},
+          {"automatic", f.automatic},
+          {"modes", std::move(modes)},
+          {"rms_relative_error", f.rms_relative_error},
+          {"converged", f.converged},
+          {"stabilisation", std::move(points)},
+          {"warnings", r.warnings}};
+}
+
 }  // namespace cutdyn::app

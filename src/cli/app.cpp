@@ -51,11 +51,13 @@ struct Commands {
   PlanArgs plan;
   ForceArgs force;
   IdentifyArgs identify;
+  FitArgs fit;
   bool list = false;
   std::string example_name;
   CLI::App *example = nullptr, *lobes_cmd = nullptr, *check_cmd = nullptr, *sim_cmd = nullptr,
            *drive_cmd = nullptr, *plan_cmd = nullptr, *force_cmd = nullptr;
   CLI::App* identify_cmd = nullptr;
+  CLI::App* fit_cmd = nullptr;
   std::function<int(std::ostream&, std::ostream&)> run_monitor;
 };
 
@@ -191,6 +193,23 @@ void add_identify_command(CLI::App& app, Commands& c) {
               "their 95 % intervals as comments");
 }
 
+void add_fit_command(CLI::App& app, Commands& c) {
+  c.fit_cmd = app.add_subcommand(
+      "fit", "modes (natural frequency, damping ratio, stiffness) fitted to a measured FRF");
+  CLI::App* fit = c.fit_cmd;
+  fit->add_option("FILE", c.fit.file,
+                  "the measured FRF: CutPro text (.frf), CSV or UFF 58/58b (docs/frf-files.md)")
+      ->required();
+  fit->add_option("--modes", c.fit.modes,
+                  "number of modes, or auto (default): chosen from the stabilisation diagram");
+  fit->add_option("--band", c.fit.band, "LO:HI, the band fitted in Hz (default: the whole table)");
+  fit->add_option("--direction", c.fit.direction, "x (default) or y: where the modes act")
+      ->check(CLI::IsMember({"x", "y"}));
+  fit->add_option("--format", c.fit.format, "frf, csv or uff (default: from the content)");
+  add_outputs(fit, c.fit.outputs,
+              "write the modes as [[modes]] tables (TOML) to paste into a case file");
+}
+
 // `cutdyn example [--list] [NAME]`: the built-in cases, each with its whole description (the
 // comment lines it opens with).
 int run_example(const Commands& c, std::ostream& out) {
@@ -220,8 +239,8 @@ int dispatch(Commands& c, CLI::App& app, std::ostream& out, std::ostream& err) {
     ~ResetStandardOutput() { io::OutputTransaction::set_standard_output(nullptr); }
   } reset_standard_output;
   std::ostream* report = &out;
-  for (const CLI::App* sub :
-       {c.lobes_cmd, c.check_cmd, c.sim_cmd, c.drive_cmd, c.plan_cmd, c.force_cmd, c.identify_cmd})
+  for (const CLI::App* sub : {c.lobes_cmd, c.check_cmd, c.sim_cmd, c.drive_cmd, c.plan_cmd,
+                              c.force_cmd, c.identify_cmd, c.fit_cmd})
     if (sub->parsed() && writes_to_standard_output(*sub)) report = &err;
   if (c.lobes_cmd->parsed()) return run_lobes(c.lobes, *report, err);
   if (c.check_cmd->parsed()) return run_check(c.check, *report, err);
@@ -230,6 +249,7 @@ int dispatch(Commands& c, CLI::App& app, std::ostream& out, std::ostream& err) {
   if (c.plan_cmd->parsed()) return run_plan(c.plan, *report, err);
   if (c.force_cmd->parsed()) return run_force(c.force, *report, err);
   if (c.identify_cmd->parsed()) return run_identify(c.identify, *report, err);
+  if (c.fit_cmd->parsed()) return run_fit(c.fit, *report, err);
   if (const int code = c.run_monitor(out, err); code >= 0) return code;
   err << app.help();
   return 2;
@@ -278,10 +298,12 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       "cycle\n"
       "  drive           feed drives under the milling load: ripple, kδ, position error, "
       "currents\n"
+      "  fit             modes fitted to a measured FRF (CutPro .frf, CSV, UFF 58), for a case\n"
       "  identify        milling cutting and edge coefficients from measured forces\n"
       "  monitor         cutting force from servo-motor currents: calibrate, estimate, teach-in\n"
       "  plan            two-edge face milling of a large bore: feeds, speeds, quality\n"
-      "Without CASE a command runs its built-in default case (see `cutdyn example --list`).",
+      "Without CASE a command runs its built-in default case (see `cutdyn example --list`);\n"
+      "fit and identify read measurements and need their files.",
       "cutdyn"};
   app.set_help_all_flag("--help-all", "print help for every command");
   bool version = false;
@@ -296,6 +318,7 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   add_drive_command(app, c);
   add_plan_and_force_commands(app, c);
   add_identify_command(app, c);
+  add_fit_command(app, c);
   c.run_monitor = add_monitor_command(app);
   if (const auto code = parse(app, args, out, err)) return *code;
   if (version) {

@@ -91,6 +91,18 @@ struct IdentifyArgs {
 };
 int run_identify(const IdentifyArgs& args, std::ostream& out, std::ostream& err);
 
+// ---- fit: modes fitted to a measured FRF (docs/models/modal-fitting.md) --------------------
+
+struct FitArgs {
+  std::string file;
+  std::string modes = "auto";  // --modes N | auto
+  std::string band;            // --band LO:HI (Hz)
+  std::string direction = "x";
+  std::string format;  // --format frf|csv|uff; empty: from the content
+  Outputs outputs;     // --out: [[modes]] tables (TOML); --json; --plot
+};
+int run_fit(const FitArgs& args, std::ostream& out, std::ostream& err);
+
 /// The milling half of `simulate` (the command dispatches on the case's process).
 int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostream& out,
                          std::ostream& err);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cutdyn/app/drive.hpp"
+#include "cutdyn/app/fit.hpp"
 #include "cutdyn/app/force.hpp"
 #include "cutdyn/app/identify.hpp"
 #include "cutdyn/app/monitor.hpp"
@@ -52,5 +53,7 @@ nlohmann::json to_json(const io::Case& c, const DriveSweepReport& report,
 /// `identify`: the cut, the coefficients in the case's units with their intervals, the samples
 /// with their fitted forces and residuals, the fit's quality, notes and warnings.
 nlohmann::json to_json(const io::Case& c, const IdentifyJobReport& report);
+/// `cutdyn fit` has no case: the document names the FRF file instead.
+nlohmann::json to_json(const FitJobReport& report);
 
 }  // namespace cutdyn::app
