@@ -140,7 +140,7 @@ MillingSimulationJobReport simulate_milling_case(const io::Case& c, const Simula
   rethrow_as(s.where, "simulate", [&] { report.result = simulate_milling(s.cut, s.options); });
   report.s1_law = c.force_law.has_value();
   // The stability prediction at this speed, for the mechanistic law with regeneration.
-  if (!report.s1_law && s.cut.regenerative && !s.cut.process.modal.modes.empty()) {
+  if (!report.s1_law && s.cut.regenerative && !s.cut.process.structure_modes().modes.empty()) {
     const MillingProcess m = milling_process(c, "simulate");
     MillingStabilityOptions so;
     so.depth_max_m = c.lobes.depth_max_m;

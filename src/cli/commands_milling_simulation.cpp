@@ -257,10 +257,8 @@ io::PlotFigure milling_plot(const app::MillingSimulationJobReport& job) {
       r.time_s.empty() ? 0.0 : std::max(r.time_s.front(), r.time_s.back() - summary_s);
   const std::string revolutions = human(s.options.summary_revolutions);
   const bool runaway = r.status == SimulationStatus::kRunaway;
-  const auto has_modes = [&](Direction d) {
-    return std::any_of(s.cut.process.modal.modes.begin(), s.cut.process.modal.modes.end(),
-                       [d](const Mode& m) { return m.direction == d; });
-  };
+  const ModalModel modes = s.cut.process.structure_modes();
+  const auto has_modes = [&](Direction d) { return modes.count(d) > 0; };
 
   io::PlotFigure figure;
   figure.title =

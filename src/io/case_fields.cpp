@@ -468,6 +468,7 @@ std::vector<Section> make_sections() {
           .deflt("from the content")
           .access(frf_text(&FrfTable::format), set_frf_text(&FrfTable::format)),
       integer("dataset", 0, 100000)
+          .label("UFF dataset index")
           .deflt("the first FRF")
           .meaning("UFF: which dataset 58 of the file (0-based)")
           .access(

@@ -4,6 +4,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +17,7 @@
 #include "cutdyn/io/frf_file.hpp"
 #include "cutdyn/modal/measured_frf.hpp"
 #include "cutdyn/stability/milling.hpp"
+#include "support/textbook_zero_order.hpp"
 
 namespace cutdyn::app {
 namespace {
@@ -188,6 +190,29 @@ TEST(MeasuredStructure, TheFrequencyDomainMethodsSeeTheTablesNotTheFittedModes) 
   }
   // Outside the measured band: nothing.
   EXPECT_EQ(s.frequency_response(units::hz_to_rad_per_s(3500.0)).norm(), 0.0);
+}
+
+TEST_F(MeasuredFrfJobs, ZeroOrderOnTheTablesAgreesWithTheTextbookFrequencySweep) {
+  // The example FRFs (1 % noise) through the case; the same tables swept the textbook way.
+  const io::Case c =
+      io::load_case_file(fs::path(CUTDYN_EXAMPLES_DIR) / "frf" / "milling-measured.toml");
+  const MillingProcess p = milling_process(c, "lobes");
+  LobesRequest r;
+  r.method = "zero-order";
+  r.threads = 2;
+  const std::vector<LobePoint> ours = run_lobes(c, r).lobes.points;
+  std::vector<double> rpm;
+  for (const LobePoint& q : ours) rpm.push_back(q.rpm);
+  const std::vector<double> theirs = testing::textbook_zero_order_lobes(p, rpm);
+  std::vector<double> diff;
+  for (std::size_t n = 0; n < ours.size(); ++n)
+    if (ours[n].boundary.found && theirs[n] < c.lobes.depth_max_m)
+      diff.push_back(std::abs(ours[n].boundary.depth_m / theirs[n] - 1.0));
+  ASSERT_GT(diff.size(), ours.size() / 2);
+  std::sort(diff.begin(), diff.end());
+  // The sweep interpolates between 1 Hz points and across cusps: a few speeds differ by more.
+  EXPECT_LT(diff[diff.size() / 2], 1e-3);
+  EXPECT_LT(diff[diff.size() * 9 / 10], 1e-2);
 }
 
 TEST_F(MeasuredFrfJobs, ABadFileIsRefusedNamingTheFileAndItsLine) {

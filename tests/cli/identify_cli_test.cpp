@@ -13,6 +13,7 @@
 
 #include "cutdyn/app/case_models.hpp"
 #include "cutdyn/app/identify.hpp"
+#include "cutdyn/app/report_json.hpp"
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/io/case_file.hpp"
 #include "support/cli_runner.hpp"
@@ -104,7 +105,7 @@ TEST_F(IdentifyCli, JsonHoldsTheJobsNumbers) {
   ASSERT_EQ(r.code, 0) << r.err;
   const auto doc = nlohmann::json::parse(testing::read_file(path("i.json")));
   const app::IdentifyJobReport j = job();
-  EXPECT_EQ(doc["schema_version"], 1);
+  EXPECT_EQ(doc["schema_version"], app::kJsonSchemaVersion);
   EXPECT_EQ(doc["command"], "identify");
   EXPECT_EQ(doc["source"], "example milling-insperger");
   EXPECT_EQ(doc["teeth"], 2);

@@ -301,8 +301,13 @@ void expect_same_values(const Case& a, const Case& b, double rel = 0.0) {
 TEST(CaseFields, EverySectionRoundTripsThroughTheEchoAsToml) {
   std::set<std::string> echoed;  // "section.key" of every key some echo writes
   std::set<std::string> present;
-  for (const char* text :
-       {kFullTurning, kCoefficientTurning, kFullMilling, kForceLawMilling, kPlanWithFeed}) {
+  // A milling case with a measured FRF beside its modes (the file by its absolute path).
+  const std::string measured = std::string(kFullMilling) +
+                               "[[frf]]\ndirection = \"x\"\nfile = \"" CUTDYN_EXAMPLES_DIR
+                               "/frf/tool_x.uff\"\nformat = \"uff\"\ndataset = 0\n";
+  for (const std::string& text :
+       {std::string(kFullTurning), std::string(kCoefficientTurning), std::string(kFullMilling),
+        std::string(kForceLawMilling), std::string(kPlanWithFeed), measured}) {
     const Case first = parse_case(text, "first.toml");
     EXPECT_TRUE(first.warnings.empty());
     const nlohmann::json j = to_json(first);

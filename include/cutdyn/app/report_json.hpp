@@ -22,7 +22,7 @@
 namespace cutdyn::app {
 
 /// Grows when a key is renamed, removed or changes its meaning (adding keys does not).
-inline constexpr int kJsonSchemaVersion = 1;
+inline constexpr int kJsonSchemaVersion = 2;
 
 /// {"schema_version", "command", "source", "case"}: the frame every document starts from.
 nlohmann::json json_document(std::string_view command, const io::Case& c);
