@@ -2,6 +2,7 @@
 #include "cutdyn/io/force_file.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -210,6 +211,7 @@ void require_positive(double value, const Line& line, std::string_view column, P
 
 ForceFileKind force_file_kind(std::string_view text, const std::string& source) {
   const Table t = tabulate(text, source);
+  if (has(t, "time_s") && has(t, "axis")) return ForceFileKind::kMonitorEstimate;
   if (has(t, "time_s")) return ForceFileKind::kTimeSeries;
   if (has(t, "feed_per_tooth_mm")) return ForceFileKind::kMeanForces;
   throw InvalidInput({at_line(t.header.number) + ": the header " + quoted(t.header.text) +
@@ -318,9 +320,84 @@ ForceSeries parse_force_series_csv(std::string_view text, const std::string& sou
   return s;
 }
 
+ForceSeries parse_monitor_force_csv(std::string_view text, const std::string& source) {
+  const Table t = tabulate(text, source);
+  Problems p;
+  int time_col = -1, axis_col = -1, force_col = -1;
+  for (std::size_t c = 0; c < t.columns.size(); ++c) {
+    if (t.columns[c] == "time_s") time_col = static_cast<int>(c);
+    if (t.columns[c] == "axis") axis_col = static_cast<int>(c);
+    if (t.columns[c] == "force_n") force_col = static_cast<int>(c);
+  }
+  if (force_col < 0) p.add(at_line(t.header.number) + ": missing column force_n");
+  p.throw_if_any(source);
+  ForceSeries s;
+  s.label = source;
+  read_record_keys(t, s, p);
+  // One instant: the force of each axis (NaN: not given), and the line it began on.
+  std::array<double, 3> f{};
+  std::size_t first_line = 0;
+  bool axial = false;
+  const auto flush = [&](double time) {
+    if (first_line == 0) return;
+    if (std::isnan(f[0]) || std::isnan(f[1])) {
+      p.add(at_line(first_line) + ": at " + format_value(time) + " s the file gives " +
+            (std::isnan(f[0]) ? "no axis x" : "no axis y") +
+            " (identification needs the force in x and y at every instant)");
+      return;
+    }
+    s.time_s.push_back(time);
+    s.fx_n.push_back(-f[0]);  // the force on the cutter: −(the force resisting the axis)
+    s.fy_n.push_back(-f[1]);
+    if (!std::isnan(f[2])) {
+      s.fz_n.push_back(-f[2]);
+      axial = true;
+    }
+  };
+  double time = 0.0;
+  for (const Line& line : t.rows) {
+    const std::vector<std::string_view> fields = split(line.text, ',');
+    if (fields.size() != t.columns.size()) {
+      p.add(at_line(line.number) + ": " + std::to_string(fields.size()) + " fields, the header (" +
+            at_line(t.header.number) + ") has " + std::to_string(t.columns.size()));
+      continue;
+    }
+    std::string why;
+    const auto tv = parse_number(fields[static_cast<std::size_t>(time_col)], why);
+    const auto fv = parse_number(fields[static_cast<std::size_t>(force_col)], why);
+    const std::string_view axis = trim(fields[static_cast<std::size_t>(axis_col)]);
+    const int a = axis == "x" ? 0 : axis == "y" ? 1 : axis == "z" ? 2 : -1;
+    if (!tv || !fv || a < 0) {
+      p.add(at_line(line.number) + ": " +
+            (a < 0 ? "axis " + quoted(axis) + " is not x, y or z" : why));
+      continue;
+    }
+    if (first_line == 0 || *tv != time) {
+      if (first_line != 0 && !(*tv > time))
+        p.add(at_line(line.number) + ", column time_s: " + format_value(*tv) +
+              " s does not increase");
+      flush(time);
+      f.fill(std::nan(""));
+      time = *tv;
+      first_line = line.number;
+    }
+    if (!std::isnan(f[static_cast<std::size_t>(a)]))
+      p.add(at_line(line.number) + ": axis " + std::string(axis) + " twice at " +
+            format_value(time) + " s");
+    f[static_cast<std::size_t>(a)] = *fv;
+  }
+  flush(time);
+  if (axial && s.fz_n.size() != s.time_s.size())
+    p.add("axis z: given at some instants only (all or none)");
+  p.throw_if_any(source);
+  return s;
+}
+
 std::vector<MeanForce> parse_force_file(std::string_view text, const std::string& source) {
-  if (force_file_kind(text, source) == ForceFileKind::kMeanForces)
-    return parse_mean_force_csv(text, source);
+  const ForceFileKind kind = force_file_kind(text, source);
+  if (kind == ForceFileKind::kMeanForces) return parse_mean_force_csv(text, source);
+  if (kind == ForceFileKind::kMonitorEstimate)
+    return {mean_over_revolutions(parse_monitor_force_csv(text, source))};
   return {mean_over_revolutions(parse_force_series_csv(text, source))};
 }
 

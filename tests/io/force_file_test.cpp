@@ -128,6 +128,39 @@ TEST(ForceFile, ReadsAForceRecordAndItsCut) {
   EXPECT_EQ(m[0].label, "r.csv");
 }
 
+// The same record as `cutdyn monitor estimate` writes it: one row per axis and instant, the
+// force resisting each axis (−F on the cutter), its other columns beside.
+TEST(ForceFile, ReadsTheMonitorsEstimateAsTheSameRecord) {
+  std::istringstream in(kRecord);
+  std::string line, text;
+  while (std::getline(in, line) && line.rfind('#', 0) == 0) text += line + "\n";
+  text += "time_s,axis,force_n,force_sigma_n,speed_rad_s,accel_rad_s2\n";
+  while (std::getline(in, line)) {
+    double t = 0, fx = 0, fy = 0;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%lf", &t, &fx, &fy), 3);
+    char row[160];
+    std::snprintf(row, sizeof row, "%.17g,x,%.17g,0.5,60,0\n%.17g,y,%.17g,,60,0\n", t, -fx, t, -fy);
+    text += row;
+  }
+  EXPECT_EQ(force_file_kind(text, "m.csv"), ForceFileKind::kMonitorEstimate);
+  const std::vector<MeanForce> a = parse_force_file(kRecord, "r.csv");
+  const std::vector<MeanForce> b = parse_force_file(text, "m.csv");
+  ASSERT_EQ(b.size(), 1u);
+  EXPECT_EQ(b[0].fx_n, a[0].fx_n);
+  EXPECT_EQ(b[0].fy_n, a[0].fy_n);
+  EXPECT_EQ(b[0].feed_per_tooth_m, a[0].feed_per_tooth_m);
+  // An instant without y, an unknown axis, an axis twice: named by line.
+  const std::string head =
+      "# feed_per_tooth_mm = 0.05, depth_mm = 2, rpm = 3000\ntime_s,axis,force_n\n";
+  EXPECT_THAT(problems(head + "0,x,1\n0,y,2\n0.01,x,1\n0.02,x,1\n0.02,y,1\n"),
+              ElementsAre(HasSubstr("line 5: at 0.01 s the file gives no axis y")));
+  EXPECT_THAT(
+      problems(head + "0,x,1\n0,w,2\n"),
+      ElementsAre(HasSubstr("line 4: axis \"w\" is not x, y or z"), HasSubstr("no axis y")));
+  EXPECT_THAT(problems(head + "0,x,1\n0,x,2\n0,y,1\n"),
+              ElementsAre(HasSubstr("line 4: axis x twice at 0 s")));
+}
+
 TEST(ForceFile, ForceRecordErrorsNameLineAndKey) {
   EXPECT_THAT(problems("# feed_per_tooth_mm = 0.05\n# depth_mm=2\ntime_s,fx_n,fy_n\n0,1,1\n"),
               ElementsAre(HasSubstr("missing rpm: a force record states its cut in comment lines "

@@ -13,6 +13,12 @@
 //       # depth_mm = 2
 //       # rpm = 3000
 //   Several records (one per feed) are several files.
+// * The force `cutdyn monitor estimate` wrote from the motor currents of the feed axes:
+//   time_s,axis,force_n[,…] (its other columns ignored), one row per axis and instant, axes
+//   named x, y (and z), with the cut in `# key = value` comment lines as for a record. The
+//   monitor's force resists the axis' motion (docs/models/feed-drive.md: Fn = −F·n): the force
+//   on the cutter is fx = −force_n of axis x, fy = −force_n of axis y (decision: the axes move
+//   the cutter along the case's +x, the feed, and +y). Every instant needs x and y.
 //
 // Forces are those on the cutter (x the feed direction, y as in stability/milling.hpp), N.
 // Errors throw cutdyn::InvalidInput with where = the file and problems naming the line and
@@ -28,7 +34,7 @@
 
 namespace cutdyn::io {
 
-enum class ForceFileKind { kMeanForces, kTimeSeries };
+enum class ForceFileKind { kMeanForces, kTimeSeries, kMonitorEstimate };
 
 /// The form of `text` from its header. Throws InvalidInput (where = source) when there is no
 /// header or it names neither form's columns.
@@ -40,7 +46,10 @@ std::vector<MeanForce> parse_mean_force_csv(std::string_view text, const std::st
 /// A force record, labelled `source`, in SI.
 ForceSeries parse_force_series_csv(std::string_view text, const std::string& source);
 
-/// Either form as mean forces: the rows, or the record's mean over whole revolutions
+/// A record from `cutdyn monitor estimate`'s output (the axes paired by instant), in SI.
+ForceSeries parse_monitor_force_csv(std::string_view text, const std::string& source);
+
+/// Any form as mean forces: the rows, or the record's mean over whole revolutions
 /// (mean_over_revolutions).
 std::vector<MeanForce> parse_force_file(std::string_view text, const std::string& source);
 
