@@ -33,6 +33,17 @@ json filter_json(const FilterReport& f) {
   return j;
 }
 
+// Modes fitted to a measured FRF: [{direction, natural_hz, damping_ratio, stiffness_n_per_m}].
+json modes_json(const ModalModel& m) {
+  json modes = json::array();
+  for (const Mode& mode : m.modes)
+    modes.push_back({{"direction", to_string(mode.direction)},
+                     {"natural_hz", units::rad_per_s_to_hz(mode.natural_rad_s)},
+                     {"damping_ratio", mode.damping_ratio},
+                     {"stiffness_n_per_m", mode.stiffness_n_per_m}});
+  return modes;
+}
+
 }  // namespace
 
 // One row of named values per speed, shared by the CSV and the JSON.
@@ -83,6 +94,7 @@ json to_json(const io::Case& c, const LobesJobReport& r) {
                 {"critical_depth_mm", m_to_mm(pts[r.lowest].boundary.depth_m)}}},
               {"points", std::move(points)}});
   if (r.lobes.status != LobesStatus::kSuccess) doc["warning"] = r.lobes.message;
+  if (!r.fitted_modes.modes.empty()) doc["fitted_modes"] = modes_json(r.fitted_modes);
   if (!r.warnings.empty()) doc["warnings"] = r.warnings;
   if (r.target_depth_m) {
     doc["target_depth_mm"] = m_to_mm(*r.target_depth_m);
@@ -123,6 +135,7 @@ json to_json(const io::Case& c, const CheckJobReport& r) {
     doc["conventional"] = {{"critical_depth_mm", m_to_mm(r.conventional->boundary.depth_m)},
                            {"chatter_hz", r.conventional->boundary.chatter_hz},
                            {"stable", r.conventional->stable}};
+  if (!r.fitted_modes.modes.empty()) doc["fitted_modes"] = modes_json(r.fitted_modes);
   if (!r.warnings.empty()) doc["warnings"] = r.warnings;
   return doc;
 }

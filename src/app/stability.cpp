@@ -87,10 +87,12 @@ std::string describe_turning(const io::Case& c, const TurningProcess& m) {
 
 namespace {
 
-void add_fit_warnings(const std::optional<MeasuredStructure>& measured,
-                      std::vector<std::string>& warnings) {
-  if (measured)
-    warnings.insert(warnings.end(), measured->fit_warnings.begin(), measured->fit_warnings.end());
+// The fit of the case's [[frf]] tables into a report: its modes and warnings.
+template <typename Report>
+void add_fit(const std::optional<MeasuredStructure>& measured, Report& r) {
+  if (!measured) return;
+  r.fitted_modes = measured->fitted;
+  r.warnings.insert(r.warnings.end(), measured->fit_warnings.begin(), measured->fit_warnings.end());
 }
 
 void turning_lobes(const io::Case& c, const LobesRequest& request, LobesJobReport& r) {
@@ -126,7 +128,7 @@ void turning_lobes(const io::Case& c, const LobesRequest& request, LobesJobRepor
     r.duty_cycle = true;
   }
   r.description = describe_turning(c, model);
-  add_fit_warnings(model.measured, r.warnings);
+  add_fit(model.measured, r);
   r.method = to_string(method);
   r.depth_max_m = options.depth_max_m;
   r.title = assisted ? "Stability lobes: vibration-assisted and conventional turning"
@@ -148,7 +150,7 @@ void turning_check(const io::Case& c, const CheckRequest& request, CheckJobRepor
     throw InvalidInput(problems, c.source);
   const TurningBoundary b = turning_critical_depth(model, request.rpm, options);
   r.description = describe_turning(c, model);
-  add_fit_warnings(model.measured, r.warnings);
+  add_fit(model.measured, r);
   r.method = to_string(method);
   r.boundary = b.boundary;
   r.lobe = b.lobe;
@@ -242,7 +244,7 @@ void milling_lobes(const io::Case& c, const LobesRequest& request, LobesJobRepor
       },
       grid, request.progress);
   r.description = describe(model);
-  add_fit_warnings(model.measured, r.warnings);
+  add_fit(model.measured, r);
   r.method = to_string(method);
   r.depth_max_m = c.lobes.depth_max_m;
   r.title = "Stability lobes: milling";
@@ -275,7 +277,7 @@ void milling_check(const io::Case& c, const CheckRequest& request, CheckJobRepor
     b = milling_critical_depth(model, request.rpm, extend_search(options, reach));
   }
   r.description = describe(model);
-  add_fit_warnings(model.measured, r.warnings);
+  add_fit(model.measured, r);
   r.method = to_string(method);
   r.boundary = b.boundary;
   r.lobe = b.lobe;

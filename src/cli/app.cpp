@@ -186,7 +186,8 @@ void add_identify_command(CLI::App& app, Commands& c) {
       ->add_option("FORCES", c.identify.force_files,
                    "force files (CSV): mean forces feed_per_tooth_mm,depth_mm,fx_n,fy_n[,fz_n], "
                    "or one force record time_s,fx_n,fy_n[,fz_n] per feed with its cut in "
-                   "comments (# feed_per_tooth_mm = , # depth_mm = , # rpm = )")
+                   "comments (# feed_per_tooth_mm = , # depth_mm = , # rpm = ), or the output "
+                   "of `cutdyn monitor estimate` (time_s,axis,force_n,…) with the same comments")
       ->required();
   add_outputs(identify, c.identify.outputs,
               "write the coefficients as a [cutting] table (TOML) to paste into the case, with "

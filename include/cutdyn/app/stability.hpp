@@ -28,6 +28,7 @@ struct LobesRequest {
 
 struct LobesJobReport {
   std::string description;  // one line about the model actually used (Kt given or predicted…)
+  ModalModel fitted_modes;  // the modes fitted to the case's [[frf]] tables (none without)
   std::string method;       // the method resolved ("auto" never appears here)
   double depth_max_m = 0.0;
   LobesReport lobes;  // the boundary at each speed; lobes.message if the trace fell short
@@ -57,6 +58,7 @@ struct CheckRequest {
 
 struct CheckJobReport {
   std::string description;
+  ModalModel fitted_modes;  // the modes fitted to the case's [[frf]] tables (none without)
   std::string method;
   double rpm = 0.0, depth_m = 0.0;
   CriticalDepth boundary;
