@@ -138,9 +138,10 @@ PhaseCurrents axis_currents(const DriveAxisReport& a, double from_s) {
 void require_motors(const DriveReport& report, const std::string& source) {
   for (const DriveAxisReport& a : report.axes)
     if (!a.axis.motor)
-      throw InvalidInput({"drives (axis " + a.axis.name +
-                          "): --currents needs the motor: pole_pairs, torque_constant_nm_per_a"},
-                         source);
+      throw InvalidInput(
+          {"drives (axis " + a.axis.name +
+           "): the motor phase currents need the motor: pole_pairs, torque_constant_nm_per_a"},
+          source);
 }
 
 void write_current_log(std::ostream& file, const DriveReport& report, const std::string& source) {

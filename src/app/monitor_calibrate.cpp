@@ -8,7 +8,6 @@
 namespace cutdyn::app {
 namespace {
 
-
 // The logs of one kind, per axis, and per file the measures its comments record.
 struct Logs {
   std::map<std::string, std::vector<AxisRun>> idle, loaded;
@@ -54,14 +53,15 @@ void apply_given(const CalibrateOptions& o, const Calibration& base, const Logs&
     for (const auto& [axis, logged] : m) {
       const CurrentMeasure used = axes[axis].calibration.model.measure;
       if (logged.first != used)
-        throw detail::measure_mismatch(file, logged.second, axis, logged.first, used);
+        throw detail::measure_mismatch(o.names.measure, file, logged.second, axis, logged.first,
+                                       used);
     }
-  const auto apply = [&](const std::vector<AxisValue>& values, const char* flag, bool kt) {
+  const auto apply = [&](const std::vector<AxisValue>& values, const std::string& flag, bool kt) {
     for (const AxisValue& v : values) {
       if (!v.axis.empty() && !logs.axes.count(v.axis))
-        throw InvalidInput({std::string(flag) + " = \"" + v.axis + "=" +
-                            io::format_number(v.value) + "\": no log has the axis " + v.axis},
-                           "command line");
+        throw InvalidInput({flag + " = \"" + v.axis + "=" + io::format_number(v.value) +
+                            "\": no log has the axis " + v.axis},
+                           o.names.where);
       for (auto& [name, a] : axes) {
         if (!v.axis.empty() && name != v.axis) continue;
         AxisCalibration& c = a.calibration;
@@ -71,18 +71,19 @@ void apply_given(const CalibrateOptions& o, const Calibration& base, const Logs&
       }
     }
   };
-  apply(o.torque_constant_nm_per_a, "--kt", true);
-  apply(o.inertia_kg_m2, "--inertia", false);
+  const RequestNames& n = o.names;
+  apply(o.torque_constant_nm_per_a, n.torque_constant, true);
+  apply(o.inertia_kg_m2, n.inertia, false);
   Validator v;
   for (const std::string& axis : logs.axes) {
     if (!kt_given[axis])
-      v.add("axis " + axis + ": the torque constant is unknown: give --kt " + axis +
-            "=VALUE (N·m/A) or --base");
+      v.add("axis " + axis + ": the torque constant is unknown: give " + n.torque_constant + " " +
+            axis + "=VALUE (N·m/A) or " + n.base);
     if (!j_given[axis])
-      v.add("axis " + axis + ": the inertia is unknown: give --inertia " + axis +
-            "=VALUE (kg·m²) or --base");
+      v.add("axis " + axis + ": the inertia is unknown: give " + n.inertia + " " + axis +
+            "=VALUE (kg·m²) or " + n.base);
   }
-  v.throw_if_any("command line");
+  v.throw_if_any(n.where);
 }
 
 // Steps 1 and 2 of one axis on its given constants; what is missing goes to `v`.
@@ -106,7 +107,8 @@ void fit_axis(const CalibrateOptions& o, const std::string& axis, const Logs& lo
     c.speed_noise_rad_s = f.speed_noise_rad_s;
     a.idle = std::move(f);
   } else if (!in_base) {
-    v.add("axis " + axis + ": no idle log and no --base: Tnzm and X are unknown");
+    v.add("axis " + axis + ": no " + o.names.idle + " log and no " + o.names.base +
+          ": Tnzm and X are unknown");
   }
   if (const auto it = logs.loaded.find(axis); it != logs.loaded.end()) {
     LoadFit f = fit_load(c, it->second, o.fit);
@@ -116,7 +118,8 @@ void fit_axis(const CalibrateOptions& o, const std::string& axis, const Logs& lo
     c.sigma.force_gain_m = f.force_gain_sigma_m;
     a.load = std::move(f);
   } else if (!in_base) {
-    v.add("axis " + axis + ": no loaded log and no --base: KBlf is unknown");
+    v.add("axis " + axis + ": no " + o.names.loaded + " log and no " + o.names.base +
+          ": KBlf is unknown");
   }
   // Tnzm, X and KBlf fitted here carry their uncertainties; one kept from a base whose
   // uncertainty is unknown (the literature coefficients) keeps it unknown.
@@ -152,8 +155,9 @@ CalibrateReport calibrate(const CalibrateOptions& options, const MonitorListener
   if (logs.axes.empty())
     for (const auto& [axis, c] : base) logs.axes.insert(axis);
   if (logs.axes.empty())
-    throw InvalidInput({"nothing to calibrate: give --idle and/or --loaded logs, or --base"},
-                       "command line");
+    throw InvalidInput({"nothing to calibrate: give " + options.names.idle + " and/or " +
+                        options.names.loaded + " logs, or " + options.names.base},
+                       options.names.where);
   apply_given(options, base, logs, report.axes);
   Validator v;
   for (const std::string& axis : logs.axes)

@@ -141,6 +141,7 @@ EstimateJob::EstimateJob(Calibration calibration, std::string calibration_name,
         if (s.sinks.csv) s.sinks.csv(s.buffer);
         s.buffer.clear();
       });
+  s.stream->set_names(options.names);
 }
 
 EstimateJob::~EstimateJob() = default;

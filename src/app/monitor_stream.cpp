@@ -43,14 +43,14 @@ void BadLines::finish(std::size_t good) {
     throw InvalidInput({"no valid data line (" + std::to_string(count_) + " skipped)"}, source_);
 }
 
-InvalidInput measure_mismatch(const std::string& file, std::size_t line, const std::string& axis,
-                              CurrentMeasure logged, CurrentMeasure calibration) {
+InvalidInput measure_mismatch(const std::string& measure_name, const std::string& file,
+                              std::size_t line, const std::string& axis, CurrentMeasure logged,
+                              CurrentMeasure calibration) {
   return InvalidInput(
       {"line " + std::to_string(line) + ": axis " + axis +
        ": the currents were logged with measure = " + std::string(to_string(logged)) +
        ", the calibration's measure is " + std::string(to_string(calibration)) +
-       ": KT holds for one measure only (they differ by √2); calibrate with "
-       "--measure " +
+       ": KT holds for one measure only (they differ by √2); calibrate with " + measure_name + " " +
        std::string(to_string(logged)) + " or log the calibration's measure"},
       file);
 }
@@ -120,7 +120,8 @@ void EstimateStream::estimate(const CurrentRow& r, Axis& a) {
     a.seen = true;
     if (const auto m = parser_.recorded_measure(a.name);
         m && m->first != e.calibration().model.measure)
-      throw measure_mismatch(source_, m->second, a.name, m->first, e.calibration().model.measure);
+      throw measure_mismatch(names_.measure, source_, m->second, a.name, m->first,
+                             e.calibration().model.measure);
   }
   ForceEstimate estimate;
   try {
@@ -131,7 +132,7 @@ void EstimateStream::estimate(const CurrentRow& r, Axis& a) {
     // The bandwidth against the log's sampling (the only check of update).
     std::vector<std::string> problems;
     for (const std::string& p : x.problems())
-      problems.push_back("--bandwidth-hz: " + p + ", axis " + a.name + " at line " +
+      problems.push_back(names_.bandwidth + ": " + p + ", axis " + a.name + " at line " +
                          std::to_string(r.line));
     throw InvalidInput(problems, source_);
   }

@@ -16,8 +16,7 @@
 namespace cutdyn::app::detail {
 
 /// Records a warning: in `warnings` and to the listener.
-void warn(const MonitorListener& listener, std::vector<MonitorWarning>& warnings,
-          MonitorWarning w);
+void warn(const MonitorListener& listener, std::vector<MonitorWarning>& warnings, MonitorWarning w);
 
 /// The bad lines of one input: stop (throw the first) or skip (warn about the first few,
 /// count them).
@@ -41,8 +40,9 @@ class BadLines {
 
 /// The refusal of a log whose recorded current measure is not the calibration's (docs/models/
 /// monitor.md §1, §6).
-InvalidInput measure_mismatch(const std::string& file, std::size_t line, const std::string& axis,
-                              CurrentMeasure logged, CurrentMeasure calibration);
+InvalidInput measure_mismatch(const std::string& measure_name, const std::string& file,
+                              std::size_t line, const std::string& axis, CurrentMeasure logged,
+                              CurrentMeasure calibration);
 
 /// A whole log, per axis: the runs of calibration; `measures` gets the measure its comments
 /// record per axis (and the line).
@@ -60,8 +60,10 @@ class EstimateStream {
   using Each = std::function<void(const CurrentRow&, const std::string&, const ForceEstimate&)>;
   EstimateStream(const Calibration& calibration, std::string calibration_name,
                  const EstimatorOptions& options, std::string source, bool stop,
-                 const MonitorListener& listener, std::vector<MonitorWarning>& warnings,
-                 Each each, std::function<void()> flush);
+                 const MonitorListener& listener, std::vector<MonitorWarning>& warnings, Each each,
+                 std::function<void()> flush);
+  /// How the front end calls the measure and the bandwidth, for the messages.
+  void set_names(const RequestNames& names) { names_ = names; }
   void feed(std::string_view chunk);
   /// The end: the last line, the counts. Returns the good rows.
   std::size_t finish();
@@ -84,6 +86,7 @@ class EstimateStream {
   void process();
   void estimate(const CurrentRow& r, Axis& a);
 
+  RequestNames names_;
   const Calibration& calibration_;
   std::string calibration_name_;
   EstimatorOptions options_;

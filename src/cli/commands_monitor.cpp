@@ -176,6 +176,7 @@ void print_axis(std::ostream& out, const std::string& axis, const app::Calibrate
 int run_calibrate(const CalibrateArgs& args, std::ostream& out, std::ostream& err) {
   app::CalibrateOptions options = args.options;
   options.stop_at_bad_line = stop_at_bad_line(args.on_bad_line);
+  options.names = flag_names();
   check_out_flag(args.out, "--out");
   throw_if(options.fit.validate());
   if (!args.measure.empty()) {
@@ -227,6 +228,7 @@ void describe_filter(std::ostream& out, const std::string& axis, const app::Filt
 app::EstimateOptions estimate_options(const EstimateArgs& args) {
   app::EstimateOptions options = args.options;
   options.stop_at_bad_line = stop_at_bad_line(args.on_bad_line);
+  options.names = flag_names();
   throw_if(options.estimator.validate());
   throw_if(options.alarms.validate());
   Validator v;

@@ -48,6 +48,13 @@ app::RequestNames flag_names() {
   n.depth = "--depth-mm";
   n.duration = "--duration-s";
   n.method = "--method";
+  n.torque_constant = "--kt";
+  n.inertia = "--inertia";
+  n.base = "--base";
+  n.idle = "--idle";
+  n.loaded = "--loaded";
+  n.measure = "--measure";
+  n.bandwidth = "--bandwidth-hz";
   return n;
 }
 

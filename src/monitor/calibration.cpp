@@ -530,7 +530,7 @@ LoadFit fit_load(const AxisCalibration& c, const std::vector<AxisRun>& runs,
       std::snprintf(text, sizeof text,
                     "; the speed of the rejected moving windows scatters about its line by %.2g %% "
                     "of its mean (median): if it ripples periodically under a cut, a steady "
-                    "tolerance (--steady-tolerance) of %.2f or more accepts those windows",
+                    "tolerance (steady_tolerance) of %.2f or more accepts those windows",
                     100.0 * *mid, std::ceil(12.0 * *mid * 100.0) / 100.0);
       r.message += text;
     }

@@ -634,7 +634,7 @@ TEST_F(Cli, DriveCurrentsAndSweepAndBadDrives) {
   no_motor.replace(no_motor.find("torque_constant_nm_per_a = 1.627"), 32, "");
   no_motor.replace(no_motor.rfind("pole_pairs = 4"), 14, "");
   expect_rejected({"drive", write("nomotor.toml", no_motor), "--currents", path("x.csv")},
-                  "drives (axis y): --currents needs the motor");
+                  "drives (axis y): the motor phase currents need the motor");
 }
 
 TEST_F(Cli, DriveSummariesAreOfTheSteadyStateAndSayWhenItIsNotReached) {

@@ -107,10 +107,10 @@ TEST(MonitorCalibrationCoverage, PeriodicLoadGivesAnUnbiasedForceGain) {
   EXPECT_NE(rejected.report.message.find("ripples periodically under a cut"), std::string::npos)
       << rejected.report.message;
   const std::string& text = rejected.report.message;
-  const auto at = text.find("--steady-tolerance) of ");
+  const auto at = text.find("(steady_tolerance) of ");
   ASSERT_NE(at, std::string::npos);
   CalibrationOptions suggested;
-  suggested.steady_tolerance = std::stod(text.substr(at + 23));
+  suggested.steady_tolerance = std::stod(text.substr(at + 22));
   std::printf("%s\n", text.c_str());
   EXPECT_EQ(fit_load(c, only_cut, suggested).report.windows, 20);
   const LoadFit fc = fit_load(c, only_cut, s.loaded_options());

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "cutdyn/app/monitor_files.hpp"
+#include "cutdyn/app/request.hpp"
 #include "cutdyn/monitor/calibration.hpp"
 #include "cutdyn/monitor/current_csv.hpp"
 #include "cutdyn/monitor/force_band.hpp"
@@ -83,6 +84,7 @@ struct CalibrateOptions {
   std::string force_column = "force_n";             // of the loaded logs
   CalibrationOptions fit;
   bool stop_at_bad_line = true;  // false: skip bad lines (warned) and go on
+  RequestNames names;            // how the front end calls these options, for its messages
 
   std::vector<std::string> validate() const;
 };
@@ -107,6 +109,7 @@ struct EstimateOptions {
   AlarmOptions alarms;              // with a band
   double tooth_frequency_hz = 0.0;  // also state the filter there (0: not)
   bool stop_at_bad_line = true;
+  RequestNames names;  // how the front end calls these options, for its messages
 
   std::vector<std::string> validate() const;
 };

@@ -11,6 +11,10 @@ namespace cutdyn::app {
 struct RequestNames {
   std::string where = "request";
   std::string rpm = "rpm", depth = "depth_mm", duration = "duration_s", method = "method";
+  // The monitor's calibration and estimate.
+  std::string torque_constant = "torque_constant_nm_per_a", inertia = "inertia_kg_m2";
+  std::string base = "base", idle = "idle", loaded = "loaded", measure = "measure";
+  std::string bandwidth = "bandwidth_hz";
 };
 
 }  // namespace cutdyn::app
