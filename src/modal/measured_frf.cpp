@@ -58,11 +58,12 @@ MeasuredFrf add_frf(const MeasuredFrf& a, const MeasuredFrf& b) {
     sum.receptance_m_per_n.push_back(a.receptance_m_per_n[i] + b.at(f));
   }
   if (sum.frequency_hz.size() < 3) {
-    throw InvalidInput({"the two FRFs' bands (" + format_value(a.min_hz()) + "–" +
-                        format_value(a.max_hz()) + " Hz and " + format_value(b.min_hz()) + "–" +
-                        format_value(b.max_hz()) + " Hz) share fewer than 3 points: they cannot "
-                        "be added"},
-                       "frf");
+    throw InvalidInput(
+        {"the two FRFs' bands (" + format_value(a.min_hz()) + "–" + format_value(a.max_hz()) +
+         " Hz and " + format_value(b.min_hz()) + "–" + format_value(b.max_hz()) +
+         " Hz) share fewer than 3 points: they cannot "
+         "be added"},
+        "frf");
   }
   return sum;
 }
@@ -88,14 +89,21 @@ Eigen::MatrixXcd MeasuredStructure::at(const std::vector<Direction>& directions,
 }
 
 Eigen::MatrixXcd combined_receptance(const ModalModel& given, const MeasuredStructure& measured,
-                                     const std::vector<Direction>& directions,
-                                     double omega_rad_s) {
+                                     const std::vector<Direction>& directions, double omega_rad_s) {
   Eigen::MatrixXcd g = measured.at(directions, omega_rad_s);
   for (std::size_t i = 0; i < directions.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);
     g(k, k) += frf(given, directions[i], omega_rad_s);
   }
   return g;
+}
+
+ModalModel with_fitted_modes(const ModalModel& given,
+                             const std::optional<MeasuredStructure>& measured) {
+  ModalModel all = given;
+  if (measured)
+    all.modes.insert(all.modes.end(), measured->fitted.modes.begin(), measured->fitted.modes.end());
+  return all;
 }
 
 double MeasuredStructure::max_hz() const {

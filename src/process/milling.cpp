@@ -108,12 +108,7 @@ std::vector<std::string> MillingProcess::validate() const {
   return v.problems();
 }
 
-ModalModel MillingProcess::structure_modes() const {
-  ModalModel all = modal;
-  if (measured)
-    all.modes.insert(all.modes.end(), measured->fitted.modes.begin(), measured->fitted.modes.end());
-  return all;
-}
+ModalModel MillingProcess::structure_modes() const { return with_fitted_modes(modal, measured); }
 
 std::vector<std::string> MillingProcess::validate_for_stability() const {
   Validator v;

@@ -30,12 +30,7 @@ DutyCycle VibrationAssist::at_rpm(double rpm) const {
   return cutdyn::duty_cycle(v, frequency_hz, amplitude_m.value_or(0.0));
 }
 
-ModalModel TurningProcess::structure_modes() const {
-  ModalModel all = modal;
-  if (measured)
-    all.modes.insert(all.modes.end(), measured->fitted.modes.begin(), measured->fitted.modes.end());
-  return all;
-}
+ModalModel TurningProcess::structure_modes() const { return with_fitted_modes(modal, measured); }
 
 std::vector<std::string> TurningProcess::validate() const {
   Validator v;

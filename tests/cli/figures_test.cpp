@@ -14,6 +14,7 @@
 
 #include "cutdyn/io/case_file.hpp"
 #include "support/cli_runner.hpp"
+#include "support/plot_data.hpp"
 #include "support/temp_dir.hpp"
 
 namespace cutdyn::cli {
@@ -37,23 +38,7 @@ std::size_t count(const std::string& text, const std::string& part) {
 }
 
 // The points of the .dat block whose series is called `title` (empty if there is none).
-Points block(const std::string& dat, const std::string& title) {
-  Points points;
-  const auto at = dat.find("\n# " + title + "\n# columns: ");
-  if (at == std::string::npos) return points;
-  std::istringstream in(dat.substr(at + 1));
-  std::string line;
-  while (std::getline(in, line) && !line.empty() && line[0] == '#') {
-  }
-  do {
-    if (line.empty()) break;
-    std::istringstream values(line);
-    double x = 0.0, y = 0.0;
-    values >> x >> y;
-    points.emplace_back(x, y);
-  } while (std::getline(in, line));
-  return points;
-}
+using testing::plot_block;
 
 class Figures : public testing::TempDirTest {
  protected:
@@ -80,14 +65,14 @@ TEST_F(Figures, SimulateSweepLabelsTheKeyAndTheMetricInWordsAndPlotsPercent) {
   EXPECT_FALSE(contains(gp, "label \"force_pulsation\"")) << gp;
   // The data in percent: 100 × the JSON's fraction, at the swept values.
   const auto doc = json("w.json");
-  const Points points = block(read("w.dat"), "force pulsation ΔP");
+  const Points points = plot_block(read("w.dat"), "force pulsation ΔP");
   ASSERT_EQ(points.size(), 4u) << read("w.dat");
   for (std::size_t i = 0; i < points.size(); ++i) {
     EXPECT_DOUBLE_EQ(points[i].first, doc["points"][i]["value"].get<double>());
     EXPECT_NEAR(points[i].second, 100.0 * doc["points"][i]["force_pulsation"].get<double>(), 1e-9);
   }
   // No run chatters (the chip comes from the feed alone): no chatter marks.
-  EXPECT_TRUE(block(read("w.dat"), "chatter (vibration grows)").empty());
+  EXPECT_TRUE(plot_block(read("w.dat"), "chatter (vibration grows)").empty());
 }
 
 TEST_F(Figures, SimulateSweepOfAnIndexedKeyNamesTheElement) {
@@ -126,7 +111,7 @@ TEST_F(Figures, MillingSimulationShowsTheWholeRunAndTheLastRevolutions) {
     }
   }
   ASSERT_GT(time.size(), 10000u);
-  const Points shown = block(dat, "x (feed)");
+  const Points shown = plot_block(dat, "x (feed)");
   ASSERT_FALSE(shown.empty()) << dat;
   EXPECT_LE(shown.size(), 6000u);
   EXPECT_NEAR(shown.front().first, time.front(), 1e-9);
@@ -135,12 +120,12 @@ TEST_F(Figures, MillingSimulationShowsTheWholeRunAndTheLastRevolutions) {
   for (const auto& p : shown) shown_max = std::max(shown_max, p.second);
   for (double v : x) max = std::max(max, v);
   EXPECT_NEAR(shown_max, max, 1e-6 * std::abs(max));
-  EXPECT_FALSE(block(dat, "y").empty());  // the case has modes in y too
+  EXPECT_FALSE(plot_block(dat, "y").empty());  // the case has modes in y too
 
   // The window of the summary is marked, and the forces are shown over it.
   EXPECT_TRUE(contains(gp, "set arrow from first ")) << gp;
   EXPECT_TRUE(contains(gp, "last 5 rev (below)")) << gp;
-  const Points force = block(dat, "|F|");
+  const Points force = plot_block(dat, "|F|");
   ASSERT_FALSE(force.empty());
   EXPECT_GT(force.front().first, 0.5 * time.back());
   EXPECT_TRUE(contains(gp, "set key outside below")) << gp;
@@ -154,8 +139,8 @@ TEST_F(Figures, MillingSimulationDrawsNoTraceForADirectionWithoutModes) {
   const Result r = cutdyn({"simulate", write("x-only.toml", text), "--plot", path("x.png")});
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string dat = read("x.dat");
-  EXPECT_FALSE(block(dat, "x (feed)").empty()) << dat;
-  EXPECT_TRUE(block(dat, "y").empty()) << dat;
+  EXPECT_FALSE(plot_block(dat, "x (feed)").empty()) << dat;
+  EXPECT_TRUE(plot_block(dat, "y").empty()) << dat;
   EXPECT_EQ(count(dat, "# columns: 1 = time (s), 2 = cutter displacement (µm)"), 1u) << dat;
 }
 
@@ -174,7 +159,7 @@ TEST_F(Figures, DriveShowsTheSpeedRippleBesideEpsilon) {
     const auto at = dat.find(prefix);
     ASSERT_NE(at, std::string::npos) << dat;
     const std::string title = dat.substr(at + 3, dat.find('\n', at + 1) - at - 3);
-    const Points speed = block(dat, title);
+    const Points speed = plot_block(dat, title);
     ASSERT_FALSE(speed.empty()) << title;
     double lo = 1e300, hi = -1e300;
     for (const auto& p : speed) {
@@ -198,7 +183,7 @@ TEST_F(Figures, DriveSweepLabelsTheKeyAndPlotsTheStaticErrorInPercent) {
   EXPECT_TRUE(contains(gp, "set ylabel \"static speed error δ (%)\"")) << gp;
   EXPECT_TRUE(contains(gp, "over a sweep of simulate.rpm")) << gp;
   const auto doc = json("w.json");
-  const Points x = block(read("w.dat"), "axis x");
+  const Points x = plot_block(read("w.dat"), "axis x");
   ASSERT_EQ(x.size(), 2u) << read("w.dat");
   for (std::size_t i = 0; i < x.size(); ++i) {
     EXPECT_DOUBLE_EQ(x[i].first, doc["points"][i]["value"].get<double>());
@@ -219,11 +204,11 @@ TEST_F(Figures, PlanGivesS0AndHTheirOwnAxesAndMarksThePlanAndTheLimit) {
   EXPECT_TRUE(contains(gp, "set y2label \"straightness error Δ1 (mm)\"")) << gp;
 
   // The limit Δ1 = k·t on the Δ1 axis, across the feeds drawn: k = 0.05, t = 5 mm.
-  const Points limit = block(dat, "limit Δ1 = k·t = 0.25 mm (right axis)");
+  const Points limit = plot_block(dat, "limit Δ1 = k·t = 0.25 mm (right axis)");
   ASSERT_EQ(limit.size(), 2u) << dat;
   EXPECT_DOUBLE_EQ(limit[0].second, 0.25);
   EXPECT_DOUBLE_EQ(limit[1].second, 0.25);
-  const Points delta1 = block(dat, "Δ1 (right axis)");
+  const Points delta1 = plot_block(dat, "Δ1 (right axis)");
   ASSERT_FALSE(delta1.empty());
   EXPECT_DOUBLE_EQ(limit[0].first, delta1.front().first);
   EXPECT_DOUBLE_EQ(limit[1].first, delta1.back().first);
@@ -237,11 +222,11 @@ TEST_F(Figures, PlanGivesS0AndHTheirOwnAxesAndMarksThePlanAndTheLimit) {
   const std::string chosen =
       dat.substr(chosen_at + 3, dat.find('\n', chosen_at + 1) - chosen_at - 3);
   EXPECT_EQ(count(dat, "# " + chosen + "\n"), 2u) << dat;
-  const Points first = block(dat, chosen);
+  const Points first = plot_block(dat, chosen);
   ASSERT_EQ(first.size(), 1u);
   EXPECT_NEAR(first[0].first, s0, 1e-12 * s0);
   EXPECT_NEAR(first[0].second, t0, 1e-12 * t0);
-  const Points second = block(dat.substr(dat.find("# panel 2 of 2")), chosen);
+  const Points second = plot_block(dat.substr(dat.find("# panel 2 of 2")), chosen);
   ASSERT_EQ(second.size(), 1u);
   EXPECT_NEAR(second[0].first, h, 1e-12 * std::abs(h));
   EXPECT_NEAR(second[0].second, t0, 1e-12 * t0);

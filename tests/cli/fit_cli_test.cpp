@@ -123,6 +123,15 @@ TEST_F(FitCli, BadInputIsRefusedWithNothingWritten) {
   EXPECT_EQ(r.code, 2);
   EXPECT_THAT(r.err, HasSubstr("line 3"));
   EXPECT_EQ(testing::listing(dir_), before);
+  // The same file named by a case's [[frf]]: every command that loads the case refuses it.
+  std::ofstream(path("case.toml"))
+      << "process = \"milling\"\n[[frf]]\ndirection = \"x\"\nfile = \"bad.frf\"\n"
+         "[cutting]\nkt_n_per_mm2 = 600\n[tool]\nteeth = 2\ndiameter_mm = 20\n";
+  expect_rejected({"lobes", path("case.toml"), "--out", path("l.csv")},
+                  "frf[0].file = \"bad.frf\": line 3");
+  expect_rejected(
+      {"check", path("case.toml"), "--rpm", "9000", "--depth-mm", "1", "--json", path("c.json")},
+      "line 3");
 }
 
 }  // namespace

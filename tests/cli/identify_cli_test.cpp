@@ -17,6 +17,7 @@
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/io/case_file.hpp"
 #include "support/cli_runner.hpp"
+#include "support/plot_data.hpp"
 #include "support/temp_dir.hpp"
 
 namespace cutdyn::cli {
@@ -141,24 +142,7 @@ TEST_F(IdentifyCli, JsonHoldsTheJobsNumbers) {
   EXPECT_EQ(doc["case"]["tool"]["teeth"], 2);
 }
 
-// The .dat block of the series called `title`: its (x, y) points.
-std::vector<std::pair<double, double>> block(const std::string& dat, const std::string& title) {
-  std::vector<std::pair<double, double>> points;
-  const auto at = dat.find("\n# " + title + "\n");
-  if (at == std::string::npos) return points;
-  std::istringstream in(dat.substr(at + 1));
-  std::string line;
-  while (std::getline(in, line) && !line.empty() && line[0] == '#') {
-  }
-  do {
-    if (line.empty()) break;
-    std::istringstream values(line);
-    double x = 0.0, y = 0.0;
-    values >> x >> y;
-    points.emplace_back(x, y);
-  } while (std::getline(in, line));
-  return points;
-}
+using testing::plot_block;
 
 TEST_F(IdentifyCli, PlotShowsForcePerDepthAgainstFeed) {
   const Result r =
@@ -170,14 +154,14 @@ TEST_F(IdentifyCli, PlotShowsForcePerDepthAgainstFeed) {
   EXPECT_THAT(gp, HasSubstr("mean force on the cutter per unit axial depth (N/mm)"));
   const app::IdentifyJobReport j = job();
   // Measured points: the samples' forces over their depth (2 mm).
-  const auto fy = block(dat, "Fy measured");
+  const auto fy = plot_block(dat, "Fy measured");
   ASSERT_EQ(fy.size(), 6u) << dat;
   EXPECT_NEAR(fy[0].first, 0.025, 1e-12);
   EXPECT_NEAR(fy[0].second, 40.015 / 2.0, 1e-9);
   // Fitted lines: at zero feed the edge forces alone; in slotting (docs/models/
   // identification.md) F̄x/a = −(z/π)·Kre and F̄y/a = (z/π)·Kte per mm of depth.
-  const auto fx_line = block(dat, "Fx (feed direction) fitted");
-  const auto fy_line = block(dat, "Fy fitted");
+  const auto fx_line = plot_block(dat, "Fx (feed direction) fitted");
+  const auto fy_line = plot_block(dat, "Fy fitted");
   ASSERT_EQ(fx_line.size(), 2u) << dat;
   ASSERT_EQ(fy_line.size(), 2u) << dat;
   const double kte = j.fit.kte.value / 1e3, kre = j.fit.kre.value / 1e3;  // N/mm
@@ -187,7 +171,7 @@ TEST_F(IdentifyCli, PlotShowsForcePerDepthAgainstFeed) {
   const double kt = j.fit.kt.value / 1e6;  // N/mm²
   EXPECT_NEAR((fy_line[1].second - fy_line[0].second) / (fy_line[1].first - fy_line[0].first),
               0.5 * kt, 1e-6 * kt);
-  EXPECT_TRUE(block(dat, "Fz (axial) measured").empty());
+  EXPECT_TRUE(plot_block(dat, "Fz (axial) measured").empty());
 }
 
 TEST_F(IdentifyCli, BadInputExitsTwoAndWritesNothing) {

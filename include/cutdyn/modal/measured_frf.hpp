@@ -58,6 +58,11 @@ struct MeasuredStructure {
 Eigen::MatrixXcd combined_receptance(const ModalModel& given, const MeasuredStructure& measured,
                                      const std::vector<Direction>& directions, double omega_rad_s);
 
+/// The modes of `given` and those fitted to `measured` (if any): what the time-domain methods
+/// take of a structure measured in part or in whole.
+ModalModel with_fitted_modes(const ModalModel& given,
+                             const std::optional<MeasuredStructure>& measured);
+
 /// The receptance of `model` in `direction` sampled at `frequency_hz`.
 MeasuredFrf sample_frf(const ModalModel& model, Direction direction,
                        const std::vector<double>& frequency_hz);
