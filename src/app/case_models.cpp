@@ -109,18 +109,18 @@ MillingProcess milling_process(const io::Case& c, std::string_view command) {
 std::optional<MeasuredStructure> measured_structure(const io::Case& c) {
   if (c.frfs.empty()) return std::nullopt;
   MeasuredStructure s;
-  const auto where = [&](std::size_t i) {
-    return c.source + ": frf[" + std::to_string(i) + "] (" + c.frfs[i].path.string() + ")";
-  };
   for (std::size_t i = 0; i < c.frfs.size(); ++i) {
     const io::FrfTable& t = c.frfs[i];
     std::optional<MeasuredFrf>& slot = t.direction == "x" ? s.xx : t.direction == "y" ? s.yy : s.xy;
-    rethrow_as(where(i), "", [&] { slot = slot ? add_frf(*slot, t.data) : t.data; });
+    rethrow_as(c.source, "frf[" + std::to_string(i) + "] (" + t.path.string() + ")",
+               [&] { slot = slot ? add_frf(*slot, t.data) : t.data; });
   }
   for (const auto& [direction, table] :
        {std::pair{Direction::kX, &s.xx}, std::pair{Direction::kY, &s.yy}}) {
     if (!*table) continue;
-    const FrfFit fit = fit_modes(**table, direction);
+    FrfFit fit;
+    rethrow_as(c.source, std::string("the fit of the measured FRF in ") + to_string(direction),
+               [&] { fit = fit_modes(**table, direction); });
     s.fitted.modes.insert(s.fitted.modes.end(), fit.model.modes.begin(), fit.model.modes.end());
     std::string modes;
     for (const FittedMode& m : fit.modes)
