@@ -2,16 +2,34 @@
 
 #include <fmt/format.h>
 
+#include <cstdlib>
+
 #include "cutdyn/core/error.hpp"
 
 namespace cutdyn::app {
+
+namespace {
+
+// The response direction every FRF dataset of a UFF file names, if they agree on x or y.
+Direction file_direction(const FrfReadResult& read) {
+  std::optional<int> common;
+  for (const UffDatasetInfo& d : read.uff_datasets) {
+    if (d.function_type != 4) continue;
+    const int dir = std::abs(d.response_direction);
+    if (common && *common != dir) return Direction::kX;
+    common = dir;
+  }
+  return common == 2 ? Direction::kY : Direction::kX;
+}
+
+}  // namespace
 
 FitJobReport run_fit(const FitRequest& request) {
   FitJobReport r;
   r.source = request.file.string();
   r.read = read_frf_file(request.file, request.file_options);
-  rethrow_as(r.source, "fit",
-             [&] { r.fit = fit_modes(r.read.frf, request.direction, request.fit); });
+  const Direction direction = request.direction ? *request.direction : file_direction(r.read);
+  rethrow_as(r.source, "fit", [&] { r.fit = fit_modes(r.read.frf, direction, request.fit); });
   std::vector<double> band;
   for (double f : r.read.frf.frequency_hz)
     if (f >= r.fit.lo_hz && f <= r.fit.hi_hz) band.push_back(f);

@@ -204,7 +204,8 @@ void add_fit_command(CLI::App& app, Commands& c) {
   fit->add_option("--modes", c.fit.modes,
                   "number of modes, or auto (default): chosen from the stabilisation diagram");
   fit->add_option("--band", c.fit.band, "LO:HI, the band fitted in Hz (default: the whole table)");
-  fit->add_option("--direction", c.fit.direction, "x (default) or y: where the modes act")
+  fit->add_option("--direction", c.fit.direction,
+                  "x or y: where the modes act (default: a UFF file's response direction, else x)")
       ->check(CLI::IsMember({"x", "y"}));
   fit->add_option("--format", c.fit.format, "frf, csv or uff (default: from the content)");
   add_outputs(fit, c.fit.outputs,

@@ -97,9 +97,9 @@ struct FitArgs {
   std::string file;
   std::string modes = "auto";  // --modes N | auto
   std::string band;            // --band LO:HI (Hz)
-  std::string direction = "x";
-  std::string format;  // --format frf|csv|uff; empty: from the content
-  Outputs outputs;     // --out: [[modes]] tables (TOML); --json; --plot
+  std::string direction;       // empty: the file's (UFF), else x
+  std::string format;          // --format frf|csv|uff; empty: from the content
+  Outputs outputs;             // --out: [[modes]] tables (TOML); --json; --plot
 };
 int run_fit(const FitArgs& args, std::ostream& out, std::ostream& err);
 

@@ -80,6 +80,14 @@ TEST_F(FitCli, RecoversTheExampleModesInEveryFormatAndWritesThemForACase) {
   }
 }
 
+TEST_F(FitCli, TheDirectionIsTheUffFilesResponseDirectionUnlessGiven) {
+  // tool_y.uff names its response +Y (record 6); a CSV names none: x unless --direction.
+  EXPECT_THAT(cutdyn({"fit", (kFrf / "tool_y.uff").string()}).out, HasSubstr("2 modes in y"));
+  EXPECT_THAT(cutdyn({"fit", (kFrf / "tool_y.csv").string()}).out, HasSubstr("2 modes in x"));
+  EXPECT_THAT(cutdyn({"fit", (kFrf / "tool_y.uff").string(), "--direction", "x"}).out,
+              HasSubstr("2 modes in x"));
+}
+
 TEST_F(FitCli, FittedModesGiveTheLobesOfTheMeasuredCase) {
   // The example case with [[frf]] and the same case with the [[modes]] `fit` wrote: the full
   // discretization of the one uses the modes fitted by the other's loader, the same fit.

@@ -15,8 +15,10 @@ namespace cutdyn::app {
 struct FitRequest {
   std::filesystem::path file;
   FrfFileOptions file_options;
-  Direction direction = Direction::kX;  // the direction the fitted modes act in
-  FrfFitOptions fit;                    // modes (0: automatic), band
+  /// The direction the fitted modes act in; nullopt: a UFF file's response direction (record
+  /// 6: ±1 = x, ±2 = y, when every FRF of the file has the same), else x.
+  std::optional<Direction> direction;
+  FrfFitOptions fit;  // modes (0: automatic), band
 };
 
 struct FitJobReport {
