@@ -1,0 +1,64 @@
+// The reports of the jobs rendered for people: the text `cutdyn` prints on standard output
+// and the figure it draws, for every front end (the command line, a Python module, a web
+// server) to render a report exactly alike. Warnings are not part of the text: each front
+// end shows a report's `warnings` its own way (the command line on standard error). The
+// equations behind the numbers are cited where the jobs compute them (cutdyn/app/*.hpp).
+#pragma once
+
+#include <cstddef>
+#include <ostream>
+#include <string>
+
+#include "cutdyn/app/drive.hpp"
+#include "cutdyn/app/fit.hpp"
+#include "cutdyn/app/force.hpp"
+#include "cutdyn/app/identify.hpp"
+#include "cutdyn/app/monitor.hpp"
+#include "cutdyn/app/plan.hpp"
+#include "cutdyn/app/simulate.hpp"
+#include "cutdyn/app/stability.hpp"
+#include "cutdyn/io/case_file.hpp"
+#include "cutdyn/io/plot.hpp"
+
+namespace cutdyn::app {
+
+// ---- simulate (milling): [Ermolaev2020] ---------------------------------------------------
+
+/// The cut, the summary over the last revolutions, the verdict and the predicted depth.
+void write_text(std::ostream& out, const io::Case& c, const MillingSimulationJobReport& report);
+/// Two panels: the displacement over the whole run and the forces over the last revolutions.
+io::PlotFigure figure(const MillingSimulationJobReport& report);
+
+/// The table of a sweep: the swept value, the metric `column` of milling_metric_names(), the
+/// mean force, the teeth in cut and the verdict.
+void write_text(std::ostream& out, const io::Case& c, const MillingSweepJobReport& report,
+                std::size_t column);
+/// The metric `column` against the swept key, the runs that chatter marked.
+io::PlotSpec figure(const io::Case& c, const MillingSweepJobReport& report, std::size_t column);
+
+// ---- simulate (turning) and force: docs/models/turning.md, docs/models/oxley.md -----------
+
+/// The cut, each process' growth rate and amplitude, and its predicted critical depth.
+void write_text(std::ostream& out, const io::Case& c, const TurningSimulationJobReport& report);
+/// The tool's displacement over the whole run, one series per process.
+io::PlotSpec figure(const TurningSimulationJobReport& report);
+
+/// Oxley's prediction (if any), Kc and Kf, the vibration's duty cycle, the forces.
+void write_text(std::ostream& out, const io::Case& c, const ForceJobReport& report);
+/// Oxley's forces against the uncut chip thickness when Kc is predicted and the cut does not
+/// vibrate; else three vibration periods of the pulsed forces.
+io::PlotSpec figure(const io::Case& c, const ForceJobReport& report);
+
+// ---- lobes and check: docs/models/turning.md, docs/models/milling-stability.md ------------
+
+/// The method and grid, the table of critical depths (at most about 20 rows), the lowest
+/// depth, the stable pockets and, at a target depth, the stable speeds and the advice.
+void write_text(std::ostream& out, const io::Case& c, const LobesJobReport& report);
+/// The critical depth against the spindle speed, the stable region below it.
+io::PlotSpec figure(const LobesJobReport& report);
+
+/// The verdict at the report's speed and depth: stable?, critical depth, bifurcation and
+/// chatter frequency, margin, and the method's warnings.
+void write_text(std::ostream& out, const io::Case& c, const CheckJobReport& report);
+
+}  // namespace cutdyn::app
