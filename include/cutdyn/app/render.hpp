@@ -61,4 +61,28 @@ io::PlotSpec figure(const LobesJobReport& report);
 /// chatter frequency, margin, and the method's warnings.
 void write_text(std::ostream& out, const io::Case& c, const CheckJobReport& report);
 
+// ---- drive: [Ermolaev2020], docs/models/feed-drive.md ------------------------------------
+
+/// The cut, and for each axis its steady state, load torque, motor speed, kδ and δ, and the
+/// position errors.
+void write_text(std::ostream& out, const io::Case& c, const DriveReport& report);
+/// Two panels over the last revolutions: ε of each axis and its motor speed about the mean.
+io::PlotFigure figure(const DriveReport& report);
+
+/// The table of a sweep: the swept value and, for each axis, the metric `column` of
+/// drive_metric_names().
+void write_text(std::ostream& out, const io::Case& c, const DriveSweepReport& report,
+                std::size_t column);
+/// The metric `column` of each axis against the swept key.
+io::PlotSpec figure(const io::Case& c, const DriveSweepReport& report, std::size_t column);
+
+// ---- plan: [Zenkin2012], docs/models/bore-milling.md --------------------------------------
+
+/// The bore and cutter, the largest axial feed, the allowance split, speeds, chip, errors,
+/// main time, the warnings and what the optimisation within [limits] found.
+void write_text(std::ostream& out, const io::Case& c, const PlanJobReport& report);
+/// Two panels: t0 and Δ1 against the axial feed S0, and t0 against the offset h. Needs the
+/// report's trade_off (a case with [limits]).
+io::PlotFigure figure(const PlanJobReport& report);
+
 }  // namespace cutdyn::app
