@@ -85,4 +85,19 @@ void write_text(std::ostream& out, const io::Case& c, const PlanJobReport& repor
 /// report's trade_off (a case with [limits]).
 io::PlotFigure figure(const PlanJobReport& report);
 
+// ---- identify: [Altintas2012, ch. 2], docs/models/identification.md ----------------------
+
+/// The cut and its test cuts, the coefficients with their 95 % intervals, the measured and
+/// fitted mean force of each test cut, and the notes.
+void write_text(std::ostream& out, const io::Case& c, const IdentifyJobReport& report);
+/// Mean force per unit depth against the feed per tooth: measured points, fitted lines.
+io::PlotSpec figure(const IdentifyJobReport& report);
+
+// ---- fit: docs/models/modal-fitting.md ----------------------------------------------------
+
+/// The file read, the fit's band and error, and the table of the fitted modes.
+void write_text(std::ostream& out, const FitJobReport& report);
+/// Two panels: magnitude (log) and phase of the measured and the fitted FRF, modes marked.
+io::PlotFigure figure(const FitJobReport& report);
+
 }  // namespace cutdyn::app
