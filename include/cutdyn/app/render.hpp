@@ -100,4 +100,22 @@ void write_text(std::ostream& out, const FitJobReport& report);
 /// Two panels: magnitude (log) and phase of the measured and the fitted FRF, modes marked.
 io::PlotFigure figure(const FitJobReport& report);
 
+// ---- monitor: docs/models/monitor.md --------------------------------------------------------
+
+/// A warning of a monitor job in words, "SOURCE: what" (the command line prints it after
+/// "cutdyn: warning: ").
+std::string warning_text(const MonitorWarning& warning);
+/// An alarm in words, "overload on axis x at T s (level …, confirmed at T s)" (the command
+/// line prints it after "cutdyn: alarm: ").
+std::string alarm_text(const std::string& axis, const AlarmEvent& alarm);
+
+/// The logs calibrated with, and each axis' constants and fits (steps 1 and 2).
+void write_text(std::ostream& out, const CalibrateReport& report);
+/// "monitor estimate: N samples[, K alarms]" and the filter of each axis (§4.1, §4.3), and
+/// what force_sigma_n covers. (The command line prints it on standard error, after "cutdyn: ",
+/// when the estimates themselves go to standard output.)
+void write_text(std::ostream& out, const EstimateReport& report);
+/// The reference runs and each axis' band: runs, cycle, bins, peak mean level.
+void write_text(std::ostream& out, const TeachReport& report);
+
 }  // namespace cutdyn::app
