@@ -10,6 +10,7 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cutdyn/app/monitor.hpp"
+#include "cutdyn/app/render.hpp"
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/io/output.hpp"
 
@@ -64,70 +65,15 @@ void throw_if(const std::vector<std::string>& problems) {
   if (!problems.empty()) throw InvalidInput(problems, "command line");
 }
 
-std::string pm(double value, double sigma) { return human(value, 6) + " ± " + human(sigma, 2); }
-
-std::string plural(std::size_t n, const char* one, const char* many) {
-  return std::to_string(n) + " " + (n == 1 ? one : many);
-}
-
 // ---- what the jobs report as it happens ----------------------------------------------------
 
-void render_warning(std::ostream& err, const app::MonitorWarning& w) {
-  using Kind = app::MonitorWarning::Kind;
-  err << "cutdyn: warning: " << w.source << ": ";
-  switch (w.kind) {
-    case Kind::kBadLine:
-      err << w.message << " (skipped)";
-      break;
-    case Kind::kBadLinesSkipped:
-      err << "skipped " << plural(w.count, "bad line", "bad lines");
-      break;
-    case Kind::kFit:
-      err << "axis " << w.axis << ": " << w.message;
-      break;
-    case Kind::kTorqueSign:
-      err << "line " << w.line << ", axis " << w.axis << " at " << human(w.time_s, 7)
-          << " s: " << w.message;
-      break;
-    case Kind::kTorqueSignCount:
-      err << "axis " << w.axis << ": the torque sign is in doubt at " << w.count << " samples";
-      break;
-    case Kind::kUncertaintyUnknown:
-      err << "uncertainty unknown for the literature coefficients (axis " << w.axis
-          << "): force_sigma_n is left empty; calibrate the machine (cutdyn monitor calibrate "
-             "--idle ... --loaded ...) for an uncertainty";
-      break;
-    case Kind::kNoBand:
-      err << "no band for axis " << w.axis << ": no alarms on it";
-      break;
-    case Kind::kBandwidthMismatch:
-      err << "taught with --bandwidth-hz " << human(w.value) << ", estimating with "
-          << human(w.other);
-      break;
-    case Kind::kNoToothPeriod:
-      err << "no --rpm and --teeth: the monitored level keeps the tooth pattern (no averaging "
-             "over the tooth period), so the band is wide and a broken tooth may take several "
-             "tooth periods to be caught; give the cut's --rpm and --teeth";
-      break;
-  }
-  err << "\n";
-}
-
-void render_alarm(std::ostream& err, const std::string& axis, const AlarmEvent& a) {
-  err << "cutdyn: alarm: " << to_string(a.kind) << " on axis " << axis << " at "
-      << human(a.time_s, 7) << " s ("
-      << (a.kind == AlarmKind::kWear
-              ? "smoothed rise " + human(100.0 * a.level_n, 3) + " % > " +
-                    human(100.0 * a.limit_n, 3) + " %"
-              : "level " + human(a.level_n, 5) +
-                    (a.kind == AlarmKind::kOverload ? " N > upper limit " : " N < lower limit ") +
-                    human(a.limit_n, 5) + " N")
-      << ", confirmed at " << human(a.detected_s, 7) << " s)\n";
-}
-
 app::MonitorListener listener(std::ostream& err) {
-  return {[&err](const app::MonitorWarning& w) { render_warning(err, w); },
-          [&err](const std::string& axis, const AlarmEvent& a) { render_alarm(err, axis, a); }};
+  return {[&err](const app::MonitorWarning& w) {
+            err << "cutdyn: warning: " << app::warning_text(w) << "\n";
+          },
+          [&err](const std::string& axis, const AlarmEvent& a) {
+            err << "cutdyn: alarm: " << app::alarm_text(axis, a) << "\n";
+          }};
 }
 
 // ---- calibrate ------------------------------------------------------------------------------
@@ -146,33 +92,6 @@ std::vector<app::AxisValue> axis_values(const std::vector<std::string>& texts, c
   return values;
 }
 
-void print_axis(std::ostream& out, const std::string& axis, const app::CalibratedAxis& a) {
-  const AxisCalibration& c = a.calibration;
-  out << "  axis " << axis << " (KT = " << human(c.model.torque_constant_nm_per_a) << " N·m/A "
-      << to_string(c.model.measure) << ", J = " << human(c.model.inertia_kg_m2) << " kg·m²)\n";
-  if (a.idle) {
-    const IdleFit& f = *a.idle;
-    out << "    step 1: Tnzm = " << pm(f.friction_nm, f.friction_sigma_nm)
-        << " N·m, X = " << pm(f.viscous_nm_s_per_rad, f.viscous_sigma) << " N·m·s/rad\n"
-        << "            " << f.report.windows << " steady windows at " << f.report.distinct_speeds
-        << " speeds (" << f.report.windows_rejected
-        << " rejected), R² = " << human(f.report.r_squared, 6)
-        << ", residual RMS = " << human(f.report.residual_rms_nm, 3) << " N·m\n"
-        << "            noise: current " << human(f.current_noise_a, 3) << " A, speed "
-        << human(f.speed_noise_rad_s, 3) << " rad/s\n";
-  }
-  if (a.load) {
-    const LoadFit& f = *a.load;
-    out << "    step 2: KBlf = " << pm(f.force_gain_m, f.force_gain_sigma_m) << " m, "
-        << f.report.windows << " windows, R² = " << human(f.report.r_squared, 6)
-        << ", residual RMS = " << human(f.report.residual_rms_nm, 3) << " N·m\n";
-  }
-  if (!c.uncertainty_known)
-    out << "    uncertainty unknown: Tnzm, X or KBlf are the base's, which has no known "
-           "uncertainty; force_sigma_n will be left empty (calibrate with --idle and "
-           "--loaded)\n";
-}
-
 int run_calibrate(const CalibrateArgs& args, std::ostream& out, std::ostream& err) {
   app::CalibrateOptions options = args.options;
   options.stop_at_bad_line = stop_at_bad_line(args.on_bad_line);
@@ -189,11 +108,7 @@ int run_calibrate(const CalibrateArgs& args, std::ostream& out, std::ostream& er
   options.inertia_kg_m2 = axis_values(args.inertia, "--inertia");
 
   const app::CalibrateReport report = app::calibrate(options, listener(err));
-  const std::size_t axes = report.axes.size();
-  out << "cutdyn monitor calibrate: " << axes << " ax" << (axes == 1 ? "is" : "es") << ", "
-      << options.idle.size() << " idle and "
-      << plural(options.loaded.size(), "loaded log", "loaded logs") << "\n";
-  for (const auto& [axis, a] : report.axes) print_axis(out, axis, a);
+  app::write_text(out, report);
   io::OutputTransaction outputs;
   io::write_json(outputs.open(args.out), app::calibration_json(report.axes));
   outputs.commit();
@@ -202,27 +117,6 @@ int run_calibrate(const CalibrateArgs& args, std::ostream& out, std::ostream& er
 }
 
 // ---- estimate -------------------------------------------------------------------------------
-
-// What the estimate is (docs/models/monitor.md §4.1, §4.3): the filter of each axis, for its
-// first step, as text.
-void describe_filter(std::ostream& out, const std::string& axis, const app::FilterReport& f) {
-  out << "  axis " << axis
-      << ": force_n = the force through H(f) = sinc(f·Δt)·e^(−jπfΔt)·((1 − r)/"
-         "(1 − r·e^(−j2πfΔt)))², r = exp(−2π·f_b·Δt), f_b = "
-      << human(f.bandwidth_hz) << " Hz";
-  if (f.step_s <= 0.0) {
-    out << " (one sample: no step)\n";
-    return;
-  }
-  out << ", Δt = " << human(f.step_s) << " s: −3 dB at " << human(f.minus_3db_hz) << " Hz, gain "
-      << human(f.gain_at_bandwidth, 3) << " and lag " << human(f.lag_deg_at_bandwidth, 3)
-      << "° at f_b, delay " << human(f.delay_s, 3) << " s at low frequency";
-  if (f.tooth_frequency_hz > 0.0)
-    out << "; at the tooth frequency " << human(f.tooth_frequency_hz) << " Hz: gain "
-        << human(f.gain_at_tooth_frequency, 3) << ", lag " << human(f.lag_deg_at_tooth_frequency, 3)
-        << "°";
-  out << "\n";
-}
 
 // The options of an estimate, every problem with the flags thrown before anything is read.
 app::EstimateOptions estimate_options(const EstimateArgs& args) {
@@ -246,11 +140,8 @@ app::EstimateOptions estimate_options(const EstimateArgs& args) {
 void print_estimate(const EstimateArgs& args, const app::EstimateReport& r, std::ostream& out,
                     std::ostream& err) {
   std::ostream& report = args.out.empty() ? err : out;
-  report << (args.out.empty() ? "cutdyn: " : "") << "monitor estimate: " << r.samples << " samples";
-  if (!args.band.empty()) report << ", " << plural(r.alarms.size(), "alarm", "alarms");
-  report << "\n";
-  for (const app::EstimatedAxis& e : r.axes) describe_filter(report, e.axis, e.filter);
-  report << "  " << app::kSigmaCovers << "\n";
+  report << (args.out.empty() ? "cutdyn: " : "");
+  app::write_text(report, r);
   for (const std::string* f : {&args.out, &args.alarms, &args.json})
     if (!f->empty()) out << "  wrote " << *f << "\n";
 }
@@ -301,16 +192,7 @@ int run_teach(const TeachArgs& args, std::ostream& out, std::ostream& err) {
     throw InvalidInput({"REFERENCE: give at least one reference run"}, "command line");
 
   const app::TeachReport report = app::teach(options, listener(err));
-  out << "cutdyn monitor teach: "
-      << plural(options.references.size(), "reference run", "reference runs") << "\n";
-  for (const auto& [axis, band] : report.band.axes) {
-    const auto peak = std::max_element(band.mean_n.begin(), band.mean_n.end());
-    std::size_t cutting = 0;
-    for (auto c : band.cutting) cutting += c;
-    out << "  axis " << axis << ": " << plural(static_cast<std::size_t>(band.runs), "run", "runs")
-        << ", cycle " << human(band.cycle_s) << " s in " << band.mean_n.size()
-        << " bins, peak mean level " << human(*peak, 5) << " N, " << cutting << " cutting bins\n";
-  }
+  app::write_text(out, report);
   io::OutputTransaction outputs;
   io::write_json(outputs.open(args.out), app::band_json(report.band));
   outputs.commit();

@@ -36,9 +36,6 @@ using app::predict_with_oxley;
 using app::require_turning;
 using app::turning_process;
 
-/// One line: "Kc and Kt predicted by Oxley's theory for AISI1045 at 200 m/min, ...".
-std::string oxley_summary(const io::Case& c, const OxleyPrediction& p);
-
 /// How the jobs name the command line's inputs: "command line", --rpm, --depth-mm,
 /// --duration-s, --method.
 app::RequestNames flag_names();
@@ -53,20 +50,6 @@ void check_outputs(const Outputs& o);
 void commit_outputs(io::OutputTransaction& outputs, const Outputs& o, std::ostream& out);
 /// Adds a problem to `v` if `path`'s folder does not exist.
 void check_output_folder(Validator& v, const char* flag, const std::string& path);
-
-/// "6.736 mm", or "> 30 mm" when no boundary was found below the limit.
-std::string depth_text(const CriticalDepth& b);
-
-/// Prints the summary table, lowest depth and stable pockets, and writes the CSV
-/// (spindle_rpm,critical_depth_mm,chatter_hz,lobe,bifurcation,beyond_limit,...), JSON and
-/// figure that `outputs` asks for, all or none.
-void report_lobes(const io::Case& c, const app::LobesJobReport& report, const Outputs& outputs,
-                  std::ostream& out, std::ostream& err);
-
-/// Prints the verdict of `cutdyn check` (stable?, critical depth, bifurcation and chatter
-/// frequency, margin) and writes --json if asked.
-void report_check(const io::Case& c, const CheckArgs& args, const app::CheckJobReport& report,
-                  std::ostream& out);
 
 /// Progress on stderr while it is a terminal ("lobes: 120/200 speeds"); silent otherwise.
 std::function<void(int, int)> progress_reporter(std::ostream& err, std::string label);

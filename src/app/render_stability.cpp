@@ -1,26 +1,26 @@
-// `cutdyn lobes` rendered: the summary table, the lowest depth, stable pockets, the speeds
-// stable at a target depth, and the CSV, JSON and figure of the lobes job's report.
+// The stability reports rendered: the text and figure of `cutdyn lobes` (the summary table,
+// the lowest depth, stable pockets, the speeds stable at a target depth) and the verdict of
+// `cutdyn check` (docs/models/turning.md, docs/models/milling-stability.md).
 #include <fmt/format.h>
 
 #include <algorithm>
 
-#include "cli/common.hpp"
+#include "cutdyn/app/detail/render_text.hpp"
+#include "cutdyn/app/detail/text.hpp"
+#include "cutdyn/app/render.hpp"
 #include "cutdyn/core/units.hpp"
-#include "cutdyn/io/output.hpp"
-#include "cutdyn/io/plot.hpp"
 
-namespace cutdyn::cli {
+namespace cutdyn::app {
 namespace {
 
-using nlohmann::json;
 using units::m_to_mm;
 
-const std::vector<CriticalDepth>* reference_of(const app::LobesJobReport& r) {
+const std::vector<CriticalDepth>* reference_of(const LobesJobReport& r) {
   return r.reference.empty() ? nullptr : &r.reference;
 }
 
 // Every speed up to 20 rows (then every n-th), with the marks below the table.
-void print_table(const app::LobesJobReport& r, std::ostream& out) {
+void print_table(const LobesJobReport& r, std::ostream& out) {
   const auto& pts = r.lobes.points;
   const auto* ref = reference_of(r);
   std::string header = fmt::format("  {:>11}  {:>17}  {:>10}  {:>4}  {:>11}", "spindle_rpm",
@@ -46,7 +46,7 @@ void print_table(const app::LobesJobReport& r, std::ostream& out) {
 }
 
 // The lowest depth, the pockets and, at a target depth, the stable speeds and the advice.
-void print_findings(const app::LobesJobReport& r, std::ostream& out) {
+void print_findings(const LobesJobReport& r, std::ostream& out) {
   const auto& pts = r.lobes.points;
   out << "\n  lowest critical depth " << depth_text(pts[r.lowest].boundary) << " at "
       << human(pts[r.lowest].rpm) << " rpm\n";
@@ -75,7 +75,21 @@ void print_findings(const app::LobesJobReport& r, std::ostream& out) {
   }
 }
 
-io::PlotSpec lobes_plot(const app::LobesJobReport& r) {
+}  // namespace
+
+void write_text(std::ostream& out, const io::Case& c, const LobesJobReport& r) {
+  out << "cutdyn lobes: " << c.source << "\n";
+  out << "  " << r.description << "\n";
+  out << fmt::format("  method {}, {} speeds {}–{} rpm, depth limit {} mm, {:.2f} s\n", r.method,
+                     r.lobes.points.size(), human(r.lobes.options.rpm_min),
+                     human(r.lobes.options.rpm_max), human(m_to_mm(r.depth_max_m)),
+                     r.lobes.seconds);
+  out << "\n";
+  print_table(r, out);
+  print_findings(r, out);
+}
+
+io::PlotSpec figure(const LobesJobReport& r) {
   const auto& pts = r.lobes.points;
   const auto* ref = reference_of(r);
   io::PlotSpec spec;
@@ -99,31 +113,29 @@ io::PlotSpec lobes_plot(const app::LobesJobReport& r) {
   return spec;
 }
 
-}  // namespace
-
-void report_lobes(const io::Case& c, const app::LobesJobReport& r, const Outputs& files,
-                  std::ostream& out, std::ostream& err) {
-  if (r.lobes.status != LobesStatus::kSuccess)
-    err << "cutdyn: warning: " << r.lobes.message << "\n";
-  for (const std::string& w : r.warnings) err << "cutdyn: warning: " << w << "\n";
-  out << "cutdyn lobes: " << c.source << "\n";
+void write_text(std::ostream& out, const io::Case& c, const CheckJobReport& r) {
+  const CriticalDepth& b = r.boundary;
+  out << "cutdyn check: " << c.source << " at " << human(r.rpm) << " rpm, depth "
+      << human(m_to_mm(r.depth_m)) << " mm\n";
   out << "  " << r.description << "\n";
-  out << fmt::format("  method {}, {} speeds {}–{} rpm, depth limit {} mm, {:.2f} s\n", r.method,
-                     r.lobes.points.size(), human(r.lobes.options.rpm_min),
-                     human(r.lobes.options.rpm_max), human(m_to_mm(r.depth_max_m)),
-                     r.lobes.seconds);
-  out << "\n";
-  print_table(r, out);
-  print_findings(r, out);
-  io::OutputTransaction outputs;
-  if (!files.csv.empty()) {
-    const app::ReportTable table = app::lobes_table(r);
-    io::CsvWriter csv(outputs.open(files.csv), table.columns);
-    for (const auto& row : table.rows) csv.row(row);
-  }
-  if (!files.json.empty()) io::write_json(outputs.open(files.json), app::to_json(c, r));
-  if (!files.plot.empty()) io::write_plot(lobes_plot(r), files.plot, outputs);
-  commit_outputs(outputs, files, out);
+  out << "  " << (r.stable ? "STABLE" : "UNSTABLE (chatter)") << "\n";
+  out << "  critical depth " << depth_text(b) << " (" << r.method << ")";
+  if (b.found)
+    out << ", " << to_string(b.bifurcation) << " at " << human(b.chatter_hz, 5) << " Hz, lobe "
+        << r.lobe;
+  if (!r.margin)
+    out << "\n  no depth margin: unstable at any depth\n";
+  else
+    out << "\n  depth margin " << (b.found ? "" : "more than ") << human(100.0 * *r.margin, 3)
+        << " % of the critical depth\n";
+  if (b.truncated)
+    out << "  warning: " << r.method
+        << " could not cover every mode at this speed; the critical depth may be wrong\n";
+  if (r.duty_cycle && r.conventional) out << "  duty cycle " << human(*r.duty_cycle) << "\n";
+  if (r.conventional)
+    out << "  conventional turning: critical depth " << depth_text(r.conventional->boundary) << ", "
+        << (r.conventional->stable ? "stable" : "unstable") << " at this depth\n";
+  for (const std::string& w : r.warnings) out << "  warning: " << w << "\n";
 }
 
-}  // namespace cutdyn::cli
+}  // namespace cutdyn::app
