@@ -23,6 +23,7 @@ void write_text(std::ostream& out, const FitJobReport& r) {
                      f.automatic ? " (chosen from the stabilisation diagram)" : "", human(f.lo_hz),
                      human(f.hi_hz), f.points, human(100.0 * f.rms_relative_error, 3),
                      f.converged ? "" : " (not converged)");
+  for (const std::string& n : f.notes) out << "  note: " << n << "\n";
   if (f.modes.empty()) return;
   out << fmt::format("\n  {:>4}  {:>12}  {:>13}  {:>17}  {:>14}\n", "mode", "natural_hz",
                      "damping_ratio", "stiffness_n_per_m", "residue phase");

@@ -505,6 +505,7 @@ json to_json(const FitJobReport& r) {
           {"rms_relative_error", f.rms_relative_error},
           {"converged", f.converged},
           {"stabilisation", std::move(points)},
+          {"notes", f.notes},
           {"warnings", r.warnings}};
 }
 

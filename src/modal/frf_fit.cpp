@@ -244,9 +244,11 @@ int duplicate_pole(const BandData& band, const PoleResidueModel& model) {
 // The pole to drop from a refined model, with the reason, or -1: a pole that left the band or
 // the physical range, a negative stiffness (the residue more than 90° from the real mode's),
 // one of two poles on one mode, or (automatic choice only) the least significant one if its
-// removal raises the RMS error by less than kSignificance (kSignificancePoorFit).
+// removal raises the RMS error by less than kSignificance (kSignificancePoorFit). `spurious`
+// tells the last two (a pole that stands for no mode) from the others (a mode lost).
 int pole_to_drop(const BandData& band, const PoleResidueModel& model, bool automatic,
-                 std::string& why) {
+                 std::string& why, bool& spurious) {
+  spurious = false;
   for (std::size_t r = 0; r < model.poles.size(); ++r) {
     const double wn = std::abs(model.poles[r]), zeta = -model.poles[r].real() / wn;
     const double a = std::abs(model.residues[r]);
@@ -264,6 +266,7 @@ int pole_to_drop(const BandData& band, const PoleResidueModel& model, bool autom
   }
   if (const int r = duplicate_pole(band, model); r >= 0) {
     why = "a second pole on the same mode: dropped";
+    spurious = true;
     return r;
   }
   if (!automatic || model.poles.empty()) return -1;
@@ -280,6 +283,7 @@ int pole_to_drop(const BandData& band, const PoleResidueModel& model, bool autom
   if (worst >= 0)
     why = "removing it raises the RMS error by " + fixed(100.0 * (worst_ratio - 1.0), 1) +
           " % only (noise): dropped";
+  spurious = worst >= 0;
   return worst;
 }
 
@@ -290,8 +294,12 @@ fit_detail::RefineStats refine_and_prune(const BandData& band, PoleResidueModel&
   fit_detail::fit_residues(band, model);
   fit_detail::RefineStats stats = fit_detail::refine(band, model);
   std::string why;
-  for (int r; (r = pole_to_drop(band, model, automatic, why)) >= 0;) {
-    out.warnings.push_back("pole at " + mode_text(model.poles[r]) + ": " + why);
+  bool spurious = false;
+  for (int r; (r = pole_to_drop(band, model, automatic, why, spurious)) >= 0;) {
+    // Dropping a pole that stands for no mode is the automatic choice's work (a note); a mode
+    // lost (out of the band, overdamped, negative stiffness) or asked for is a warning.
+    (automatic && spurious ? out.notes : out.warnings)
+        .push_back("pole at " + mode_text(model.poles[r]) + ": " + why);
     model.poles.erase(model.poles.begin() + r);
     fit_detail::fit_residues(band, model);
     stats = fit_detail::refine(band, model);

@@ -80,6 +80,17 @@ TEST_F(FitCli, RecoversTheExampleModesInEveryFormatAndWritesThemForACase) {
   }
 }
 
+TEST_F(FitCli, SpuriousPolesDroppedByTheAutomaticChoiceAreNotesNotWarnings) {
+  // tool_y's noise makes a pole near 1021 Hz that the automatic choice drops: said on stdout
+  // as a note, with no warning on stderr; asked for 3 modes, the third is warned about.
+  const Result r = cutdyn({"fit", (kFrf / "tool_y.csv").string(), "--direction", "y"});
+  ASSERT_EQ(r.code, 0);
+  EXPECT_THAT(r.out, HasSubstr("note: pole at 1020"));
+  EXPECT_EQ(r.err, "");
+  const Result three = cutdyn({"fit", (kFrf / "tool_y.csv").string(), "--modes", "3"});
+  EXPECT_THAT(three.err, HasSubstr("warning"));
+}
+
 TEST_F(FitCli, TheDirectionIsTheUffFilesResponseDirectionUnlessGiven) {
   // tool_y.uff names its response +Y (record 6); a CSV names none: x unless --direction.
   EXPECT_THAT(cutdyn({"fit", (kFrf / "tool_y.uff").string()}).out, HasSubstr("2 modes in y"));

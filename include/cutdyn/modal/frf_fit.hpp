@@ -85,6 +85,9 @@ struct FrfFit {
   bool converged = false;
   std::vector<StabilisationPoint> stabilisation;
   std::vector<std::string> warnings;
+  /// What the automatic choice did that asks nothing of the user: the poles it dropped as
+  /// standing for no mode (noise, a second pole on one mode), each with its reason.
+  std::vector<std::string> notes;
   ModalModel model;  // the modes as real modes (ωn, ζ, k) acting in `direction`
 };
 
