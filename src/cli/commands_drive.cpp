@@ -91,7 +91,7 @@ void write_traces(const DriveArgs& args, const app::DriveReport& run,
 }  // namespace
 
 int run_drive(const DriveArgs& args, std::ostream& out, std::ostream& err) {
-  check_outputs(args.outputs);
+  check_outputs(args.outputs, {args.case_path});
   if (!args.currents.empty()) check_outputs({args.currents, "", ""});
   const io::Case c = load_case(args.case_path, kDefaultDriveCase, err);
   if (!args.sweep.empty()) {

@@ -59,7 +59,7 @@ app::FitRequest fit_request(const FitArgs& args) {
 }  // namespace
 
 int run_fit(const FitArgs& args, std::ostream& out, std::ostream& err) {
-  check_outputs(args.outputs);
+  check_outputs(args.outputs, {args.file});
   const app::FitRequest request = fit_request(args);
   const app::FitJobReport r = app::run_fit(request);
   app::write_text(out, r);

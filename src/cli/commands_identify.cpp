@@ -13,39 +13,12 @@
 #include "cutdyn/io/plot.hpp"
 
 namespace cutdyn::cli {
-namespace {
-
-// An output that names an input would overwrite it: refused before any work.
-void check_outputs_are_not_inputs(const IdentifyArgs& args) {
-  namespace fs = std::filesystem;
-  std::vector<std::string> inputs = args.force_files;
-  std::error_code ec;  // a path that cannot be resolved names no input
-  if (fs::is_regular_file(args.case_path, ec)) inputs.push_back(args.case_path);
-  const auto same = [&](const std::string& a, const std::string& b) {
-    const fs::path x = fs::weakly_canonical(a, ec);
-    if (ec) return false;
-    const fs::path y = fs::weakly_canonical(b, ec);
-    return !ec && x == y;
-  };
-  Validator v;
-  const auto check = [&](const char* flag, const std::string& path) {
-    if (path.empty() || path == "-") return;
-    for (const std::string& input : inputs)
-      if (same(path, input))
-        v.add(std::string(flag) + " = " + path + ": it is an input of the command (" + input +
-              ") and would be overwritten");
-  };
-  check("--out", args.outputs.csv);
-  check("--json", args.outputs.json);
-  check("--plot", args.outputs.plot);
-  v.throw_if_any("command line");
-}
-
-}  // namespace
+namespace {}  // namespace
 
 int run_identify(const IdentifyArgs& args, std::ostream& out, std::ostream& err) {
-  check_outputs(args.outputs);
-  check_outputs_are_not_inputs(args);
+  std::vector<std::string> inputs = args.force_files;
+  inputs.push_back(args.case_path);
+  check_outputs(args.outputs, inputs);
   const io::Case c = load_case(args.case_path, "milling-insperger", err);
   app::IdentifyRequest request;
   for (const std::string& f : args.force_files) request.force_files.emplace_back(f);

@@ -22,7 +22,7 @@ constexpr std::string_view kDefaultForceCase = "ultrasonic-force";
 }  // namespace
 
 int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
-  check_outputs(args.outputs);
+  check_outputs(args.outputs, {args.case_path});
   const io::Case c = load_case(args.case_path, kDefaultTurningCase, err);
   app::LobesRequest request;  // the job checks the request (a positive target depth, …)
   request.method = args.method;
@@ -70,7 +70,7 @@ int run_check(const CheckArgs& args, std::ostream& out, std::ostream& err) {
 }
 
 int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err) {
-  check_outputs(args.outputs);
+  check_outputs(args.outputs, {args.case_path});
   const io::Case c = load_case(args.case_path, kDefaultTurningCase, err);
   if (c.process == io::Process::kMilling) return run_simulate_milling(args, c, out, err);
   if (!args.sweep.empty() || !args.metric.empty())
@@ -100,7 +100,7 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
 }
 
 int run_force(const ForceArgs& args, std::ostream& out, std::ostream& err) {
-  check_outputs({"", args.json, args.plot});
+  check_outputs({"", args.json, args.plot}, {args.case_path});
   const io::Case c = load_case(args.case_path, kDefaultForceCase, err);
   const app::ForceJobReport r = app::run_force(c);
   app::write_text(out, c, r);

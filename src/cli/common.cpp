@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
+#include <system_error>
+#include <utility>
 #include <variant>
 
 #include "cutdyn/core/error.hpp"
@@ -49,18 +51,40 @@ app::RequestNames flag_names() {
   return n;
 }
 
-void check_outputs(const Outputs& o) {
+namespace {
+
+// Both paths name the same file (a path that cannot be resolved names none).
+bool same_file(const std::string& a, const std::string& b) {
+  if (a.empty() || b.empty()) return false;
+  std::error_code ec;
+  const std::filesystem::path x = std::filesystem::weakly_canonical(a, ec);
+  if (ec) return false;
+  const std::filesystem::path y = std::filesystem::weakly_canonical(b, ec);
+  return !ec && x == y;
+}
+
+}  // namespace
+
+void check_outputs(const Outputs& o, const std::vector<std::string>& inputs) {
   if (!o.plot.empty()) io::check_figure_path(o.plot);
   Validator v;
   check_output_folder(v, "--out", o.csv);
   check_output_folder(v, "--json", o.json);
   check_output_folder(v, "--plot", o.plot);
-  const auto same = [](const std::string& a, const std::string& b) {
-    return !a.empty() && !b.empty() &&
-           std::filesystem::weakly_canonical(a) == std::filesystem::weakly_canonical(b);
-  };
-  if (same(o.csv, o.json) || same(o.csv, o.plot) || same(o.json, o.plot))
+  if (same_file(o.csv, o.json) || same_file(o.csv, o.plot) || same_file(o.json, o.plot))
     v.add("--out, --json and --plot must name different files");
+  // An output that names an input would overwrite it. Only files count: a case argument may
+  // name a built-in example instead.
+  for (const auto& [flag, path] :
+       {std::pair{"--out", &o.csv}, std::pair{"--json", &o.json}, std::pair{"--plot", &o.plot}}) {
+    if (path->empty() || *path == "-") continue;
+    for (const std::string& input : inputs) {
+      std::error_code ec;
+      if (std::filesystem::is_regular_file(input, ec) && same_file(*path, input))
+        v.add(std::string(flag) + " = " + *path + ": it is an input of the command (" + input +
+              ") and would be overwritten");
+    }
+  }
   v.throw_if_any("command line");
 }
 

@@ -44,7 +44,7 @@ using app::json_document;  // the frame of every JSON document (cutdyn/app/repor
 using app::kJsonSchemaVersion;
 
 /// Checks --out/--json/--plot before any work: figure format, existing folders, distinct files.
-void check_outputs(const Outputs& o);
+void check_outputs(const Outputs& o, const std::vector<std::string>& inputs = {});
 
 /// Commits the outputs (they appear together) and lists the files written.
 void commit_outputs(io::OutputTransaction& outputs, const Outputs& o, std::ostream& out);

@@ -151,6 +151,10 @@ TEST_F(FitCli, BadInputIsRefusedWithNothingWritten) {
   expect_rejected(
       {"check", path("case.toml"), "--rpm", "9000", "--depth-mm", "1", "--json", path("c.json")},
       "line 3");
+  // An output that names an input is refused before anything is read or written (every
+  // command: the check is the command line's).
+  expect_rejected({"fit", path("bad.frf"), "--out", path("bad.frf")}, "is an input");
+  expect_rejected({"lobes", path("case.toml"), "--out", path("case.toml")}, "is an input");
 }
 
 }  // namespace
