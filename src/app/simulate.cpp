@@ -141,7 +141,10 @@ MillingSimulationJobReport simulate_milling_case(const io::Case& c, const Simula
   report.s1_law = c.force_law.has_value();
   // The stability prediction at this speed, for the mechanistic law with regeneration.
   if (!report.s1_law && s.cut.regenerative && !s.cut.process.structure_modes().modes.empty()) {
-    const MillingProcess m = milling_process(c, "simulate");
+    // The simulated process itself (its [[frf]] tables read and fitted once, by the setup).
+    const MillingProcess& m = s.cut.process;
+    if (const auto problems = m.validate_for_stability(); !problems.empty())
+      throw InvalidInput(problems, c.source);
     MillingStabilityOptions so;
     so.depth_max_m = c.lobes.depth_max_m;
     so.rel_tol = 1e-3;
