@@ -28,6 +28,9 @@ std::string shout(std::string verdict) {
 
 MetricAxis milling_metric_axis(const std::string& metric) {
   if (metric == "force_pulsation") return {"force pulsation ΔP", "%", 100.0};
+  if (metric == "cutting_force_pulsation")
+    return {"cutting force pulsation ΔP (P alone)", "%", 100.0};
+  if (metric == "mean_cutting_force_n") return {"mean cutting force ΣP", "N"};
   if (metric == "mean_force_n") return {"mean force |F|", "N"};
   if (metric == "peak_force_n") return {"peak force |F|", "N"};
   if (metric == "min_force_n") return {"smallest force |F|", "N"};
@@ -47,6 +50,7 @@ constexpr std::size_t kEnvelopeBuckets = 2000;
 constexpr const char* kXColour = "#0072B2";
 constexpr const char* kYColour = "#D55E00";
 constexpr const char* kForceColour = "#000000";
+constexpr const char* kCuttingColour = "#009E73";
 
 }  // namespace
 
@@ -75,7 +79,10 @@ void write_text(std::ostream& out, const io::Case& c, const MillingSimulationJob
         human(r.stop_time_s, 4), human(s.options.revolutions * 60.0 / s.rpm, 4));
   else
     out << fmt::format("  over the last {} revolutions:\n", human(s.options.summary_revolutions));
-  out << fmt::format("    force pulsation ΔP      {} %\n", human(100.0 * r.force_pulsation, 3));
+  out << fmt::format("    force pulsation ΔP      {} % (|F|), {} % (cutting force ΣP alone)\n",
+                     human(100.0 * r.force_pulsation, 3),
+                     human(100.0 * r.cutting_force_pulsation, 3));
+  out << fmt::format("    cutting force ΣP        mean {} N\n", human(r.mean_cutting_force_n));
   out << fmt::format("    force |F|               mean {} N, min {} N, peak {} N\n",
                      human(r.mean_force_n), human(r.min_force_n), human(r.peak_force_n));
   out << fmt::format("    mean force Fx, Fy       {} N, {} N\n", human(r.mean_fx_n),
@@ -139,15 +146,17 @@ io::PlotFigure figure(const MillingSimulationJobReport& job) {
   last.y_label = "force on the cutter (N)";
   io::PlotSeries lf{"|F|", {}, {}, "lines", false, kForceColour},
       lfx{"Fx (feed)", {}, {}, "lines", false, kXColour},
-      lfy{"Fy", {}, {}, "lines", false, kYColour};
+      lfy{"Fy", {}, {}, "lines", false, kYColour},
+      lp{"ΣP (cutting forces alone)", {}, {}, "lines", false, kCuttingColour};
   for (std::size_t i = 0; i < r.time_s.size(); ++i) {
     if (r.time_s[i] < from) continue;
-    for (io::PlotSeries* p : {&lf, &lfx, &lfy}) p->x.push_back(r.time_s[i]);
+    for (io::PlotSeries* p : {&lf, &lfx, &lfy, &lp}) p->x.push_back(r.time_s[i]);
     lf.y.push_back(r.force_n[i]);
     lfx.y.push_back(r.fx_n[i]);
     lfy.y.push_back(r.fy_n[i]);
+    lp.y.push_back(r.cutting_force_n[i]);
   }
-  for (io::PlotSeries* p : {&lf, &lfx, &lfy})
+  for (io::PlotSeries* p : {&lf, &lfx, &lfy, &lp})
     last.series.push_back(io::envelope(*p, kEnvelopeBuckets));
   figure.panels = {std::move(whole), std::move(last)};
   return figure;

@@ -259,6 +259,8 @@ json to_json(const io::Case& c, const MillingSimulationJobReport& job) {
   const bool s1 = job.s1_law;
   const std::optional<MillingBoundary>& predicted = job.predicted;
   json summary{{"force_pulsation", r.force_pulsation},
+               {"cutting_force_pulsation", r.cutting_force_pulsation},
+               {"mean_cutting_force_n", r.mean_cutting_force_n},
                {"mean_force_n", r.mean_force_n},
                {"min_force_n", r.min_force_n},
                {"peak_force_n", r.peak_force_n},

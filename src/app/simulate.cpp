@@ -166,11 +166,18 @@ MillingSimulationJobReport simulate_milling_case(const io::Case& c, const Simula
 }
 
 const std::vector<std::string>& milling_metric_names() {
-  static const std::vector<std::string> names{"force_pulsation",   "mean_force_n",
-                                              "peak_force_n",      "min_force_n",
-                                              "mean_teeth_in_cut", "vibration_pp_x_um",
-                                              "vibration_pp_y_um", "chatter_indicator",
-                                              "contact_loss",      "surface_location_error_um"};
+  static const std::vector<std::string> names{"force_pulsation",
+                                              "mean_force_n",
+                                              "peak_force_n",
+                                              "min_force_n",
+                                              "mean_teeth_in_cut",
+                                              "vibration_pp_x_um",
+                                              "vibration_pp_y_um",
+                                              "chatter_indicator",
+                                              "contact_loss",
+                                              "surface_location_error_um",
+                                              "cutting_force_pulsation",
+                                              "mean_cutting_force_n"};
   return names;
 }
 
@@ -185,7 +192,9 @@ std::vector<double> milling_metrics(const MillingSimulationResult& r) {
           r.chatter_indicator,
           r.contact_loss,
           r.surface_location_error_m ? m_to_um(*r.surface_location_error_m)
-                                     : std::numeric_limits<double>::quiet_NaN()};
+                                     : std::numeric_limits<double>::quiet_NaN(),
+          r.cutting_force_pulsation,
+          r.mean_cutting_force_n};
 }
 
 Sweep parse_sweep(const std::string& spec, const std::string& flag, const std::string& where) {

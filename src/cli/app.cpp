@@ -99,7 +99,7 @@ void add_simulate_command(CLI::App& app, Commands& c) {
   sim->add_option("CASE", c.sim.case_path, "case file (TOML), or a built-in example's name");
   add_outputs(sim, c.sim.outputs,
               "write the traces as CSV. Turning: process,time_s,displacement_um,force_n,"
-              "chip_thickness_um; milling: time_s,fx_n,fy_n,force_n,x_um,y_um,teeth_in_cut; a "
+              "chip_thickness_um; milling: time_s,fx_n,fy_n,force_n,x_um,y_um,teeth_in_cut,cutting_force_n; a "
               "sweep: the swept key and the metrics");
   sim->add_option("--rpm", c.sim.rpm, "spindle speed (rpm), overrides [simulate].rpm");
   sim->add_option("--depth-mm", c.sim.depth_mm, "depth of cut (mm), overrides [simulate].depth_mm");

@@ -121,11 +121,11 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
   const MillingSimulationResult& r = job.result;
   io::OutputTransaction outputs;
   if (!args.outputs.csv.empty()) {
-    io::CsvWriter csv(outputs.open(args.outputs.csv),
-                      {"time_s", "fx_n", "fy_n", "force_n", "x_um", "y_um", "teeth_in_cut"});
+    io::CsvWriter csv(outputs.open(args.outputs.csv), {"time_s", "fx_n", "fy_n", "force_n", "x_um",
+                                                       "y_um", "teeth_in_cut", "cutting_force_n"});
     for (std::size_t i = 0; i < r.time_s.size(); ++i)
       csv.row({r.time_s[i], r.fx_n[i], r.fy_n[i], r.force_n[i], m_to_um(r.x_m[i]),
-               m_to_um(r.y_m[i]), r.teeth_in_cut[i]});
+               m_to_um(r.y_m[i]), r.teeth_in_cut[i], r.cutting_force_n[i]});
   }
   if (!args.outputs.json.empty())
     io::write_json(outputs.open(args.outputs.json), app::to_json(c, job));

@@ -785,7 +785,27 @@ std::vector<Section> make_sections() {
                number("phi_skv_deg", kDeg, closed(-90.0, 90.0))
                    .label("contact-force angle φskv")
                    .meaning("contact force from the tangent")
-                   .member(force_law, &ErmolaevForceLaw::phi_skv_rad)};
+                   .member(force_law, &ErmolaevForceLaw::phi_skv_rad),
+               choice("lag_input", {"chip", "unwindowed"})
+                   .deflt("\"chip\"")
+                   .meaning("what U lags: the chip while the tooth cuts (`\"chip\"`), or "
+                            "s_z·sin θ around the whole revolution, windowed after the lag "
+                            "(`\"unwindowed\"`, [Ermolaev2020] eqs. 3 and 5 as printed)")
+                   .access(
+                       [](const Case& c, std::size_t) -> std::optional<Value> {
+                         if (!c.force_law) return std::nullopt;
+                         return Value(std::string(c.force_law->lag_input ==
+                                                          ErmolaevForceLaw::LagInput::kUnwindowed
+                                                      ? "unwindowed"
+                                                      : "chip"));
+                       },
+                       [](Case& c, std::size_t, const Value& v) -> std::string {
+                         if (!c.force_law) return "its table is absent";
+                         c.force_law->lag_input = text_of(v) == "unwindowed"
+                                                      ? ErmolaevForceLaw::LagInput::kUnwindowed
+                                                      : ErmolaevForceLaw::LagInput::kChip;
+                         return {};
+                       })};
   fl.count = if_present(&Case::force_law);
   fl.create = emplace(&Case::force_law);
   all.push_back(std::move(fl));

@@ -52,6 +52,13 @@ bool in_window(double theta, double entry, double exit, double margin) {
   return a > entry + margin && a < exit - margin;
 }
 
+// ΔP = (Pmax − Pmin)/(|Pmax| + |Pmin|): (Pmax − Pmin)/(Pmax + Pmin) for a force that keeps its
+// sign, 1 when it falls to zero or reverses, 0 for no force.
+double pulsation(double most, double least) {
+  const double scale = std::abs(most) + std::abs(least);
+  return scale > 0.0 ? (most - least) / scale : 0.0;
+}
+
 }  // namespace
 
 std::vector<std::string> MillingCut::validate() const {
@@ -254,6 +261,7 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
     Eigen::Vector2d end = Eigen::Vector2d::Zero(), start = Eigen::Vector2d::Zero(),
                     now = Eigen::Vector2d::Zero();
     double engaged = 0.0;
+    double cutting = 0.0;  // ΣP: the teeth's cutting forces without the flank contact
     long long window = 0, lost = 0;
   };
   const auto evaluate = [&](long long n, const Eigen::Vector2d& r, bool rigid_chip) {
@@ -264,6 +272,7 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
     const double kt_b = m_law.kt_pa * width, kr_b = m_law.kr_pa * width;
     const double kte_b = m_law.kte_n_per_m * width, kre_b = m_law.kre_n_per_m * width;
     const bool regenerative = cut.regenerative;
+    const bool unwindowed = erm && erm->lag_input == ErmolaevForceLaw::LagInput::kUnwindowed;
     const double r_x = r.x(), r_y = r.y();
     NodeForces nf;
     const double feed = feed_speed * static_cast<double>(n) * dt;  // feed motion along +x
@@ -277,11 +286,12 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
         const Angle& a = angles[at];
         double& u = lagged[static_cast<std::size_t>(k * n_slices + j)];
         double chip = 0.0;
-        bool in_contact = false;
+        bool in_contact = false, known = false;  // known: a surface to measure the chip from
         if (a.active) {
           double& stored = surface[at];
           const double here = regenerative ? (feed + r_x) * a.s + r_y * a.c : feed * a.s;
           const bool fresh = !rigid_chip && std::isnan(stored);  // no surface yet: no chip
+          known = !fresh;
           if (!fresh) {
             chip = rigid_chip ? rigid_feed * a.s : here - stored;
             // Inside the window the chip at the node decides; at an edge node the chip at the
@@ -295,17 +305,28 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
           ++nf.window;
           if (!in_contact) ++nf.lost;
         }
-        // U follows the chip inside the window only (a node next to it weighs its step's share).
-        const double x_in = in_contact && a.in ? chip : 0.0;
-        if (erm) u = x_in + (u - x_in) * relax;  // exact for X held over the step
+        if (erm) {
+          // U follows the chip inside the window only (a node next to it weighs its step's
+          // share); unwindowed, also the chip out of contact and the tooth's path s_z·sin θ
+          // outside the window ([Ermolaev2020] eqs. 3 and 5 as printed).
+          double x_in = 0.0;
+          if (in_contact && a.in)
+            x_in = chip;
+          else if (unwindowed)
+            x_in = a.in && known ? chip : rigid_feed * a.s;
+          u = x_in + (u - x_in) * relax;  // exact for X held over the step
+        }
         if (!in_contact) continue;
         Eigen::Vector2d f;
+        double p_cut = 0.0;  // the cutting force alone: Ft, or c·U (per flute)
         if (mech) {
           const double ft = kt_b * chip + kte_b;
           const double fr = kr_b * chip + kre_b;
           f = ft * t_dir.at(a.s, a.c) + fr * r_dir.at(a.s, a.c);
+          p_cut = ft;
         } else {
           const double p = erm->c_n_per_m * (erm->t2_s > 0.0 ? u : chip);
+          p_cut = share * p;
           // (An edge node's extrapolated chip may be slightly negative: the flank contact is
           // at most its value at zero chip.)
           const double contact = erm->p0_n * std::exp(-std::max(chip, 0.0) / erm->t1_m);
@@ -315,6 +336,7 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
         nf.start += static_cast<double>(a.g_start) * f;
         if (a.in) {
           nf.now += f;
+          nf.cutting += p_cut;
           nf.engaged += 1.0 / n_slices;
         }
       }
@@ -416,6 +438,8 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
     long long count = 0, sle_count = 0, window = 0, lost = 0;
     double f_sum = 0, fx_sum = 0, fy_sum = 0, teeth_sum = 0, f_max = 0, sle_sum = 0;
     double f_min = std::numeric_limits<double>::infinity();
+    double p_sum = 0, p_max = -std::numeric_limits<double>::infinity();
+    double p_min = std::numeric_limits<double>::infinity();
     double x_min = 1e300, x_max = -1e300, y_min = 1e300, y_max = -1e300;
     void merge(const Tally& t) {
       count += t.count;
@@ -429,6 +453,9 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
       sle_sum += t.sle_sum;
       f_max = std::max(f_max, t.f_max);
       f_min = std::min(f_min, t.f_min);
+      p_sum += t.p_sum;
+      p_max = std::max(p_max, t.p_max);
+      p_min = std::min(p_min, t.p_min);
       x_min = std::min(x_min, t.x_min);
       x_max = std::max(x_max, t.x_max);
       y_min = std::min(y_min, t.y_min);
@@ -463,6 +490,7 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
       out.fx_n.push_back(f.x());
       out.fy_n.push_back(f.y());
       out.force_n.push_back(magnitude);
+      out.cutting_force_n.push_back(nf.cutting);
       out.x_m.push_back(r.x());
       out.y_m.push_back(r.y());
       out.teeth_in_cut.push_back(nf.engaged);
@@ -472,6 +500,7 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
     step.window = nf.window;
     step.lost = nf.lost;
     step.f_sum = step.f_max = step.f_min = magnitude;
+    step.p_sum = step.p_max = step.p_min = nf.cutting;
     step.fx_sum = f.x();
     step.fy_sum = f.y();
     step.teeth_sum = nf.engaged;
@@ -531,8 +560,9 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
   out.mean_teeth_in_cut = summary.teeth_sum / count;
   out.peak_force_n = summary.f_max;
   out.min_force_n = summary.f_min;
-  const double f_max = summary.f_max, f_min = summary.f_min;
-  out.force_pulsation = f_max + f_min > 0.0 ? (f_max - f_min) / (f_max + f_min) : 0.0;
+  out.force_pulsation = pulsation(summary.f_max, summary.f_min);
+  out.mean_cutting_force_n = summary.p_sum / count;
+  out.cutting_force_pulsation = pulsation(summary.p_max, summary.p_min);
   out.vibration_pp_x_m = summary.x_max - summary.x_min;
   out.vibration_pp_y_m = summary.y_max - summary.y_min;
   if (summary.sle_count > 0)

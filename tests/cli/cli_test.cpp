@@ -450,7 +450,7 @@ TEST_F(Cli, MillingSimulationAgreesWithTheLobesAndWritesItsOutputs) {
   EXPECT_NEAR(summary["force_pulsation"].get<double>(), 1.0, 1e-12);   // chip 0 at 0 and π
   const auto lines = csv_lines(path("s.csv"));
   ASSERT_GT(lines.size(), 1000u);
-  EXPECT_EQ(lines[0], "time_s,fx_n,fy_n,force_n,x_um,y_um,teeth_in_cut");
+  EXPECT_EQ(lines[0], "time_s,fx_n,fy_n,force_n,x_um,y_um,teeth_in_cut,cutting_force_n");
   EXPECT_TRUE(fs::exists(path("s.png")));
   const Result chatter = cutdyn({"simulate", "milling-insperger", "--depth-mm", "0.08"});
   ASSERT_EQ(chatter.code, 0) << chatter.err;

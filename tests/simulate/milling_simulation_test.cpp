@@ -400,6 +400,47 @@ TEST(MillingSimulation, ErmolaevPresetPulsationFirstFallsThenRisesWithTheLag) {
   EXPECT_GT(at03, 2.0 * at0);
 }
 
+TEST(MillingSimulation, UnwindowedLagIsTheLaggedSineOfTheToothPath) {
+  // lag_input = unwindowed ([Ermolaev2020] eqs. 3 and 5 as printed): U lags X = s_z·sin θ
+  // around the whole revolution, so in the steady state it is the first-order response to a
+  // sine, U = s_z·sin(θ − δ)/√(1 + (ωT2)²), tan δ = ωT2, and the cutting force ΣP of one straight
+  // tooth is c·U inside the window and 0 outside — also where c·U < 0 (δ > entry). Closed form
+  // against the simulation, for several T2 and windows, to 0.5 % of c·s_z (the step holds X).
+  for (double t2 : {0.05, 0.2, 0.5}) {
+    for (auto [entry, exit] : {std::pair{kPi / 6, kPi}, std::pair{0.0, 0.5 * kPi}}) {
+      MillingCut c = force_study(1, entry, exit);
+      c.spindle_rad_s = 2 * kPi;
+      c.feed_per_tooth_m = 1e-3;
+      c.process.s1_law = ErmolaevForceLaw{
+          25e3, t2, 3.0, 0.2e-3, 0.0, kPi / 5, ErmolaevForceLaw::LagInput::kUnwindowed};
+      MillingSimulationOptions o;
+      o.revolutions = 8;
+      o.summary_revolutions = 1;
+      o.steps_per_tooth = 4000;
+      o.max_recorded_samples = 100000;
+      const MillingSimulationResult r = simulate_milling(c, o);
+      const double wt = c.spindle_rad_s * t2, delta = std::atan(wt);
+      const double amplitude = 25e3 * 1e-3 / std::sqrt(1.0 + wt * wt);
+      double worst = 0.0, lowest = 1e300;
+      for (std::size_t i = 0; i < r.time_s.size(); ++i) {
+        if (r.time_s[i] < 6.0) continue;  // steady: T2 ≤ 0.5 s, six revolutions of 1 s
+        const double theta = std::fmod(c.spindle_rad_s * r.time_s[i], 2 * kPi);
+        if (std::abs(theta - entry) < 1e-3 || std::abs(theta - exit) < 1e-3) continue;  // edges
+        const bool in = theta > entry && theta < exit;
+        const double expected = in ? amplitude * std::sin(theta - delta) : 0.0;
+        worst = std::max(worst, std::abs(r.cutting_force_n[i] - expected));
+        if (in) lowest = std::min(lowest, r.cutting_force_n[i]);
+      }
+      EXPECT_LT(worst, 5e-3 * 25.0) << "T2 " << t2 << " entry " << entry;
+      if (delta > entry + 0.1) {
+        EXPECT_LT(lowest, 0.0) << "T2 " << t2;  // the force reverses
+      }
+      // It reverses or reaches zero inside the window: ΔP of ΣP is 1 by its definition.
+      EXPECT_NEAR(r.cutting_force_pulsation, 1.0, 1e-12);
+    }
+  }
+}
+
 TEST(MillingSimulation, RejectsABadCutNamingEveryProblem) {
   MillingCut c = force_study(3, 1.0, 0.5);
   c.width_m = -1.0;

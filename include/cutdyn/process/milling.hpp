@@ -77,12 +77,20 @@ struct MechanisticForceLaw {
 /// T2·dU/dt + U = X (the chip thickness), the flank contact force F = P0·e^(−X/T1); P at the
 /// angle φrez and F at φskv from the tangent (towards the cutter's centre).
 struct ErmolaevForceLaw {
+  /// What U lags (docs/models/ermolaev2020-figures.md):
+  /// kChip — the chip while the tooth cuts, U relaxing to 0 out of the cut (physical);
+  /// kUnwindowed — X = s_z·sin θ around the whole revolution (negative out of the cut; the
+  /// chip inside the window), the window applied to c·U after the lag, as [Ermolaev2020]
+  /// eqs. 3 and 5 print it: the reading that reproduces the source's fig. 6a.
+  enum class LagInput { kChip, kUnwindowed };
+
   double c_n_per_m = 0.0;  // cutting stiffness of the whole engaged flute, N/m
   double t2_s = 0.0;       // chip-formation time constant (0: no lag)
   double p0_n = 0.0;       // flank contact force scale, N
   double t1_m = 1.0;       // chip thickness over which the contact force falls by e
   double phi_rez_rad = 0.0;
   double phi_skv_rad = 0.0;
+  LagInput lag_input = LagInput::kChip;
 
   std::vector<std::string> validate() const;
 };

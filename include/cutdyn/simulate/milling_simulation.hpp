@@ -54,8 +54,17 @@ struct MillingSimulationResult {
   // Traces (thinned): forces on the cutter, its displacement, engaged teeth (slices in cut,
   // as a fraction of the flute length, summed over the teeth).
   std::vector<double> time_s, fx_n, fy_n, force_n, x_m, y_m, teeth_in_cut;
+  /// ΣP: the teeth's cutting forces alone, summed as scalars (no flank contact): c·U of the S1
+  /// law, Ft of the mechanistic law — the spindle torque over the radius when φrez = 0.
+  std::vector<double> cutting_force_n;
   // Summary over the last summary_revolutions.
-  double force_pulsation = 0.0;  // ΔP = (Pmax − Pmin)/(Pmax + Pmin), P = |F|
+  /// ΔP = (Pmax − Pmin)/(|Pmax| + |Pmin|) (= (Pmax − Pmin)/(Pmax + Pmin) for a force that keeps
+  /// its sign; 1 when it reaches zero or reverses), of P = |F|, the resultant on the cutter.
+  double force_pulsation = 0.0;
+  /// The same of ΣP, the cutting forces alone ([Ermolaev2020] figs. 6a and 6b: "about 90 % of
+  /// the force is P, so only its influence is considered").
+  double cutting_force_pulsation = 0.0;
+  double mean_cutting_force_n = 0.0;
   double mean_force_n = 0.0, peak_force_n = 0.0, min_force_n = 0.0;
   double mean_fx_n = 0.0, mean_fy_n = 0.0;
   double mean_teeth_in_cut = 0.0;
