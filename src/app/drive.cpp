@@ -1,6 +1,7 @@
 #include "cutdyn/app/drive.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <utility>
 
 #include "cutdyn/core/detail/parallel.hpp"
@@ -63,6 +64,17 @@ DriveAxisReport run_axis(const io::Case& c, FeedAxis axis, const CutTraces& cut,
   a.drive_pp_m = peak_to_peak(cut.t, a.drive.position_error_m, from);
   a.cutter_pp_m = peak_to_peak(cut.t, a.cutter_m, from);
   a.epsilon_pp_m = peak_to_peak(cut.t, a.epsilon_m, from);
+  // Against the programme (a speed loop with an integrator): the table ahead of its programmed
+  // position by −lag, plus the cutter's deflection; the value of largest magnitude.
+  if (!a.drive.load_lag_m.empty()) {
+    double worst = 0.0;
+    for (std::size_t i = 0; i < cut.t.size(); ++i) {
+      if (cut.t[i] < from) continue;
+      const double e = a.cutter_m[i] - a.drive.load_lag_m[i];
+      if (std::abs(e) > std::abs(worst)) worst = e;
+    }
+    a.program_error_m = worst;
+  }
   a.axis = std::move(axis);
   return a;
 }
@@ -113,15 +125,24 @@ DriveReport run_drive(const io::Case& c, const DriveCut& cut, const DriveOptions
 
 const std::vector<std::string>& drive_metric_names() {
   static const std::vector<std::string> names{
-      "epsilon_um",   "drive_error_um",   "cutter_error_um",   "k_delta",
-      "static_error", "torque_ripple_nm", "speed_ripple_rad_s"};
+      "epsilon_um",      "drive_error_um",   "cutter_error_um",    "k_delta",
+      "static_error",    "torque_ripple_nm", "speed_ripple_rad_s", "load_lag_um",
+      "program_error_um"};
   return names;
 }
 
 std::vector<double> drive_metrics(const DriveAxisReport& a) {
-  return {m_to_um(a.epsilon_pp_m),   m_to_um(a.drive_pp_m), m_to_um(a.cutter_pp_m),
-          a.drive.k_delta,           a.drive.static_error,  a.drive.torque_ripple_nm,
-          a.drive.speed_ripple_rad_s};
+  return {
+      m_to_um(a.epsilon_pp_m),
+      m_to_um(a.drive_pp_m),
+      m_to_um(a.cutter_pp_m),
+      a.drive.k_delta,
+      a.drive.static_error,
+      a.drive.torque_ripple_nm,
+      a.drive.speed_ripple_rad_s,
+      a.drive.load_lag_max_m ? m_to_um(*a.drive.load_lag_max_m)
+                             : std::numeric_limits<double>::quiet_NaN(),
+      a.program_error_m ? m_to_um(*a.program_error_m) : std::numeric_limits<double>::quiet_NaN()};
 }
 
 PhaseCurrents axis_currents(const DriveAxisReport& a, double from_s) {

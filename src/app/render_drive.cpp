@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cctype>
+#include <cmath>
 
 #include "cutdyn/app/detail/render_text.hpp"
 #include "cutdyn/app/detail/text.hpp"
@@ -23,6 +24,10 @@ MetricAxis drive_metric_axis(const std::string& metric) {
   if (metric == "static_error") return {"static speed error δ", "%", 100.0};
   if (metric == "torque_ripple_nm") return {"load torque ripple ±ΔMc", "N·m"};
   if (metric == "speed_ripple_rad_s") return {"motor speed ripple ±ΔΩ", "rad/s"};
+  if (metric == "load_lag_um")
+    return {"table lag behind its program from the load (PI loop)", "µm"};
+  if (metric == "program_error_um")
+    return {"error against the program, lag and cutter deflection (PI loop)", "µm"};
   return {metric, ""};
 }
 
@@ -40,7 +45,9 @@ void write_text(std::ostream& out, const io::Case& c, const DriveSweepReport& sw
   for (std::size_t i = 0; i < sweep.runs.size(); ++i) {
     out << fmt::format("  {:>14}", human(sweep.values[i]));
     for (const DriveAxisReport& a : sweep.runs[i].axes)
-      out << fmt::format("  {:>16}", human(drive_metrics(a)[column], 4));
+      out << fmt::format("  {:>16}", std::isnan(drive_metrics(a)[column])
+                                         ? "–"
+                                         : human(drive_metrics(a)[column], 4));
     out << "\n";
   }
 }
@@ -57,8 +64,10 @@ io::PlotSpec figure(const io::Case& c, const DriveSweepReport& sweep, std::size_
   for (std::size_t k = 0; k < sweep.runs.front().axes.size(); ++k) {
     io::PlotSeries series{"axis " + sweep.runs.front().axes[k].axis.name, {}, {}, "linespoints"};
     for (std::size_t i = 0; i < sweep.runs.size(); ++i) {
+      const double m = drive_metrics(sweep.runs[i].axes[k])[column];
+      if (std::isnan(m)) continue;  // no such quantity for this run (e.g. no integrator)
       series.x.push_back(sweep.values[i]);
-      series.y.push_back(axis.scale * drive_metrics(sweep.runs[i].axes[k])[column]);
+      series.y.push_back(axis.scale * m);
     }
     spec.series.push_back(std::move(series));
   }
@@ -96,6 +105,14 @@ void write_text(std::ostream& out, const io::Case& c, const DriveReport& run) {
     out << fmt::format("    position error  {} µm peak-to-peak (drive), cutter {} µm, ε {} µm\n",
                        human(m_to_um(a.drive_pp_m), 3), human(m_to_um(a.cutter_pp_m), 3),
                        human(m_to_um(a.epsilon_pp_m), 3));
+    if (d.load_lag_max_m)
+      out << fmt::format(
+          "    load lag        {} µm behind the programmed position (the cut's "
+          "load on the speed loop's integrator)\n",
+          human(m_to_um(*d.load_lag_max_m), 3));
+    if (a.program_error_m)
+      out << fmt::format("    against program {} µm (the cutter's deflection less the load lag)\n",
+                         human(m_to_um(*a.program_error_m), 3));
   }
 }
 

@@ -342,24 +342,27 @@ json to_json(const io::Case& c, const DriveReport& run) {
   json axes = json::array();
   for (const DriveAxisReport& a : run.axes) {
     const FeedDriveResult& d = a.drive;
-    axes.push_back({{"axis", a.axis.name},
-                    {"feed_speed_mm_per_s", 1e3 * a.feed_speed_m_per_s},
-                    {"commanded_speed_rad_s", d.commanded_speed_rad_s},
-                    {"mean_load_torque_nm", d.mean_load_torque_nm},
-                    {"torque_ripple_nm", d.torque_ripple_nm},
-                    {"mean_speed_rad_s", d.mean_speed_rad_s},
-                    {"speed_ripple_rad_s", d.speed_ripple_rad_s},
-                    {"steady_state", d.steady},
-                    {"steady_from_s", d.steady_from_s},
-                    {"steady_revolutions", d.steady_periods},
-                    {"warnings", d.warnings},
-                    {"k_delta", d.moving ? json(d.k_delta) : json()},
-                    {"k_delta_verdict", d.moving ? json(to_string(d.k_delta_verdict)) : json()},
-                    {"static_error", d.moving ? json(d.static_error) : json()},
-                    {"static_error_ok", d.static_error_ok},
-                    {"drive_error_um", m_to_um(a.drive_pp_m)},
-                    {"cutter_error_um", m_to_um(a.cutter_pp_m)},
-                    {"epsilon_um", m_to_um(a.epsilon_pp_m)}});
+    axes.push_back(
+        {{"axis", a.axis.name},
+         {"feed_speed_mm_per_s", 1e3 * a.feed_speed_m_per_s},
+         {"commanded_speed_rad_s", d.commanded_speed_rad_s},
+         {"mean_load_torque_nm", d.mean_load_torque_nm},
+         {"torque_ripple_nm", d.torque_ripple_nm},
+         {"mean_speed_rad_s", d.mean_speed_rad_s},
+         {"speed_ripple_rad_s", d.speed_ripple_rad_s},
+         {"steady_state", d.steady},
+         {"steady_from_s", d.steady_from_s},
+         {"steady_revolutions", d.steady_periods},
+         {"warnings", d.warnings},
+         {"k_delta", d.moving ? json(d.k_delta) : json()},
+         {"k_delta_verdict", d.moving ? json(to_string(d.k_delta_verdict)) : json()},
+         {"static_error", d.moving ? json(d.static_error) : json()},
+         {"static_error_ok", d.static_error_ok},
+         {"drive_error_um", m_to_um(a.drive_pp_m)},
+         {"cutter_error_um", m_to_um(a.cutter_pp_m)},
+         {"epsilon_um", m_to_um(a.epsilon_pp_m)},
+         {"load_lag_um", d.load_lag_max_m ? json(m_to_um(*d.load_lag_max_m)) : json()},
+         {"program_error_um", a.program_error_m ? json(m_to_um(*a.program_error_m)) : json()}});
   }
   return {{"command", "drive"}, {"schema_version", kJsonSchemaVersion}, {"case", io::to_json(c)},
           {"source", c.source}, {"spindle_rpm", run.cut.rpm},           {"axes", std::move(axes)}};
@@ -374,7 +377,8 @@ json to_json(const io::Case& c, const DriveSweepReport& sweep, const std::string
       json p{
           {"axis", a.axis.name}, {"steady_state", a.drive.steady}, {"warnings", a.drive.warnings}};
       const auto m = drive_metrics(a);
-      for (std::size_t k = 0; k < names.size(); ++k) p[names[k]] = m[k];
+      for (std::size_t k = 0; k < names.size(); ++k)
+        p[names[k]] = std::isnan(m[k]) ? json() : json(m[k]);
       axes.push_back(std::move(p));
     }
     points.push_back({{"value", sweep.values[i]}, {"axes", std::move(axes)}});

@@ -2,6 +2,8 @@
 // docs/models/feed-drive.md). The job is the library's (cutdyn/app/drive.hpp); this file
 // builds the cut from the flags and renders the Report.
 
+#include <cmath>
+
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/milling_setup.hpp"
@@ -46,7 +48,12 @@ void write_sweep_files(const DriveArgs& args, const app::DriveSweepReport& sweep
     for (std::size_t i = 0; i < sweep.runs.size(); ++i)
       for (const app::DriveAxisReport& a : sweep.runs[i].axes) {
         std::vector<io::CsvCell> row{sweep.values[i], a.axis.name};
-        for (double m : app::drive_metrics(a)) row.emplace_back(m);
+        for (double m : app::drive_metrics(a)) {
+          if (std::isnan(m))  // no such quantity for this drive (load lag without an integrator)
+            row.emplace_back(std::string());
+          else
+            row.emplace_back(m);
+        }
         csv.row(row);
       }
   }

@@ -344,12 +344,20 @@ FeedDriveResult simulate_feed_drive(const FeedAxis& axis, const std::vector<doub
       s.speed = (kp * omega0 - start_load) / (kp + b);
     }
     s.torque = motor_torque(d, omega0 - s.speed, s.integral);
-    r.speed_rad_s.push_back(s.speed);
-    r.motor_torque_nm.push_back(s.torque);
-    for (std::size_t i = 1; i < n; ++i) {
-      advance(d, omega0, r.load_torque_nm[i - 1], r.load_torque_nm[i], t[i] - t[i - 1], s);
+    // With an integrator, ∫(Ω0 − Ω)dt is the motor's lag behind its programmed angle; the
+    // cut's share is what exceeds the idle motion's, (Mc0 + b·Ω0)/Ki.
+    const double idle_integral =
+        d.ki_nm_per_rad > 0.0 ? (motion * tr.idle_torque_nm + b * omega0) / d.ki_nm_per_rad : 0.0;
+    const auto record = [&] {
       r.speed_rad_s.push_back(s.speed);
       r.motor_torque_nm.push_back(s.torque);
+      if (d.ki_nm_per_rad > 0.0)
+        r.load_lag_m.push_back(tr.travel_per_rad() * (s.integral - idle_integral));
+    };
+    record();
+    for (std::size_t i = 1; i < n; ++i) {
+      advance(d, omega0, r.load_torque_nm[i - 1], r.load_torque_nm[i], t[i] - t[i - 1], s);
+      record();
     }
   }
   // The periodic steady state, detected on the speed.
@@ -410,6 +418,10 @@ FeedDriveResult simulate_feed_drive(const FeedAxis& axis, const std::vector<doub
   }
   const auto [pmin, pmax] = range(r.position_error_m);
   r.position_error_pp_m = pmax - pmin;
+  if (!r.load_lag_m.empty()) {
+    const auto [lmin, lmax] = range(r.load_lag_m);
+    r.load_lag_max_m = std::abs(lmax) >= std::abs(lmin) ? lmax : lmin;
+  }
   return r;
 }
 

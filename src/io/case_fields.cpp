@@ -769,6 +769,12 @@ std::vector<Section> make_sections() {
                    .label("chip-formation time constant T2")
                    .meaning("chip-formation time constant T2 (T2·dU/dt + U = X)")
                    .member(force_law, &ErmolaevForceLaw::t2_s),
+               number("t2_deg", kDeg, kNonNegative)
+                   .label("chip-formation lag ω·T2")
+                   .deflt("none (`t2_s`)")
+                   .meaning("instead of `t2_s`: the cutter's rotation during T2, so that T2 "
+                            "scales with the tooth's passage (T2 = ℓ/v)")
+                   .member(force_law, &ErmolaevForceLaw::t2_angle_rad),
                number("p0_n", unit("N"), kNonNegative)
                    .label("flank contact force P0")
                    .meaning("flank contact force P0 (F = P0·e^(−X/T1))")

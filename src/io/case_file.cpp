@@ -562,6 +562,18 @@ void rules_vibration(const Case& c, Problems& p, const Quote& q) {
     p.missing("vibration.amplitude_um", "required unless duty_cycle is given");
 }
 
+// T2 in seconds or as an angle, not both. (A sweep step's case carries every key, t2_s = 0
+// included: the rule is on the values.)
+void rules_force_law(const Case& c, Problems& p, const Quote& q) {
+  if (!c.force_law || !c.force_law->t2_angle_rad || c.force_law->t2_s == 0.0) return;
+  const std::string seconds = q.written("force_law.t2_s").value_or(format_value(c.force_law->t2_s));
+  const std::string degrees =
+      q.written("force_law.t2_deg")
+          .value_or(format_value(units::rad_to_deg(*c.force_law->t2_angle_rad)));
+  p.add("force_law.t2_s = " + seconds + " and force_law.t2_deg = " + degrees +
+        ": give either t2_s (T2 in seconds) or t2_deg (the rotation during T2), not both");
+}
+
 void rules_oxley(const Case& c, Problems& p) {
   const OxleyOptions& o = c.oxley;
   if (o.c0_min >= o.c0_max)
@@ -624,6 +636,7 @@ void rules_all(const Case& c, Problems& p, const Quote& q) {
   rules_tool(c, p, q);
   rules_operation(c, p, q);
   rules_vibration(c, p, q);
+  rules_force_law(c, p, q);
   rules_lobes(c, p, q);
   rules_simulate(c, p, q);
   rules_material(c, p);
@@ -965,7 +978,7 @@ Case parse_case(std::string_view toml_text, std::string_view source) {
   read_table(r, root, "vibration", [&] { rules_vibration(c, problems, quote); });
   read_table(r, root, "lobes", [&] { rules_lobes(c, problems, quote); });
   read_table(r, root, "simulate", [&] { rules_simulate(c, problems, quote); });
-  read_table(r, root, "force_law", nothing);
+  read_table(r, root, "force_law", [&] { rules_force_law(c, problems, quote); });
   if (const toml::table* t = sub_table(problems, root, "", "material")) read_material(r, *t);
   if (const toml::node* node = root.get("oxley")) {
     if (const toml::table* t = node->as_table()) {

@@ -91,6 +91,12 @@ std::vector<std::string> ErmolaevForceLaw::validate() const {
   Validator v("s1_law");
   v.require(c_n_per_m >= 0.0, "c_n_per_m", c_n_per_m, "N/m", "must not be negative");
   v.require(t2_s >= 0.0, "t2_s", t2_s, "s", "must not be negative");
+  if (t2_angle_rad) {
+    v.require(*t2_angle_rad >= 0.0 && std::isfinite(*t2_angle_rad), "t2_angle_rad", *t2_angle_rad,
+              "rad", "must be finite and not negative");
+    v.require(t2_s == 0.0, "t2_angle_rad", *t2_angle_rad, "rad",
+              "and t2_s are two ways to give T2: give one");
+  }
   v.require(p0_n >= 0.0, "p0_n", p0_n, "N", "must not be negative");
   v.require_positive("t1_m", t1_m, "m");
   v.require(std::isfinite(phi_rez_rad), "phi_rez_rad", phi_rez_rad, "rad", "must be finite");

@@ -241,7 +241,8 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
   const ErmolaevForceLaw* erm = process.s1_law ? &*process.s1_law : nullptr;
   const MechanisticForceLaw* mech = erm ? nullptr : &process.cutting;
   std::vector<double> lagged(static_cast<std::size_t>(z * n_slices), 0.0);  // U, S1 law
-  const double relax = erm && erm->t2_s > 0.0 ? std::exp(-dt / erm->t2_s) : 0.0;
+  const double t2 = erm ? erm->time_constant_s(omega) : 0.0;
+  const double relax = t2 > 0.0 ? std::exp(-dt / t2) : 0.0;
 
   // Per slice: its width (the whole flute in the closed form) and force directions.
   const double spread = o.closed_form_helix ? lag : 0.0;
@@ -325,7 +326,7 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
           f = ft * t_dir.at(a.s, a.c) + fr * r_dir.at(a.s, a.c);
           p_cut = ft;
         } else {
-          const double p = erm->c_n_per_m * (erm->t2_s > 0.0 ? u : chip);
+          const double p = erm->c_n_per_m * (t2 > 0.0 ? u : chip);
           p_cut = share * p;
           // (An edge node's extrapolated chip may be slightly negative: the flank contact is
           // at most its value at zero chip.)

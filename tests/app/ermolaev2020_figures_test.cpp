@@ -83,49 +83,56 @@ TEST(Ermolaev2020Figures, Fig6bPulsationIsFullBelowOneToothAndFallsWithTheTeeth)
   }
 }
 
-// ε of the feed axis (x) and its parts at each value of a drive sweep.
-struct Epsilon {
-  double total, drive, cutter;
+// The errors of the feed axis (x) at each value of a drive sweep: the table's lag behind its
+// programme under the load (PI loop), and the peak-to-peak errors about the mean motion.
+struct Errors {
+  double lag, drive, cutter;
 };
-std::vector<Epsilon> feed_axis(const io::Case& c, const std::string& key,
-                               const std::vector<double>& values) {
+std::vector<Errors> feed_axis(const io::Case& c, const std::string& key,
+                              const std::vector<double>& values) {
   const DriveSweepReport r =
       run_drive_sweep(c, Sweep{key, values}, SimulateRequest{}, DriveOptions{}, 0);
-  std::vector<Epsilon> out;
+  std::vector<Errors> out;
   for (const DriveReport& run : r.runs) {
     const DriveAxisReport& x = run.axes.at(0);
     EXPECT_EQ(x.axis.name, "x");
-    out.push_back({x.epsilon_pp_m, x.drive_pp_m, x.cutter_pp_m});
+    EXPECT_TRUE(x.drive.load_lag_max_m);
+    out.push_back({std::abs(x.drive.load_lag_max_m.value_or(0.0)), x.drive_pp_m, x.cutter_pp_m});
   }
   return out;
 }
 
-TEST(Ermolaev2020Figures, Fig7ErrorPeaksAtTheToothPassingResonanceAndIsHighBelow10Hz) {
-  // 503 Hz cutter mode, five teeth: the tooth-passing frequency meets it at 6038 rpm. ε there is
-  // over three times its level at 9000–27000 rpm; below 10 Hz (60 rpm) it is higher still, and
-  // there the feed drive's part dominates, as the source says.
+TEST(Ermolaev2020Figures, Fig7DriveErrorDominatesIsFlatInSpeedAndPeaksBelow10Hz) {
+  // The drive's error — the table's lag behind its programme under the cut's load — is a few
+  // hundredths of a mm and dominates the cutter's deflection at every speed but the
+  // tooth-passing resonance (6038 rpm: five teeth × 100.6 Hz meet the 503 Hz mode), where the
+  // cutter's part peaks; it is higher below 10 Hz (the ripple near the loop's 4.5 Hz) and
+  // changes by under 1 % from 10 Hz to 450 Hz (conclusion 3: "changes little with frequency").
   const io::Case c = load_case("", "ermolaev2020-fig7");
-  const auto e = feed_axis(c, "simulate.rpm", {60.0, 6038.0, 9000.0, 18000.0, 27000.0});
-  const double plateau = std::max({e[2].total, e[3].total, e[4].total});
-  EXPECT_GT(e[1].total, 3.0 * plateau);
-  EXPECT_GT(e[0].total, 5.0 * plateau);
-  EXPECT_GT(e[0].drive, 5.0 * e[0].cutter);
-  // Above the resonances the cutter's deflection dominates (not the source's fig. 7; the
-  // drive's part falls as 1/n under the static characteristic: docs).
-  EXPECT_LT(e[4].drive, 0.05 * e[4].cutter);
+  const std::vector<double> rpm{60.0, 600.0, 6038.0, 9000.0, 18000.0, 27000.0};
+  const auto e = feed_axis(c, "simulate.rpm", rpm);
+  for (std::size_t i : {0u, 1u, 3u, 4u, 5u}) {
+    EXPECT_GT(e[i].lag, 3.0 * e[i].cutter) << rpm[i];
+    EXPECT_GT(e[i].lag, 10e-6) << rpm[i];
+    EXPECT_LT(e[i].lag, 100e-6) << rpm[i];
+  }
+  EXPECT_GT(e[2].cutter, 3.0 * std::max({e[1].cutter, e[3].cutter, e[4].cutter, e[5].cutter}));
+  EXPECT_GT(e[2].cutter, e[2].lag);
+  EXPECT_GT(e[0].lag, 1.15 * e[5].lag);
+  for (std::size_t i : {3u, 4u, 5u}) EXPECT_NEAR(e[i].lag / e[1].lag, 1.0, 0.01) << rpm[i];
 }
 
 TEST(Ermolaev2020Figures, Fig8ErrorGrowsWithTheFeedAndLinearlyAbove02mm) {
-  // n = 10 Hz: ε rises over s_z = 0.1–0.4 mm/tooth; above 0.2 its increments per 0.1 mm are
-  // equal within 10 % (linear); below, the flank-contact force e^(−X/T1), T1 = 0.2 mm, bends it.
+  // n = 10 Hz: the drive's error grows over s_z = 0.1–0.4 mm/tooth, strongly (conclusion 3:
+  // over ten times), nearly linearly above 0.2 (increments per 0.1 mm equal within 10 %); below,
+  // the flank-contact force P0·e^(−X/T1), T1 = 0.2 mm, which resists the feed, bends it.
   const io::Case c = load_case("", "ermolaev2020-fig8");
   const auto e = feed_axis(c, "operation.feed_per_tooth_mm", {0.1, 0.2, 0.3, 0.4});
-  for (std::size_t i = 1; i < e.size(); ++i) EXPECT_GT(e[i].total, e[i - 1].total) << i;
-  const double d1 = e[2].total - e[1].total, d2 = e[3].total - e[2].total;
+  for (std::size_t i = 1; i < e.size(); ++i) EXPECT_GT(e[i].lag, e[i - 1].lag) << i;
+  EXPECT_GT(e[3].lag, 10.0 * e[0].lag);
+  const double d1 = e[2].lag - e[1].lag, d2 = e[3].lag - e[2].lag;
   EXPECT_NEAR(d2 / d1, 1.0, 0.1);
-  // Conclusion 3's second half: the drive's error depends on the feed per tooth (here +35 %
-  // from 0.1 to 0.4 mm/tooth at 10 Hz).
-  EXPECT_GT(e[3].drive, 1.2 * e[0].drive);
+  EXPECT_GT(e[3].lag, 10e-6);  // hundredths of a mm
 }
 
 }  // namespace

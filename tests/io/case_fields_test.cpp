@@ -183,6 +183,7 @@ p0_n = 10
 t1_mm = 0.5
 phi_rez_deg = 10
 phi_skv_deg = -20
+lag_input = "unwindowed"
 )";
 
 constexpr const char* kPlanWithFeed = R"(
@@ -305,9 +306,12 @@ TEST(CaseFields, EverySectionRoundTripsThroughTheEchoAsToml) {
   const std::string measured = std::string(kFullMilling) +
                                "[[frf]]\ndirection = \"x\"\nfile = \"" CUTDYN_EXAMPLES_DIR
                                "/frf/tool_x.uff\"\nformat = \"uff\"\ndataset = 0\n";
+  // T2 as an angle instead of seconds.
+  std::string angle = kForceLawMilling;
+  angle.replace(angle.find("t2_s = 1e-4"), 11, "t2_deg = 72");
   for (const std::string& text :
        {std::string(kFullTurning), std::string(kCoefficientTurning), std::string(kFullMilling),
-        std::string(kForceLawMilling), std::string(kPlanWithFeed), measured}) {
+        std::string(kForceLawMilling), std::string(kPlanWithFeed), measured, angle}) {
     const Case first = parse_case(text, "first.toml");
     EXPECT_TRUE(first.warnings.empty());
     const nlohmann::json j = to_json(first);

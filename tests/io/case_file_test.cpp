@@ -942,5 +942,19 @@ TEST(CaseFilePlan, AProcessTableMarksABoreMillingCase) {
   }
 }
 
+TEST(CaseFile, ForceLawTakesT2InSecondsOrAsAnAngleNotBoth) {
+  const Case angle =
+      parse_case(milling_with("[force_law]\nc_n_per_mm = 25\nt2_deg = 72\n"), "test.toml");
+  ASSERT_TRUE(angle.force_law && angle.force_law->t2_angle_rad);
+  EXPECT_NEAR(*angle.force_law->t2_angle_rad, 0.4 * units::kPi, 1e-12);
+  // T2 = ω·T2/ω: 0.2 s at 60 rpm, 0.02 s at 600 rpm.
+  EXPECT_NEAR(angle.force_law->time_constant_s(units::rpm_to_rad_per_s(60.0)), 0.2, 1e-12);
+  EXPECT_NEAR(angle.force_law->time_constant_s(units::rpm_to_rad_per_s(600.0)), 0.02, 1e-12);
+  const auto p =
+      problems_of(milling_with("[force_law]\nc_n_per_mm = 25\nt2_s = 0.2\nt2_deg = 72\n"));
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_THAT(p[0], HasSubstr("force_law.t2_s = 0.2 and force_law.t2_deg = 72"));
+}
+
 }  // namespace
 }  // namespace cutdyn::io

@@ -35,6 +35,10 @@ struct DriveAxisReport {
   std::vector<double> epsilon_m;  // drive position error + cutter deflection
   // Peak-to-peak over the last summary revolutions, within the drive's steady window.
   double drive_pp_m = 0.0, cutter_pp_m = 0.0, epsilon_pp_m = 0.0;
+  /// A speed loop with an integrator: the largest deviation of the table-cutter position from
+  /// the programme over the same window, the cutter's deflection minus the drive's load lag
+  /// (signed; none for the static characteristic or a P-only loop, which drift).
+  std::optional<double> program_error_m;
 };
 
 struct DriveReport {
@@ -54,7 +58,8 @@ DriveReport run_drive(const io::Case& c, const SimulateRequest& request,
                       const DriveOptions& options = {});
 
 /// The metrics of an axis a sweep tabulates, and their names: epsilon_um, drive_error_um,
-/// cutter_error_um, k_delta, static_error, torque_ripple_nm, speed_ripple_rad_s.
+/// cutter_error_um, k_delta, static_error, torque_ripple_nm, speed_ripple_rad_s, load_lag_um and
+/// program_error_um (NaN without a speed-loop integrator).
 const std::vector<std::string>& drive_metric_names();
 std::vector<double> drive_metrics(const DriveAxisReport& a);
 

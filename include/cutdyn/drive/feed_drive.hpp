@@ -112,6 +112,11 @@ struct FeedDriveResult {
   // Traces, at the force trace's instants.
   std::vector<double> time_s, axis_force_n, load_torque_nm, speed_rad_s, motor_torque_nm,
       position_error_m;
+  /// A speed loop with an integrator (dynamic, Ki > 0): the table's lag behind its programmed
+  /// position that the cut's load causes, travel × (∫(Ω0 − Ω)dt − (Mc0 + b·Ω0)/Ki) — in the
+  /// steady state travel·(Mc̄ − Mc0)/Ki plus the ripple's share; > 0 behind. Empty otherwise
+  /// (the static characteristic and a P-only loop drift: their mean speed error is δ).
+  std::vector<double> load_lag_m;
   // The periodic steady state: whole forcing periods from `steady_from_s` to the end of the
   // trace (the whole trace for the static model without a period, which has no transient of its
   // own, and for a dynamic drive without a period, which is then marked `steady_checked` false).
@@ -140,6 +145,8 @@ struct FeedDriveResult {
   /// Peak-to-peak of the table's position error about uniform motion at the mean actual
   /// speed: travel per radian × ∫(Ω − Ω̄) dt (the mean speed error is δ).
   double position_error_pp_m = 0.0;
+  /// The load lag of largest magnitude over the steady window (signed); none without it.
+  std::optional<double> load_lag_max_m;
 };
 
 /// The drive of `axis` under the force on the cutter (time_s, fx, fy, fz; equal lengths, time
