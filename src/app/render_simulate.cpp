@@ -58,6 +58,8 @@ void write_text(std::ostream& out, const io::Case& c, const MillingSimulationJob
   const MillingSetup& s = job.setup;
   const MillingSimulationResult& r = job.result;
   const bool s1 = job.s1_law;
+  const bool unwindowed = s.cut.process.s1_law && s.cut.process.s1_law->lag_input ==
+                                                      ErmolaevForceLaw::LagInput::kUnwindowed;
   const std::optional<MillingBoundary>& predicted = job.predicted;
   out << "cutdyn simulate: " << c.source << " at " << human(s.rpm) << " rpm, depth "
       << human(m_to_mm(s.cut.width_m)) << " mm, feed " << human(m_to_mm(s.cut.feed_per_tooth_m))
@@ -65,7 +67,9 @@ void write_text(std::ostream& out, const io::Case& c, const MillingSimulationJob
   out << fmt::format("  milling, {} teeth, window {}–{}°, {} law{}, {}\n", s.cut.process.tool.teeth,
                      human(units::rad_to_deg(s.cut.process.engagement.entry_angle())),
                      human(units::rad_to_deg(s.cut.process.engagement.exit_angle())),
-                     s1 ? "S1 (Ermolaev)" : "mechanistic",
+                     !s1          ? "mechanistic"
+                     : unwindowed ? "S1 (Ermolaev, unwindowed lag)"
+                                  : "S1 (Ermolaev)",
                      s.cut.process.tool.helix_rad > 0.0
                          ? fmt::format(", helix {}° ({}{})",
                                        human(units::rad_to_deg(s.cut.process.tool.helix_rad)),
