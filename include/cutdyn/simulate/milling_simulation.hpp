@@ -44,7 +44,8 @@ struct MillingSimulationOptions {
   bool closed_form_helix = false;    // [Ermolaev2020] eqs. 8–9 instead of slices
   int max_recorded_samples = 20000;  // traces are thinned to at most this many samples
   /// Displacement added in x and y at t = 0 to the periodic forced vibration, as a fraction of
-  /// the feed per tooth (> 0): the disturbance whose growth or decay decides chatter.
+  /// the feed per tooth (> 0): the disturbance whose growth or decay decides chatter. Not added
+  /// when the chip comes from the feed alone (no chatter to decide).
   double perturbation = 1e-3;
 
   std::vector<std::string> validate() const;
