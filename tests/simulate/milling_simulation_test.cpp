@@ -441,6 +441,43 @@ TEST(MillingSimulation, UnwindowedLagIsTheLaggedSineOfTheToothPath) {
   }
 }
 
+TEST(MillingSimulation, ForceOnlyCutStartsOnItsPeriodicForcedVibration) {
+  // A chip from the feed alone, the S1 law with a lag and an almost undamped mode (ζ = 1.6e-5,
+  // 503 Hz) whose period nearly divides the revolution (2.005 periods at 15 060 rpm, where the
+  // periodic start's 1/|I − Φ_T| is large): the cutter's vibration is the periodic forced one,
+  // repeating every tooth period to rounding. (Before, U started from 0 and the chatter
+  // perturbation was added: 40 µm of free 503 Hz vibration, 81 µm peak to peak.) Three speeds,
+  // T2 fixed in angle (72°) and in time (0.2 s, a lag over hundreds of revolutions).
+  const double wn = 2 * kPi * 503.29;
+  for (double rpm : {15060.0, 7560.0, 6000.0}) {
+    for (bool angle : {true, false}) {
+      MillingCut c = force_study(5, kPi / 6, kPi);
+      c.process.tool.diameter_m = 0.02;
+      c.process.tool.helix_rad = units::deg_to_rad(30.0);
+      c.width_m = 9.069e-3;
+      c.feed_per_tooth_m = 1e-3;
+      c.spindle_rad_s = units::rpm_to_rad_per_s(rpm);
+      c.process.modal.modes = {Mode{Direction::kX, wn, 1.58e-5, 1e7},
+                               Mode{Direction::kY, wn, 1.58e-5, 1e7}};
+      ErmolaevForceLaw law{25e3, angle ? 0.0 : 0.2, 3.0, 0.2e-3, 0.0, kPi / 5};
+      if (angle) law.t2_angle_rad = 0.4 * kPi;
+      c.process.s1_law = law;
+      MillingSimulationOptions o;
+      o.revolutions = 6;
+      o.summary_revolutions = 1;
+      o.steps_per_tooth = 200;
+      o.max_recorded_samples = 100000;
+      const MillingSimulationResult r = simulate_milling(c, o);
+      const std::size_t n = r.x_m.size(), tooth = 200;
+      double worst = 0.0;
+      for (std::size_t i = n - 1000; i < n; ++i)
+        worst = std::max(worst, std::abs(r.x_m[i] - r.x_m[i - tooth]));
+      EXPECT_LT(worst, 1e-9 * r.vibration_pp_x_m + 1e-15) << rpm << " rpm";
+      EXPECT_LT(r.chatter_indicator, 1e-6) << rpm << " rpm";
+    }
+  }
+}
+
 TEST(MillingSimulation, RejectsABadCutNamingEveryProblem) {
   MillingCut c = force_study(3, 1.0, 0.5);
   c.width_m = -1.0;
