@@ -33,6 +33,16 @@ MillingCut force_study(int teeth, double entry, double exit) {
   return c;
 }
 
+// `revolutions` with every step recorded (up to 100 000) and the last revolution summarised.
+MillingSimulationOptions recorded_run(double revolutions, int steps_per_tooth) {
+  MillingSimulationOptions o;
+  o.revolutions = revolutions;
+  o.summary_revolutions = 1;
+  o.steps_per_tooth = steps_per_tooth;
+  o.max_recorded_samples = 100000;
+  return o;
+}
+
 MillingSimulationOptions short_run() {
   MillingSimulationOptions o;
   o.revolutions = 3;
@@ -413,12 +423,7 @@ TEST(MillingSimulation, UnwindowedLagIsTheLaggedSineOfTheToothPath) {
       c.feed_per_tooth_m = 1e-3;
       c.process.s1_law = ErmolaevForceLaw{
           25e3, t2, 3.0, 0.2e-3, 0.0, kPi / 5, ErmolaevForceLaw::LagInput::kUnwindowed};
-      MillingSimulationOptions o;
-      o.revolutions = 8;
-      o.summary_revolutions = 1;
-      o.steps_per_tooth = 4000;
-      o.max_recorded_samples = 100000;
-      const MillingSimulationResult r = simulate_milling(c, o);
+      const MillingSimulationResult r = simulate_milling(c, recorded_run(8, 4000));
       const double wt = c.spindle_rad_s * t2, delta = std::atan(wt);
       const double amplitude = 25e3 * 1e-3 / std::sqrt(1.0 + wt * wt);
       double worst = 0.0, lowest = 1e300;
@@ -462,12 +467,7 @@ TEST(MillingSimulation, ForceOnlyCutStartsOnItsPeriodicForcedVibration) {
       ErmolaevForceLaw law{25e3, angle ? 0.0 : 0.2, 3.0, 0.2e-3, 0.0, kPi / 5};
       if (angle) law.t2_angle_rad = 0.4 * kPi;
       c.process.s1_law = law;
-      MillingSimulationOptions o;
-      o.revolutions = 6;
-      o.summary_revolutions = 1;
-      o.steps_per_tooth = 200;
-      o.max_recorded_samples = 100000;
-      const MillingSimulationResult r = simulate_milling(c, o);
+      const MillingSimulationResult r = simulate_milling(c, recorded_run(6, 200));
       const std::size_t n = r.x_m.size(), tooth = 200;
       double worst = 0.0;
       for (std::size_t i = n - 1000; i < n; ++i)
