@@ -11,6 +11,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <system_error>
 
@@ -936,6 +937,72 @@ const char* to_string(Process process) {
       return "bore-milling";
   }
   return "?";
+}
+
+namespace {
+
+// A JSON value as a TOML node: objects as tables, arrays of objects as arrays of tables.
+// Problems name the key path ("modes[0].natural_hz").
+std::optional<toml::table> table_of(const nlohmann::json& j, const std::string& path,
+                                    std::vector<std::string>& problems);
+
+std::unique_ptr<toml::node> node_of(const nlohmann::json& j, const std::string& path,
+                                    std::vector<std::string>& problems) {
+  switch (j.type()) {
+    case nlohmann::json::value_t::boolean:
+      return std::make_unique<toml::value<bool>>(j.get<bool>());
+    case nlohmann::json::value_t::number_integer:
+    case nlohmann::json::value_t::number_unsigned:
+      return std::make_unique<toml::value<int64_t>>(j.get<int64_t>());
+    case nlohmann::json::value_t::number_float:
+      return std::make_unique<toml::value<double>>(j.get<double>());
+    case nlohmann::json::value_t::string:
+      return std::make_unique<toml::value<std::string>>(j.get<std::string>());
+    case nlohmann::json::value_t::object: {
+      auto t = table_of(j, path, problems);
+      return t ? std::make_unique<toml::table>(std::move(*t)) : nullptr;
+    }
+    case nlohmann::json::value_t::array: {
+      auto a = std::make_unique<toml::array>();
+      for (std::size_t i = 0; i < j.size(); ++i) {
+        auto element = node_of(j[i], path + "[" + std::to_string(i) + "]", problems);
+        if (!element) return nullptr;
+        a->push_back(std::move(*element));
+      }
+      return a;
+    }
+    default:
+      problems.push_back(path + " = " + j.dump() + ": not a value a case can hold");
+      return nullptr;
+  }
+}
+
+std::optional<toml::table> table_of(const nlohmann::json& j, const std::string& path,
+                                    std::vector<std::string>& problems) {
+  toml::table t;
+  for (const auto& [key, value] : j.items()) {
+    if (value.is_null()) continue;  // absent
+    const std::string at = path.empty() ? key : path + "." + key;
+    auto node = node_of(value, at, problems);
+    if (node) t.insert_or_assign(key, std::move(*node));
+  }
+  if (!problems.empty()) return std::nullopt;
+  return t;
+}
+
+}  // namespace
+
+Case parse_case_json(const nlohmann::json& j, std::string_view source) {
+  if (!j.is_object())
+    throw InvalidInput({"a case is a table of keys (a JSON object or Python dict), not " +
+                        std::string(j.type_name())},
+                       std::string(source));
+  std::vector<std::string> problems;
+  const auto table = table_of(j, "", problems);
+  if (!table) throw InvalidInput(problems, std::string(source));
+  std::ostringstream text;
+  text << *table;
+  return parse_case(text.str(), source);
 }
 
 Case parse_case(std::string_view toml_text, std::string_view source) {

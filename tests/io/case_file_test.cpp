@@ -956,5 +956,38 @@ TEST(CaseFile, ForceLawTakesT2InSecondsOrAsAnAngleNotBoth) {
   EXPECT_THAT(p[0], HasSubstr("force_law.t2_s = 0.2 and force_law.t2_deg = 72"));
 }
 
+TEST(CaseFile, JsonCasesAreReadAsTheirToml) {
+  // Every built-in example's effective case (the `case` object of --json) read back as JSON
+  // gives the same case; rules and messages are the TOML reader's.
+  for (const auto& [name, text] : examples()) {
+    SCOPED_TRACE(std::string(name));
+    const Case first = load_example(name);
+    if (!first.frfs.empty()) continue;  // its FRF files are relative to the examples folder
+    const nlohmann::json j = to_json(first);
+    EXPECT_EQ(to_json(parse_case_json(j, "dict")), j);
+  }
+  nlohmann::json bad = to_json(load_example("milling-insperger"));
+  bad["modes"][0]["natural_hz"] = -3;
+  bad["tool"]["teeth"] = nullptr;  // absent: the key is required
+  try {
+    parse_case_json(bad, "dict");
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where(), "dict");
+    const std::string all = ::testing::PrintToString(e.problems());
+    EXPECT_THAT(all, HasSubstr("modes[0].natural_hz = -3"));
+    EXPECT_THAT(all, HasSubstr("tool.teeth"));
+  }
+  EXPECT_THROW(parse_case_json(nlohmann::json::array(), "dict"), InvalidInput);
+  nlohmann::json holed = to_json(load_example("milling-insperger"));
+  holed["tool"]["pitch_deg"] = nlohmann::json::array({90, nullptr});
+  try {
+    parse_case_json(holed, "dict");
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_THAT(e.problems().at(0), HasSubstr("tool.pitch_deg[1] = null"));
+  }
+}
+
 }  // namespace
 }  // namespace cutdyn::io

@@ -137,6 +137,13 @@ struct Case {
 /// Parses and validates TOML text. `source` names it in error messages.
 Case parse_case(std::string_view toml_text, std::string_view source);
 
+/// Parses and validates a case given as JSON (the same keys, tables and arrays of tables as
+/// the TOML, e.g. the `case` object of any command's --json output, or a Python dict): it is
+/// written as TOML and read by parse_case, so every key and rule is checked the same way.
+/// `null` stands for an absent key. A value TOML cannot hold (null in an array, an array
+/// mixing tables and values) throws cutdyn::InvalidInput naming its key.
+Case parse_case_json(const nlohmann::json& j, std::string_view source);
+
 /// The case with one number key set to `value` in the key's own unit (a sweep step): set
 /// through the field table on a copy and checked again with every rule of the loader.
 /// `key` is the TOML path as in the messages: "lobes.rpm_max", "modes[0].damping_ratio",
