@@ -13,9 +13,11 @@ void parallel_for(int count, int threads, const std::function<void(int)>& job,
   std::exception_ptr error;
   std::mutex mutex;
   std::atomic<int> done{0};
+  std::atomic<bool> failed{false};  // once a job has thrown, the rest are skipped
   const int n_threads = threads > 0 ? threads : omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic, 1) num_threads(n_threads)
   for (int i = 0; i < count; ++i) {
+    if (failed.load(std::memory_order_relaxed)) continue;
     try {
       job(i);
       const int finished = ++done;
@@ -26,6 +28,7 @@ void parallel_for(int count, int threads, const std::function<void(int)>& job,
     } catch (...) {
       std::lock_guard<std::mutex> lock(mutex);
       if (!error) error = std::current_exception();
+      failed = true;
     }
   }
   if (error) std::rethrow_exception(error);

@@ -7,7 +7,8 @@ namespace cutdyn {
 
 /// Calls job(i) for i = 0 .. count − 1 on `threads` threads (0: all cores). `progress(done,
 /// count)`, if set, is called from one thread at a time as jobs complete. The first exception
-/// thrown by a job is rethrown after the loop.
+/// thrown by a job (or by `progress`: a caller's way to stop) is rethrown after the loop; the
+/// jobs not yet started when it was thrown are skipped.
 void parallel_for(int count, int threads, const std::function<void(int)>& job,
                   const std::function<void(int done, int total)>& progress = {});
 

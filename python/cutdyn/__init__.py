@@ -1,0 +1,97 @@
+"""cutdyn: machining-process dynamics from Python (docs/python.md).
+
+The same jobs as the ``cutdyn`` command line, on the same case files, with the same
+numbers: a case is read and checked by the same code, and every result carries the report
+the command line writes with ``--json`` (``result.report``) and prints (``str(result)``).
+Tables come back as numpy float64 arrays.
+
+    import cutdyn
+    case = cutdyn.example("milling-insperger")        # or cutdyn.Case.from_toml("my.toml")
+    lobes = cutdyn.lobes(case)
+    lobes.spindle_rpm, lobes.critical_depth_mm         # numpy arrays
+    cutdyn.check(case, rpm=10000, depth_mm=0.5).stable
+
+Bad input raises ``cutdyn.CaseError`` (a ``ValueError``) with the command line's message,
+naming the key; ``.problems`` lists each problem.
+"""
+
+from . import _cutdyn
+from ._cutdyn import Case, CaseError, example, examples
+
+__all__ = ["Case", "CaseError", "Lobes", "Check", "example", "examples", "lobes", "check"]
+
+
+class _Result:
+    """A job's result: ``report`` is the command line's --json document, ``str()`` its text."""
+
+    def __init__(self, native):
+        self.report = native["report"]
+        self._text = native["text"]
+
+    def __str__(self):
+        return self._text
+
+    @property
+    def warnings(self):
+        """Where the method is weak, as the command line warns."""
+        return list(self.report.get("warnings", []))
+
+
+class Lobes(_Result):
+    """The lobe diagram of a case (``cutdyn lobes``).
+
+    Arrays, one value per spindle speed (the columns of ``cutdyn lobes --out``):
+    ``spindle_rpm``, ``critical_depth_mm``, ``chatter_hz``, ``lobe`` (int64),
+    ``bifurcation`` (list of str), ``beyond_limit`` (int64, 1 where no boundary was found
+    below the search limit), and for vibration-assisted turning ``duty_cycle``,
+    ``conventional_depth_mm``, ``conventional_chatter_hz``.
+    """
+
+    def __init__(self, native):
+        super().__init__(native)
+        self.columns = dict(native["columns"])
+        for name, values in self.columns.items():
+            setattr(self, name, values)
+
+    @property
+    def method(self):
+        """The stability method used (never "auto")."""
+        return self.report["method"]
+
+    @property
+    def lowest(self):
+        """The lowest critical depth: {"spindle_rpm": ..., "critical_depth_mm": ...}."""
+        return self.report["lowest"]
+
+    def to_pandas(self):
+        """The table as a pandas DataFrame (pandas must be installed)."""
+        import pandas
+
+        return pandas.DataFrame(self.columns)
+
+
+class Check(_Result):
+    """One speed and depth (``cutdyn check``): the verdict and its margin."""
+
+    def __getattr__(self, name):
+        try:
+            return self.report[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+
+def lobes(case, method="", target_depth_mm=None, threads=0):
+    """The lobe diagram of ``case`` (``cutdyn lobes``).
+
+    ``method``: "auto", "zero-order", "closed-form", "multi-frequency",
+    "full-discretization", "full-discretization-dense" (default: the case's [lobes] method);
+    ``target_depth_mm``: also list the speed ranges stable at this depth and recommend a speed
+    (in ``report``); ``threads``: 0 for all cores. Releases the GIL; Ctrl-C stops it.
+    """
+    return Lobes(_cutdyn.lobes(case, method, target_depth_mm, threads))
+
+
+def check(case, rpm, depth_mm, method=""):
+    """Whether ``case`` cuts stably at ``rpm`` and ``depth_mm`` (``cutdyn check``): attributes
+    ``stable``, ``critical_depth_mm``, ``margin``, ``chatter_hz``, ``method`` … as in the JSON."""
+    return Check(_cutdyn.check(case, rpm, depth_mm, method))

@@ -1,0 +1,217 @@
+// The Python module's native part, `cutdyn._cutdyn` (docs/python.md): cases in, the job
+// layer's reports out — the same jobs and the same JSON as the command line, so that no rule
+// is written twice. Tables come back as numpy arrays (float64 for numbers, int64 for counts).
+// `cutdyn/__init__.py` wraps these functions in result classes.
+//
+// Long jobs run with the GIL released on a worker thread; the calling thread checks for
+// signals every 50 ms and, on Ctrl-C, asks the job to stop at its next progress report
+// (KeyboardInterrupt once it has).
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <functional>
+#include <future>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <variant>
+#include <vector>
+
+#include "cutdyn/app/render.hpp"
+#include "cutdyn/app/report_json.hpp"
+#include "cutdyn/app/stability.hpp"
+#include "cutdyn/core/error.hpp"
+#include "cutdyn/core/units.hpp"
+#include "cutdyn/io/case_file.hpp"
+
+namespace py = pybind11;
+
+namespace cutdyn::python {
+namespace {
+
+// Thrown from a job's progress report when the caller pressed Ctrl-C.
+struct Cancelled : std::exception {
+  const char* what() const noexcept override { return "cancelled"; }
+};
+
+// JSON ↔ Python through the json module: exact for every value a report holds.
+py::object to_python(const nlohmann::json& j) {
+  return py::module_::import("json").attr("loads")(j.dump());
+}
+
+nlohmann::json to_json(const py::handle& object, const std::string& where) {
+  std::string text;
+  try {
+    text = py::module_::import("json")
+               .attr("dumps")(object, py::arg("allow_nan") = false)
+               .cast<std::string>();
+  } catch (const py::error_already_set& e) {
+    throw InvalidInput({std::string("not a case: ") + e.what()}, where);
+  }
+  return nlohmann::json::parse(text);
+}
+
+// Runs `job` with the GIL released on a worker thread; Ctrl-C on the calling thread sets
+// `cancel`, which the job's progress reports turn into Cancelled.
+template <typename Result>
+Result run_interruptible(const std::function<Result(const std::atomic<bool>& cancel)>& job) {
+  std::atomic<bool> cancel{false};
+  std::future<Result> result;
+  {
+    py::gil_scoped_release release;
+    result = std::async(std::launch::async, [&] { return job(cancel); });
+    while (result.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
+      py::gil_scoped_acquire acquire;
+      if (PyErr_CheckSignals() != 0) {
+        cancel = true;
+        PyErr_Clear();
+      }
+    }
+  }
+  try {
+    return result.get();
+  } catch (const Cancelled&) {
+    PyErr_SetNone(PyExc_KeyboardInterrupt);
+    throw py::error_already_set();
+  }
+}
+
+// A progress report that stops the job once `cancel` is set.
+std::function<void(int, int)> stop_on(const std::atomic<bool>& cancel) {
+  return [&cancel](int, int) {
+    if (cancel) throw Cancelled();
+  };
+}
+
+// The report as the command line prints it.
+template <typename Report>
+std::string text_of(const io::Case& c, const Report& r) {
+  std::ostringstream out;
+  app::write_text(out, c, r);
+  return out.str();
+}
+
+// A report table as {column: numpy array}: float64 for numbers, int64 for counts, a list of
+// str for text.
+py::dict columns_of(const app::ReportTable& table) {
+  py::dict out;
+  for (std::size_t k = 0; k < table.columns.size(); ++k) {
+    const auto kind = table.rows.empty() ? std::size_t{0} : table.rows.front()[k].index();
+    if (kind == 2) {
+      py::list text;
+      for (const auto& row : table.rows) text.append(std::get<std::string>(row[k]));
+      out[py::str(table.columns[k])] = text;
+    } else if (kind == 1) {
+      py::array_t<long long> a(static_cast<py::ssize_t>(table.rows.size()));
+      auto v = a.mutable_unchecked<1>();
+      for (std::size_t i = 0; i < table.rows.size(); ++i)
+        v(static_cast<py::ssize_t>(i)) = std::get<long long>(table.rows[i][k]);
+      out[py::str(table.columns[k])] = a;
+    } else {
+      py::array_t<double> a(static_cast<py::ssize_t>(table.rows.size()));
+      auto v = a.mutable_unchecked<1>();
+      for (std::size_t i = 0; i < table.rows.size(); ++i)
+        v(static_cast<py::ssize_t>(i)) = std::get<double>(table.rows[i][k]);
+      out[py::str(table.columns[k])] = a;
+    }
+  }
+  return out;
+}
+
+py::dict lobes(const io::Case& c, const std::string& method, std::optional<double> target_depth_mm,
+               int threads) {
+  app::LobesRequest request;
+  request.method = method;
+  request.threads = threads;
+  if (target_depth_mm) request.target_depth_m = units::mm_to_m(*target_depth_mm);
+  request.names.depth = "target_depth_mm";
+  const app::LobesJobReport r =
+      run_interruptible<app::LobesJobReport>([&](const std::atomic<bool>& cancel) {
+        app::LobesRequest stoppable = request;
+        stoppable.progress = stop_on(cancel);
+        return app::run_lobes(c, stoppable);
+      });
+  py::dict out;
+  out["columns"] = columns_of(app::lobes_table(r));
+  out["report"] = to_python(app::to_json(c, r));
+  out["text"] = text_of(c, r);
+  return out;
+}
+
+py::dict check(const io::Case& c, double rpm, double depth_mm, const std::string& method) {
+  app::CheckRequest request;
+  request.rpm = rpm;
+  request.depth_m = units::mm_to_m(depth_mm);
+  request.method = method;
+  // (The request's names default to the Python argument names: rpm, depth_mm, method.)
+  const app::CheckJobReport r = run_interruptible<app::CheckJobReport>(
+      [&](const std::atomic<bool>&) { return app::run_check(c, request); });
+  py::dict out;
+  out["report"] = to_python(app::to_json(c, r));
+  out["text"] = text_of(c, r);
+  return out;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_cutdyn, m) {
+  m.doc() = "cutdyn's native part: cases and the jobs of the command line (docs/python.md)";
+
+  // cutdyn.CaseError(ValueError): the command line's message, one "where: problem" per line,
+  // and the problems themselves as `.problems`, the place as `.where`.
+  static py::exception<InvalidInput> case_error(m, "CaseError", PyExc_ValueError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const InvalidInput& e) {
+      const std::string where = e.where().empty() ? "input" : e.where();
+      std::string message;
+      for (const std::string& problem : e.problems())
+        message += (message.empty() ? "" : "\n") + where + ": " + problem;
+      py::gil_scoped_acquire gil;
+      py::object error = py::reinterpret_borrow<py::object>(case_error.ptr())(message);
+      error.attr("problems") = py::cast(e.problems());
+      error.attr("where") = py::str(where);
+      PyErr_SetObject(case_error.ptr(), error.ptr());
+    }
+  });
+
+  py::class_<io::Case>(m, "Case", "A case: a process, its structure and what to compute")
+      .def_static(
+          "from_toml", [](const std::string& path) { return io::load_case_file(path); },
+          py::arg("path"), "Reads a case file (TOML), checking every key as the CLI does.")
+      .def(py::init(
+               [](const py::dict& d) { return io::parse_case_json(to_json(d, "dict"), "dict"); }),
+           py::arg("case"),
+           "A case from a dict with the case file's keys (the `case` object of any --json "
+           "output is accepted as is), checked as a TOML file is.")
+      .def(
+          "to_dict", [](const io::Case& c) { return to_python(io::to_json(c)); },
+          "The effective case in the case file's keys and units.")
+      .def_property_readonly("source", [](const io::Case& c) { return c.source; })
+      .def_property_readonly("warnings", [](const io::Case& c) { return c.warnings; })
+      .def("__repr__", [](const io::Case& c) { return "<cutdyn.Case " + c.source + ">"; });
+
+  m.def(
+      "example", [](const std::string& name) { return io::load_example(name); }, py::arg("name"),
+      "A built-in example case (`cutdyn example --list`).");
+  m.def(
+      "examples",
+      [] {
+        std::vector<std::string> names;
+        for (const auto& [name, text] : io::examples()) names.emplace_back(name);
+        return names;
+      },
+      "The names of the built-in example cases.");
+  m.def("lobes", &lobes, py::arg("case"), py::arg("method") = "",
+        py::arg("target_depth_mm") = py::none(), py::arg("threads") = 0);
+  m.def("check", &check, py::arg("case"), py::arg("rpm"), py::arg("depth_mm"),
+        py::arg("method") = "");
+}
+
+}  // namespace cutdyn::python

@@ -1,0 +1,64 @@
+"""Long jobs release the GIL and stop on Ctrl-C (KeyboardInterrupt), promptly."""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import cutdyn
+
+SCRIPT = """
+import sys, threading, time
+import cutdyn
+d = cutdyn.example("milling-insperger").to_dict()
+d["lobes"]["rpm_steps"] = 5000
+case = cutdyn.Case(d)
+ticks = []
+ticker = threading.Thread(target=lambda: [ticks.append(time.sleep(0.01)) for _ in range(50)])
+print("start", flush=True)
+t = time.time()
+ticker.start()
+try:
+    cutdyn.lobes(case, method="full-discretization", threads=1)
+    print("finished", time.time() - t, len(ticks))
+except KeyboardInterrupt:
+    print("interrupted", time.time() - t, len(ticks))
+"""
+
+
+def test_ctrl_c_stops_a_long_lobes_run():
+    # 5000 speeds by full discretization on one thread take about ten seconds; SIGINT after
+    # 1 s must end it within a second or two. Meanwhile another Python thread keeps running
+    # (the GIL is released): its 50 ticks of 10 ms all happen.
+    p = subprocess.Popen([sys.executable, "-c", SCRIPT], stdout=subprocess.PIPE, text=True,
+                         env=os.environ)
+    assert p.stdout.readline().strip() == "start"
+    time.sleep(1.0)
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=120)
+    words = out.split()
+    assert words[0] == "interrupted", out
+    assert float(words[1]) < 3.0, out
+    assert int(words[2]) == 50, out
+
+
+def test_the_gil_is_released_while_lobes_run():
+    import threading
+
+    ticks = []
+
+    def tick():
+        for _ in range(20):
+            time.sleep(0.005)
+            ticks.append(time.perf_counter())
+
+    case = cutdyn.example("milling-insperger")
+    t = threading.Thread(target=tick)
+    start = time.perf_counter()
+    t.start()
+    cutdyn.lobes(case, threads=1)
+    end = time.perf_counter()
+    t.join()
+    # Ticks kept coming while the job ran (with the GIL held they would wait for its end).
+    assert sum(1 for x in ticks if start < x < end) >= 5
