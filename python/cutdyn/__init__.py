@@ -18,7 +18,8 @@ naming the key; ``.problems`` lists each problem.
 from . import _cutdyn
 from ._cutdyn import Case, CaseError, example, examples
 
-__all__ = ["Case", "CaseError", "Lobes", "Check", "example", "examples", "lobes", "check"]
+__all__ = ["Case", "CaseError", "Lobes", "Check", "Simulation", "example", "examples", "lobes",
+           "check", "simulate"]
 
 
 class _Result:
@@ -37,7 +38,23 @@ class _Result:
         return list(self.report.get("warnings", []))
 
 
-class Lobes(_Result):
+class _Table(_Result):
+    """A result with a table: each column an attribute (numpy arrays; text as lists of str)."""
+
+    def __init__(self, native):
+        super().__init__(native)
+        self.columns = dict(native["columns"])
+        for name, values in self.columns.items():
+            setattr(self, name, values)
+
+    def to_pandas(self):
+        """The table as a pandas DataFrame (pandas must be installed)."""
+        import pandas
+
+        return pandas.DataFrame(self.columns)
+
+
+class Lobes(_Table):
     """The lobe diagram of a case (``cutdyn lobes``).
 
     Arrays, one value per spindle speed (the columns of ``cutdyn lobes --out``):
@@ -46,12 +63,6 @@ class Lobes(_Result):
     below the search limit), and for vibration-assisted turning ``duty_cycle``,
     ``conventional_depth_mm``, ``conventional_chatter_hz``.
     """
-
-    def __init__(self, native):
-        super().__init__(native)
-        self.columns = dict(native["columns"])
-        for name, values in self.columns.items():
-            setattr(self, name, values)
 
     @property
     def method(self):
@@ -63,12 +74,6 @@ class Lobes(_Result):
         """The lowest critical depth: {"spindle_rpm": ..., "critical_depth_mm": ...}."""
         return self.report["lowest"]
 
-    def to_pandas(self):
-        """The table as a pandas DataFrame (pandas must be installed)."""
-        import pandas
-
-        return pandas.DataFrame(self.columns)
-
 
 class Check(_Result):
     """One speed and depth (``cutdyn check``): the verdict and its margin."""
@@ -78,6 +83,27 @@ class Check(_Result):
             return self.report[name]
         except KeyError:
             raise AttributeError(name) from None
+
+
+class Simulation(_Table):
+    """A time-domain simulation (``cutdyn simulate``).
+
+    Milling: the arrays ``time_s``, ``fx_n``, ``fy_n``, ``force_n``, ``x_um``, ``y_um``,
+    ``teeth_in_cut``, ``cutting_force_n`` (the columns of ``cutdyn simulate --out``, thinned as
+    recorded) and ``summary`` (force pulsation, vibration, growth, verdict …). Turning: the
+    arrays ``process`` (the run of each row), ``time_s``, ``displacement_um``, ``force_n``,
+    ``chip_thickness_um``, and ``results``, one summary per run.
+    """
+
+    @property
+    def summary(self):
+        """Milling: the summary of the last revolutions (as in the JSON)."""
+        return self.report["summary"]
+
+    @property
+    def results(self):
+        """Turning: one summary per run (conventional, vibration-assisted)."""
+        return self.report["results"]
 
 
 def lobes(case, method="", target_depth_mm=None, threads=0):
@@ -95,3 +121,11 @@ def check(case, rpm, depth_mm, method=""):
     """Whether ``case`` cuts stably at ``rpm`` and ``depth_mm`` (``cutdyn check``): attributes
     ``stable``, ``critical_depth_mm``, ``margin``, ``chatter_hz``, ``method`` … as in the JSON."""
     return Check(_cutdyn.check(case, rpm, depth_mm, method))
+
+
+def simulate(case, rpm=None, depth_mm=None, duration_s=None):
+    """Simulates the cut of ``case`` in time (``cutdyn simulate``): at ``rpm`` and
+    ``depth_mm`` (default: the case's [simulate] table), for ``duration_s`` seconds (turning)
+    or as many revolutions' time (milling: overrides [simulate] revolutions). Releases the GIL.
+    """
+    return Simulation(_cutdyn.simulate(case, rpm, depth_mm, duration_s))

@@ -73,6 +73,27 @@ ReportTable lobes_table(const LobesJobReport& r) {
   return out;
 }
 
+ReportTable trace_table(const MillingSimulationJobReport& job) {
+  const MillingSimulationResult& r = job.result;
+  ReportTable out;
+  out.columns = {"time_s", "fx_n", "fy_n",         "force_n",
+                 "x_um",   "y_um", "teeth_in_cut", "cutting_force_n"};
+  for (std::size_t i = 0; i < r.time_s.size(); ++i)
+    out.rows.push_back({r.time_s[i], r.fx_n[i], r.fy_n[i], r.force_n[i], m_to_um(r.x_m[i]),
+                        m_to_um(r.y_m[i]), r.teeth_in_cut[i], r.cutting_force_n[i]});
+  return out;
+}
+
+ReportTable trace_table(const TurningSimulationJobReport& job) {
+  ReportTable out;
+  out.columns = {"process", "time_s", "displacement_um", "force_n", "chip_thickness_um"};
+  for (const TurningSimulationRun& run : job.runs)
+    for (std::size_t i = 0; i < run.result.time_s.size(); ++i)
+      out.rows.push_back({run.name, run.result.time_s[i], m_to_um(run.result.displacement_m[i]),
+                          run.result.force_n[i], m_to_um(run.result.chip_thickness_m[i])});
+  return out;
+}
+
 json to_json(const io::Case& c, const LobesJobReport& r) {
   const ReportTable rows = lobes_table(r);
   const auto& pts = r.lobes.points;

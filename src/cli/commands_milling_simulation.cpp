@@ -17,7 +17,6 @@ namespace cutdyn::cli {
 namespace {
 
 using nlohmann::json;
-using units::m_to_um;
 using units::mm_to_m;
 
 }  // namespace
@@ -118,14 +117,11 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
   app::write_text(out, c, job);
   for (const std::string& w : job.warnings)
     err << "cutdyn: warning: " << c.source << ": " << w << "\n";
-  const MillingSimulationResult& r = job.result;
   io::OutputTransaction outputs;
   if (!args.outputs.csv.empty()) {
-    io::CsvWriter csv(outputs.open(args.outputs.csv), {"time_s", "fx_n", "fy_n", "force_n", "x_um",
-                                                       "y_um", "teeth_in_cut", "cutting_force_n"});
-    for (std::size_t i = 0; i < r.time_s.size(); ++i)
-      csv.row({r.time_s[i], r.fx_n[i], r.fy_n[i], r.force_n[i], m_to_um(r.x_m[i]),
-               m_to_um(r.y_m[i]), r.teeth_in_cut[i], r.cutting_force_n[i]});
+    const app::ReportTable table = app::trace_table(job);
+    io::CsvWriter csv(outputs.open(args.outputs.csv), table.columns);
+    for (const auto& row : table.rows) csv.row(row);
   }
   if (!args.outputs.json.empty())
     io::write_json(outputs.open(args.outputs.json), app::to_json(c, job));

@@ -77,20 +77,14 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
     throw InvalidInput({"--sweep, --metric: sweeps take milling cases in this version"},
                        "command line");
   const app::TurningSimulationJobReport job = app::simulate_turning_case(c, simulate_request(args));
-  const auto& runs = job.runs;
-  using Run = app::TurningSimulationRun;
-
   app::write_text(out, c, job);
   for (const std::string& w : job.warnings)
     err << "cutdyn: warning: " << c.source << ": " << w << "\n";
   io::OutputTransaction outputs;
   if (!args.outputs.csv.empty()) {
-    io::CsvWriter csv(outputs.open(args.outputs.csv),
-                      {"process", "time_s", "displacement_um", "force_n", "chip_thickness_um"});
-    for (const Run& r : runs)
-      for (std::size_t i = 0; i < r.result.time_s.size(); ++i)
-        csv.row({r.name, r.result.time_s[i], units::m_to_um(r.result.displacement_m[i]),
-                 r.result.force_n[i], units::m_to_um(r.result.chip_thickness_m[i])});
+    const app::ReportTable table = app::trace_table(job);
+    io::CsvWriter csv(outputs.open(args.outputs.csv), table.columns);
+    for (const auto& row : table.rows) csv.row(row);
   }
   if (!args.outputs.json.empty())
     io::write_json(outputs.open(args.outputs.json), app::to_json(c, job));

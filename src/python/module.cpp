@@ -24,6 +24,7 @@
 
 #include "cutdyn/app/render.hpp"
 #include "cutdyn/app/report_json.hpp"
+#include "cutdyn/app/simulate.hpp"
 #include "cutdyn/app/stability.hpp"
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
@@ -157,6 +158,38 @@ py::dict check(const io::Case& c, double rpm, double depth_mm, const std::string
   return out;
 }
 
+// Overrides of the case's [simulate] table, named as the Python arguments.
+app::SimulateRequest simulate_request(std::optional<double> rpm, std::optional<double> depth_mm,
+                                      std::optional<double> duration_s) {
+  app::SimulateRequest r;
+  r.rpm = rpm;
+  if (depth_mm) r.depth_m = units::mm_to_m(*depth_mm);
+  r.duration_s = duration_s;
+  return r;
+}
+
+// One simulation (`cutdyn simulate`): the traces as arrays (the columns of its --out), its
+// report and text; milling or turning, as the case says.
+py::dict simulate(const io::Case& c, std::optional<double> rpm, std::optional<double> depth_mm,
+                  std::optional<double> duration_s) {
+  const app::SimulateRequest request = simulate_request(rpm, depth_mm, duration_s);
+  py::dict out;
+  if (c.process == io::Process::kMilling) {
+    const auto job = run_interruptible<app::MillingSimulationJobReport>(
+        [&](const std::atomic<bool>&) { return app::simulate_milling_case(c, request); });
+    out["columns"] = columns_of(app::trace_table(job));
+    out["report"] = to_python(app::to_json(c, job));
+    out["text"] = text_of(c, job);
+  } else {
+    const auto job = run_interruptible<app::TurningSimulationJobReport>(
+        [&](const std::atomic<bool>&) { return app::simulate_turning_case(c, request); });
+    out["columns"] = columns_of(app::trace_table(job));
+    out["report"] = to_python(app::to_json(c, job));
+    out["text"] = text_of(c, job);
+  }
+  return out;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_cutdyn, m) {
@@ -212,6 +245,8 @@ PYBIND11_MODULE(_cutdyn, m) {
         py::arg("target_depth_mm") = py::none(), py::arg("threads") = 0);
   m.def("check", &check, py::arg("case"), py::arg("rpm"), py::arg("depth_mm"),
         py::arg("method") = "");
+  m.def("simulate", &simulate, py::arg("case"), py::arg("rpm") = py::none(),
+        py::arg("depth_mm") = py::none(), py::arg("duration_s") = py::none());
 }
 
 }  // namespace cutdyn::python

@@ -73,7 +73,9 @@ TEST(Ermolaev2020Figures, Fig6bPulsationIsFullBelowOneToothAndFallsWithTheTeeth)
     double mid = 0.0, many = 0.0;
     for (int z = 1; z <= 12; ++z) {
       const double p = runs[static_cast<std::size_t>(z - 1)].cutting_force_pulsation;
-      if (z * (psi + phi_n) < 2 * std::numbers::pi - 1e-9) EXPECT_NEAR(p, 1.0, 1e-9) << z;
+      if (z * (psi + phi_n) < 2 * std::numbers::pi - 1e-9) {
+        EXPECT_NEAR(p, 1.0, 1e-9) << z;
+      }
       if (z >= 5 && z <= 7) mid += p / 3;
       if (z >= 9 && z <= 11) many += p / 3;
     }

@@ -36,6 +36,12 @@ struct ReportTable {
 /// bifurcation, beyond_limit (0/1), and duty_cycle, conventional_depth_mm,
 /// conventional_chatter_hz for vibration-assisted turning.
 ReportTable lobes_table(const LobesJobReport& report);
+/// The traces of a milling simulation (thinned as recorded): time_s, fx_n, fy_n, force_n,
+/// x_um, y_um, teeth_in_cut, cutting_force_n.
+ReportTable trace_table(const MillingSimulationJobReport& report);
+/// The traces of a turning simulation, every run one after the other: process, time_s,
+/// displacement_um, force_n, chip_thickness_um.
+ReportTable trace_table(const TurningSimulationJobReport& report);
 
 nlohmann::json to_json(const io::Case& c, const LobesJobReport& report);
 nlohmann::json to_json(const io::Case& c, const CheckJobReport& report);

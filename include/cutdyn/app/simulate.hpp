@@ -69,7 +69,7 @@ MillingSimulationJobReport simulate_milling_case(const io::Case& c, const Simula
 /// The summary metrics of a milling simulation a sweep can tabulate, by name: force_pulsation,
 /// mean_force_n, peak_force_n, min_force_n, mean_teeth_in_cut, vibration_pp_x_um,
 /// vibration_pp_y_um, chatter_indicator, contact_loss, surface_location_error_um (NaN where
-/// the cut has none).
+/// the cut has none), cutting_force_pulsation, mean_cutting_force_n.
 const std::vector<std::string>& milling_metric_names();
 std::vector<double> milling_metrics(const MillingSimulationResult& r);
 
