@@ -35,7 +35,8 @@ namespace py = pybind11;
 namespace cutdyn::python {
 namespace {
 
-// Thrown from a job's progress report when the caller pressed Ctrl-C.
+// Thrown from a job's progress report when the caller pressed Ctrl-C (never reaches Python:
+// run_interruptible raises the interrupt instead).
 struct Cancelled : std::exception {
   const char* what() const noexcept override { return "cancelled"; }
 };
@@ -57,29 +58,34 @@ nlohmann::json to_json(const py::handle& object, const std::string& where) {
   return nlohmann::json::parse(text);
 }
 
-// Runs `job` with the GIL released on a worker thread; Ctrl-C on the calling thread sets
-// `cancel`, which the job's progress reports turn into Cancelled.
+// Runs `job` with the GIL released on a worker thread. A signal on the calling thread (Ctrl-C)
+// sets `cancel`, which a job's progress reports turn into Cancelled; the exception the signal's
+// handler raised (KeyboardInterrupt) is raised once the job has stopped — also for a job without
+// progress reports, which finishes first.
 template <typename Result>
 Result run_interruptible(const std::function<Result(const std::atomic<bool>& cancel)>& job) {
   std::atomic<bool> cancel{false};
   std::future<Result> result;
+  std::optional<py::error_already_set> interrupted;
   {
     py::gil_scoped_release release;
     result = std::async(std::launch::async, [&] { return job(cancel); });
     while (result.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
       py::gil_scoped_acquire acquire;
-      if (PyErr_CheckSignals() != 0) {
+      if (!interrupted && PyErr_CheckSignals() != 0) {
         cancel = true;
-        PyErr_Clear();
+        interrupted.emplace();  // fetches the handler's exception
       }
     }
   }
-  try {
-    return result.get();
-  } catch (const Cancelled&) {
-    PyErr_SetNone(PyExc_KeyboardInterrupt);
-    throw py::error_already_set();
+  if (interrupted) {
+    try {
+      result.get();
+    } catch (...) {  // Cancelled, or whatever the stopped job threw: the interrupt wins
+    }
+    throw std::move(*interrupted);
   }
+  return result.get();
 }
 
 // A progress report that stops the job once `cancel` is set.

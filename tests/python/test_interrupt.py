@@ -62,3 +62,30 @@ def test_the_gil_is_released_while_lobes_run():
     t.join()
     # Ticks kept coming while the job ran (with the GIL held they would wait for its end).
     assert sum(1 for x in ticks if start < x < end) >= 5
+
+
+SIMULATE = """
+import time
+import cutdyn
+case = cutdyn.example("milling-insperger")
+print("start", flush=True)
+t = time.time()
+try:
+    cutdyn.simulate(case, duration_s=%s)
+    print("finished", time.time() - t)
+except KeyboardInterrupt:
+    print("interrupted", time.time() - t)
+"""
+
+
+def test_ctrl_c_during_a_simulation_is_not_lost():
+    # A simulation has no progress reports: it runs to its end, then the interrupt is raised
+    # (not swallowed). 200 s of the cut (33 000 revolutions) take about 1.6 s here; SIGINT at
+    # 0.3 s.
+    p = subprocess.Popen([sys.executable, "-c", SIMULATE % 200], stdout=subprocess.PIPE,
+                         text=True, env=os.environ)
+    assert p.stdout.readline().strip() == "start"
+    time.sleep(0.3)
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=120)
+    assert out.split()[0] == "interrupted", out
