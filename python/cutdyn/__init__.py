@@ -19,7 +19,7 @@ from . import _cutdyn
 from ._cutdyn import Case, CaseError, example, examples
 
 __all__ = ["Case", "CaseError", "Lobes", "Check", "Simulation", "example", "examples", "lobes",
-           "check", "simulate"]
+           "check", "simulate", "Sweep", "sweep"]
 
 
 class _Result:
@@ -129,3 +129,25 @@ def simulate(case, rpm=None, depth_mm=None, duration_s=None):
     or as many revolutions' time (milling: overrides [simulate] revolutions). Releases the GIL.
     """
     return Simulation(_cutdyn.simulate(case, rpm, depth_mm, duration_s))
+
+
+class Sweep(_Table):
+    """A milling simulation repeated over one case key (``cutdyn simulate --sweep``): the key's
+    values as an array named after the key, every summary metric as a float64 array (NaN where a
+    cut has none), and ``chatter`` (int64 0/1)."""
+
+    @property
+    def values(self):
+        """The swept key's values."""
+        return self.columns[self.report["sweep"]]
+
+
+def sweep(case, key, values, metric="", rpm=None, depth_mm=None, duration_s=None, threads=0):
+    """Simulates a milling ``case`` at each of ``values`` of one case ``key`` ("force_law.t2_s",
+    "modes[0].damping_ratio", "tool.teeth" …), as ``cutdyn simulate --sweep`` does; ``metric``
+    names the one its text and report lead with. ``values`` may be any sequence of numbers;
+    ``numpy.arange`` or ``numpy.linspace`` make the command line's FROM:STEP:TO. Every varied case
+    is checked before any runs. Releases the GIL; Ctrl-C stops it between runs.
+    """
+    return Sweep(_cutdyn.sweep(case, key, [float(v) for v in values], metric, rpm, depth_mm,
+                               duration_s, threads))

@@ -84,6 +84,38 @@ ReportTable trace_table(const MillingSimulationJobReport& job) {
   return out;
 }
 
+ReportTable sweep_table(const MillingSweepJobReport& job) {
+  ReportTable out;
+  const auto& names = milling_metric_names();
+  out.columns = {job.sweep.key};
+  out.columns.insert(out.columns.end(), names.begin(), names.end());
+  out.columns.push_back("chatter");
+  for (std::size_t i = 0; i < job.results.size(); ++i) {
+    std::vector<io::CsvCell> row{job.sweep.values[i]};
+    for (double m : milling_metrics(job.results[i])) row.emplace_back(m);
+    row.emplace_back(job.results[i].chatter ? 1LL : 0LL);
+    out.rows.push_back(std::move(row));
+  }
+  return out;
+}
+
+json to_json(const io::Case& c, const MillingSweepJobReport& job, const std::string& metric) {
+  const auto& names = milling_metric_names();
+  json points = json::array();
+  for (std::size_t i = 0; i < job.results.size(); ++i) {
+    const MillingSimulationResult& r = job.results[i];
+    json p{{"value", job.sweep.values[i]}, {"chatter", r.chatter}, {"status", to_string(r.status)}};
+    const auto m = milling_metrics(r);
+    for (std::size_t k = 0; k < names.size(); ++k)
+      p[names[k]] = std::isnan(m[k]) ? json() : json(m[k]);
+    points.push_back(std::move(p));
+  }
+  return {{"command", "simulate"},      {"schema_version", kJsonSchemaVersion},
+          {"case", io::to_json(c)},     {"source", c.source},
+          {"sweep", job.sweep.key},     {"metric", metric},
+          {"points", std::move(points)}};
+}
+
 ReportTable trace_table(const TurningSimulationJobReport& job) {
   ReportTable out;
   out.columns = {"process", "time_s", "displacement_um", "force_n", "chip_thickness_um"};

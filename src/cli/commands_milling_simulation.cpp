@@ -2,7 +2,7 @@
 // [Ermolaev2020] (docs/models/milling-simulation.md).
 #include <algorithm>
 #include <cmath>
-#include <nlohmann/json.hpp>
+#include <variant>
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
@@ -16,7 +16,6 @@
 namespace cutdyn::cli {
 namespace {
 
-using nlohmann::json;
 using units::mm_to_m;
 
 }  // namespace
@@ -60,47 +59,20 @@ int run_sweep(const SimulateArgs& args, const io::Case& c, std::ostream& out, st
   const app::MillingSweepJobReport job =
       app::sweep_milling_case(c, parse_sweep(args.sweep), simulate_request(args), args.threads,
                               progress_reporter(err, "sweep"));
-  const Sweep& sweep = job.sweep;
-  const auto& results = job.results;
-  const auto metrics = app::milling_metrics;
-
   app::write_text(out, c, job, column);
 
   io::OutputTransaction outputs;
   if (!args.outputs.csv.empty()) {
-    std::vector<std::string> header{sweep.key};
-    header.insert(header.end(), names.begin(), names.end());
-    header.push_back("chatter");
-    io::CsvWriter csv(outputs.open(args.outputs.csv), header);
-    for (std::size_t i = 0; i < results.size(); ++i) {
-      std::vector<io::CsvCell> row{sweep.values[i]};
-      for (double m : metrics(results[i])) {
-        if (std::isnan(m))
-          row.emplace_back(std::string());
-        else
-          row.emplace_back(m);
-      }
-      row.emplace_back(results[i].chatter ? 1LL : 0LL);
+    const app::ReportTable table = app::sweep_table(job);
+    io::CsvWriter csv(outputs.open(args.outputs.csv), table.columns);
+    for (std::vector<io::CsvCell> row : table.rows) {
+      for (io::CsvCell& cell : row)  // a metric the cut has not: an empty cell
+        if (const double* v = std::get_if<double>(&cell); v && std::isnan(*v)) cell = std::string();
       csv.row(row);
     }
   }
-  if (!args.outputs.json.empty()) {
-    json points = json::array();
-    for (std::size_t i = 0; i < results.size(); ++i) {
-      json p{{"value", sweep.values[i]},
-             {"chatter", results[i].chatter},
-             {"status", to_string(results[i].status)}};
-      const auto m = metrics(results[i]);
-      for (std::size_t k = 0; k < names.size(); ++k)
-        p[names[k]] = std::isnan(m[k]) ? json() : json(m[k]);
-      points.push_back(std::move(p));
-    }
-    json doc{{"command", "simulate"},      {"schema_version", kJsonSchemaVersion},
-             {"case", io::to_json(c)},     {"source", c.source},
-             {"sweep", sweep.key},         {"metric", metric},
-             {"points", std::move(points)}};
-    io::write_json(outputs.open(args.outputs.json), doc);
-  }
+  if (!args.outputs.json.empty())
+    io::write_json(outputs.open(args.outputs.json), app::to_json(c, job, metric));
   if (!args.outputs.plot.empty())
     io::write_plot(app::figure(c, job, column), args.outputs.plot, outputs);
   commit_outputs(outputs, args.outputs, out);

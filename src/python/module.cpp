@@ -10,6 +10,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <exception>
@@ -196,6 +197,36 @@ py::dict simulate(const io::Case& c, std::optional<double> rpm, std::optional<do
   return out;
 }
 
+// A milling sweep (`cutdyn simulate --sweep KEY=FROM:STEP:TO`): one row per value, the
+// metrics as float64 arrays (NaN where a cut has none), its report and text.
+py::dict sweep(const io::Case& c, const std::string& key, const std::vector<double>& values,
+               const std::string& metric, std::optional<double> rpm, std::optional<double> depth_mm,
+               std::optional<double> duration_s, int threads) {
+  const auto& names = app::milling_metric_names();
+  const std::string chosen = metric.empty() ? names.front() : metric;
+  const auto at = std::find(names.begin(), names.end(), chosen);
+  if (at == names.end()) {
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw InvalidInput({"metric = \"" + chosen + "\": must be one of " + list}, "request");
+  }
+  if (c.process != io::Process::kMilling)
+    throw InvalidInput(
+        {"a sweep is of a milling case's simulation (" + c.source + " is not milling)"}, "request");
+  const app::SimulateRequest request = simulate_request(rpm, depth_mm, duration_s);
+  const auto job = run_interruptible<app::MillingSweepJobReport>([&](const std::atomic<bool>&
+                                                                         cancel) {
+    return app::sweep_milling_case(c, app::Sweep{key, values}, request, threads, stop_on(cancel));
+  });
+  py::dict out;
+  out["columns"] = columns_of(app::sweep_table(job));
+  out["report"] = to_python(app::to_json(c, job, chosen));
+  std::ostringstream text;
+  app::write_text(text, c, job, static_cast<std::size_t>(at - names.begin()));
+  out["text"] = text.str();
+  return out;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_cutdyn, m) {
@@ -251,6 +282,9 @@ PYBIND11_MODULE(_cutdyn, m) {
         py::arg("target_depth_mm") = py::none(), py::arg("threads") = 0);
   m.def("check", &check, py::arg("case"), py::arg("rpm"), py::arg("depth_mm"),
         py::arg("method") = "");
+  m.def("sweep", &sweep, py::arg("case"), py::arg("key"), py::arg("values"), py::arg("metric") = "",
+        py::arg("rpm") = py::none(), py::arg("depth_mm") = py::none(),
+        py::arg("duration_s") = py::none(), py::arg("threads") = 0);
   m.def("simulate", &simulate, py::arg("case"), py::arg("rpm") = py::none(),
         py::arg("depth_mm") = py::none(), py::arg("duration_s") = py::none());
 }

@@ -49,3 +49,35 @@ def test_bad_simulation_requests_raise():
         cutdyn.simulate(case, rpm=-5)
     with pytest.raises(cutdyn.CaseError, match="depth_mm"):
         cutdyn.simulate(case, depth_mm=0)
+
+
+@pytest.mark.parametrize("name,spec,metric", [
+    ("ermolaev2020-fig6a", "force_law.t2_s=0:0.1:0.5", "cutting_force_pulsation"),
+    ("milling-insperger", "simulate.depth_mm=0.02:0.02:0.1", "vibration_pp_x_um"),
+])
+def test_sweep_is_the_command_lines(name, spec, metric, tmp):
+    code, out, err = run_cli("simulate", name, "--sweep", spec, "--metric", metric, "--out",
+                             str(tmp / "w.csv"), "--json", str(tmp / "w.json"))
+    assert code == 0, err
+    cli = cli_csv(tmp / "w.csv")
+    key, rng = spec.split("=")
+    start, step, stop = (float(x) for x in rng.split(":"))
+    values = np.round(np.arange(start, stop + step / 2, step), 12)
+    result = cutdyn.sweep(cutdyn.example(name), key, values, metric=metric)
+    assert list(result.columns) == list(cli)
+    for column, array in result.columns.items():
+        expected = [float(v) if v != "" else np.nan for v in cli[column]]
+        assert np.array_equal(np.asarray(expected), array, equal_nan=True), column
+    assert result.report == cli_json(tmp / "w.json")
+    assert list(result.values) == list(values)
+    assert str(result) == "".join(l for l in out.splitlines(True) if "wrote " not in l)
+
+
+def test_bad_sweeps_raise_naming_what():
+    case = cutdyn.example("milling-insperger")
+    with pytest.raises(cutdyn.CaseError, match="nope"):
+        cutdyn.sweep(case, "tool.nope", [1, 2])
+    with pytest.raises(cutdyn.CaseError, match="metric"):
+        cutdyn.sweep(case, "tool.teeth", [2, 3], metric="colour")
+    with pytest.raises(cutdyn.CaseError, match="milling"):
+        cutdyn.sweep(cutdyn.example("turning-conventional"), "simulate.rpm", [1000])

@@ -39,11 +39,18 @@ ReportTable lobes_table(const LobesJobReport& report);
 /// The traces of a milling simulation (thinned as recorded): time_s, fx_n, fy_n, force_n,
 /// x_um, y_um, teeth_in_cut, cutting_force_n.
 ReportTable trace_table(const MillingSimulationJobReport& report);
+/// A milling sweep, one row per value: the key, the metrics of milling_metric_names() (NaN
+/// where the cut has none, e.g. no surface location error), chatter (0/1).
+ReportTable sweep_table(const MillingSweepJobReport& report);
 /// The traces of a turning simulation, every run one after the other: process, time_s,
 /// displacement_um, force_n, chip_thickness_um.
 ReportTable trace_table(const TurningSimulationJobReport& report);
 
 nlohmann::json to_json(const io::Case& c, const LobesJobReport& report);
+/// A milling sweep: the metric plotted, and per value its metrics (null where NaN), chatter
+/// and status.
+nlohmann::json to_json(const io::Case& c, const MillingSweepJobReport& report,
+                       const std::string& metric);
 nlohmann::json to_json(const io::Case& c, const CheckJobReport& report);
 nlohmann::json to_json(const io::Case& c, const TurningSimulationJobReport& report);
 nlohmann::json to_json(const io::Case& c, const MillingSimulationJobReport& report);
