@@ -44,10 +44,10 @@ void write_text(std::ostream& out, const io::Case& c, const DriveSweepReport& sw
   out << "\n";
   for (std::size_t i = 0; i < sweep.runs.size(); ++i) {
     out << fmt::format("  {:>14}", human(sweep.values[i]));
-    for (const DriveAxisReport& a : sweep.runs[i].axes)
-      out << fmt::format("  {:>16}", std::isnan(drive_metrics(a)[column])
-                                         ? "–"
-                                         : human(drive_metrics(a)[column], 4));
+    for (const DriveAxisReport& a : sweep.runs[i].axes) {
+      const double m = drive_metrics(a)[column];
+      out << fmt::format("  {:>16}", std::isnan(m) ? "–" : human(m, 4));
+    }
     out << "\n";
   }
 }

@@ -197,6 +197,19 @@ std::vector<double> milling_metrics(const MillingSimulationResult& r) {
           r.mean_cutting_force_n};
 }
 
+std::size_t metric_index(const std::vector<std::string>& names, const std::string& metric,
+                         const std::string& fallback, const std::string& flag,
+                         const std::string& where) {
+  const std::string name = metric.empty() ? fallback : metric;
+  const auto chosen = std::find(names.begin(), names.end(), name);
+  if (chosen == names.end()) {
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw InvalidInput({flag + " = \"" + name + "\": must be one of " + list}, where);
+  }
+  return static_cast<std::size_t>(chosen - names.begin());
+}
+
 Sweep parse_sweep(const std::string& spec, const std::string& flag, const std::string& where) {
   const auto fail = [&](const std::string& why) -> Sweep {
     throw InvalidInput({flag + " = \"" + spec + "\": " + why}, where);

@@ -2,8 +2,6 @@
 // docs/models/feed-drive.md). The job is the library's (cutdyn/app/drive.hpp); this file
 // builds the cut from the flags and renders the Report.
 
-#include <cmath>
-
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/milling_setup.hpp"
@@ -42,20 +40,15 @@ void write_sweep_files(const DriveArgs& args, const app::DriveSweepReport& sweep
                        std::size_t column, io::OutputTransaction& outputs) {
   const auto& names = app::drive_metric_names();
   if (!args.outputs.csv.empty()) {
-    std::vector<std::string> header{sweep.key, "axis"};
-    header.insert(header.end(), names.begin(), names.end());
-    io::CsvWriter csv(outputs.open(args.outputs.csv), header);
+    app::ReportTable table{{sweep.key, "axis"}, {}};
+    table.columns.insert(table.columns.end(), names.begin(), names.end());
     for (std::size_t i = 0; i < sweep.runs.size(); ++i)
       for (const app::DriveAxisReport& a : sweep.runs[i].axes) {
         std::vector<io::CsvCell> row{sweep.values[i], a.axis.name};
-        for (double m : app::drive_metrics(a)) {
-          if (std::isnan(m))  // no such quantity for this drive (load lag without an integrator)
-            row.emplace_back(std::string());
-          else
-            row.emplace_back(m);
-        }
-        csv.row(row);
+        for (double m : app::drive_metrics(a)) row.emplace_back(m);  // NaN: none for this drive
+        table.rows.push_back(std::move(row));
       }
+    write_csv(outputs, args.outputs.csv, table);
   }
   if (!args.outputs.json.empty())
     io::write_json(outputs.open(args.outputs.json), app::to_json(c, sweep, names[column]));

@@ -1,9 +1,5 @@
 // `cutdyn simulate` for milling: the time-domain simulation, force laws after
 // [Ermolaev2020] (docs/models/milling-simulation.md).
-#include <algorithm>
-#include <cmath>
-#include <variant>
-
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/milling_setup.hpp"
@@ -36,14 +32,7 @@ SimulationSetup milling_setup(const SimulateArgs& args, const io::Case& c) {
 // The column of --metric among `names`.
 std::size_t metric_column(const std::string& metric, const std::string& fallback,
                           const std::vector<std::string>& names) {
-  const std::string name = metric.empty() ? fallback : metric;
-  const auto chosen = std::find(names.begin(), names.end(), name);
-  if (chosen == names.end()) {
-    std::string list;
-    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-    throw InvalidInput({"--metric = \"" + name + "\": must be one of " + list}, "command line");
-  }
-  return static_cast<std::size_t>(chosen - names.begin());
+  return app::metric_index(names, metric, fallback, "--metric", "command line");
 }
 
 Sweep parse_sweep(const std::string& spec) {
@@ -63,13 +52,7 @@ int run_sweep(const SimulateArgs& args, const io::Case& c, std::ostream& out, st
 
   io::OutputTransaction outputs;
   if (!args.outputs.csv.empty()) {
-    const app::ReportTable table = app::sweep_table(job);
-    io::CsvWriter csv(outputs.open(args.outputs.csv), table.columns);
-    for (std::vector<io::CsvCell> row : table.rows) {
-      for (io::CsvCell& cell : row)  // a metric the cut has not: an empty cell
-        if (const double* v = std::get_if<double>(&cell); v && std::isnan(*v)) cell = std::string();
-      csv.row(row);
-    }
+    write_csv(outputs, args.outputs.csv, app::sweep_table(job));
   }
   if (!args.outputs.json.empty())
     io::write_json(outputs.open(args.outputs.json), app::to_json(c, job, metric));
@@ -91,9 +74,7 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
     err << "cutdyn: warning: " << c.source << ": " << w << "\n";
   io::OutputTransaction outputs;
   if (!args.outputs.csv.empty()) {
-    const app::ReportTable table = app::trace_table(job);
-    io::CsvWriter csv(outputs.open(args.outputs.csv), table.columns);
-    for (const auto& row : table.rows) csv.row(row);
+    write_csv(outputs, args.outputs.csv, app::trace_table(job));
   }
   if (!args.outputs.json.empty())
     io::write_json(outputs.open(args.outputs.json), app::to_json(c, job));

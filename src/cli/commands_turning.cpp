@@ -38,9 +38,7 @@ int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
   app::write_text(out, c, r);
   io::OutputTransaction outputs;
   if (!args.outputs.csv.empty()) {
-    const app::ReportTable table = app::lobes_table(r);
-    io::CsvWriter csv(outputs.open(args.outputs.csv), table.columns);
-    for (const auto& row : table.rows) csv.row(row);
+    write_csv(outputs, args.outputs.csv, app::lobes_table(r));
   }
   if (!args.outputs.json.empty())
     io::write_json(outputs.open(args.outputs.json), app::to_json(c, r));
@@ -82,9 +80,7 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
     err << "cutdyn: warning: " << c.source << ": " << w << "\n";
   io::OutputTransaction outputs;
   if (!args.outputs.csv.empty()) {
-    const app::ReportTable table = app::trace_table(job);
-    io::CsvWriter csv(outputs.open(args.outputs.csv), table.columns);
-    for (const auto& row : table.rows) csv.row(row);
+    write_csv(outputs, args.outputs.csv, app::trace_table(job));
   }
   if (!args.outputs.json.empty())
     io::write_json(outputs.open(args.outputs.json), app::to_json(c, job));

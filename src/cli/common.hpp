@@ -51,6 +51,11 @@ void commit_outputs(io::OutputTransaction& outputs, const Outputs& o, std::ostre
 /// Adds a problem to `v` if `path`'s folder does not exist.
 void check_output_folder(Validator& v, const char* flag, const std::string& path);
 
+/// Writes a report table as CSV to `path` within `outputs`; a NaN (a quantity a row has not)
+/// is an empty cell.
+void write_csv(io::OutputTransaction& outputs, const std::string& path,
+               const app::ReportTable& table);
+
 /// Progress on stderr while it is a terminal ("lobes: 120/200 speeds"); silent otherwise.
 std::function<void(int, int)> progress_reporter(std::ostream& err, std::string label);
 

@@ -10,7 +10,6 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <exception>
@@ -203,26 +202,18 @@ py::dict sweep(const io::Case& c, const std::string& key, const std::vector<doub
                const std::string& metric, std::optional<double> rpm, std::optional<double> depth_mm,
                std::optional<double> duration_s, int threads) {
   const auto& names = app::milling_metric_names();
-  const std::string chosen = metric.empty() ? names.front() : metric;
-  const auto at = std::find(names.begin(), names.end(), chosen);
-  if (at == names.end()) {
-    std::string list;
-    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-    throw InvalidInput({"metric = \"" + chosen + "\": must be one of " + list}, "request");
-  }
-  if (c.process != io::Process::kMilling)
-    throw InvalidInput(
-        {"a sweep is of a milling case's simulation (" + c.source + " is not milling)"}, "request");
+  const std::size_t column = app::metric_index(names, metric, names.front(), "metric", "request");
   const app::SimulateRequest request = simulate_request(rpm, depth_mm, duration_s);
+  // (The job refuses a case that is not milling, naming it.)
   const auto job = run_interruptible<app::MillingSweepJobReport>([&](const std::atomic<bool>&
                                                                          cancel) {
     return app::sweep_milling_case(c, app::Sweep{key, values}, request, threads, stop_on(cancel));
   });
   py::dict out;
   out["columns"] = columns_of(app::sweep_table(job));
-  out["report"] = to_python(app::to_json(c, job, chosen));
+  out["report"] = to_python(app::to_json(c, job, names[column]));
   std::ostringstream text;
-  app::write_text(text, c, job, static_cast<std::size_t>(at - names.begin()));
+  app::write_text(text, c, job, column);
   out["text"] = text.str();
   return out;
 }

@@ -73,6 +73,12 @@ MillingSimulationJobReport simulate_milling_case(const io::Case& c, const Simula
 const std::vector<std::string>& milling_metric_names();
 std::vector<double> milling_metrics(const MillingSimulationResult& r);
 
+/// The index of the metric `metric` (`fallback` when empty) among `names`; an unknown name
+/// throws InvalidInput at `where` naming `flag` and listing them.
+std::size_t metric_index(const std::vector<std::string>& names, const std::string& metric,
+                         const std::string& fallback, const std::string& flag,
+                         const std::string& where);
+
 /// One case key over a list of values: "KEY=FROM:STEP:TO" in MATLAB's colon notation.
 struct Sweep {
   std::string key;
