@@ -18,8 +18,9 @@ naming the key; ``.problems`` lists each problem.
 from . import _cutdyn
 from ._cutdyn import Case, CaseError, example, examples
 
-__all__ = ["Case", "CaseError", "Lobes", "Check", "Simulation", "example", "examples", "lobes",
-           "check", "simulate", "Sweep", "sweep"]
+__all__ = ["Case", "CaseError", "Lobes", "Check", "Simulation", "Sweep", "Drive", "DriveSweep",
+           "Plan", "Force", "Fit", "Identify", "example", "examples", "lobes", "check", "simulate",
+           "sweep", "drive", "drive_sweep", "plan", "force", "fit", "identify", "monitor"]
 
 
 class _Result:
@@ -75,14 +76,21 @@ class Lobes(_Table):
         return self.report["lowest"]
 
 
-class Check(_Result):
-    """One speed and depth (``cutdyn check``): the verdict and its margin."""
+class _Fields(_Result):
+    """A result whose report's keys are also attributes (``result.stable`` for
+    ``result.report["stable"]``)."""
 
     def __getattr__(self, name):
+        if name.startswith("_") or name == "report":
+            raise AttributeError(name)
         try:
             return self.report[name]
         except KeyError:
             raise AttributeError(name) from None
+
+
+class Check(_Fields):
+    """One speed and depth (``cutdyn check``): the verdict and its margin."""
 
 
 class Simulation(_Table):
@@ -151,3 +159,120 @@ def sweep(case, key, values, metric="", rpm=None, depth_mm=None, duration_s=None
     """
     return Sweep(_cutdyn.sweep(case, key, [float(v) for v in values], metric, rpm, depth_mm,
                                duration_s, threads))
+
+
+class Drive(_Table):
+    """The feed drives under the milling load (``cutdyn drive``).
+
+    Arrays over the last summary revolutions, every axis one after the other (the columns of
+    ``cutdyn drive --out``): ``axis`` (list of str), ``time_s``, ``axis_force_n``,
+    ``load_torque_nm``, ``speed_rad_s``, ``position_error_um``, ``epsilon_um``; ``axes``, the
+    summary of each axis (k_delta, static error, ripples, ε …) as in the JSON; with
+    ``currents=True``, ``current_log``: the motor phase currents as ``--currents`` writes them
+    (a log ``cutdyn.monitor.estimate`` reads).
+    """
+
+    def __init__(self, native):
+        super().__init__(native)
+        self.current_log = native.get("current_log")
+
+    @property
+    def axes(self):
+        return self.report["axes"]
+
+
+def drive(case, rpm=None, depth_mm=None, seed=None, currents=False):
+    """The feed drives of a milling ``case`` with [[drives]] under its simulated cut
+    (``cutdyn drive``): at ``rpm`` and ``depth_mm`` (default: the case's [simulate] table),
+    with the current noise's ``seed`` for every axis. Releases the GIL."""
+    return Drive(_cutdyn.drive(case, rpm, depth_mm, seed, currents))
+
+
+class DriveSweep(_Table):
+    """The drives over one case key (``cutdyn drive --sweep``): one row per value and axis —
+    the key's values (an array named after the key), ``axis``, and every drive metric as a
+    float64 array (NaN where a drive has none)."""
+
+
+def drive_sweep(case, key, values, metric="", rpm=None, depth_mm=None, seed=None, threads=0):
+    """Runs ``cutdyn drive`` at each of ``values`` of one case ``key`` ("simulate.rpm",
+    "drives[0].inertia_kg_m2" …); ``metric`` names the one its text and report lead with
+    (default epsilon_um). Every varied case is checked before any runs. Releases the GIL;
+    Ctrl-C stops it between runs."""
+    return DriveSweep(_cutdyn.drive_sweep(case, key, [float(v) for v in values], metric, rpm,
+                                          depth_mm, seed, threads))
+
+
+class Plan(_Fields):
+    """Two-edge face milling of a large bore (``cutdyn plan``): every quantity of the JSON as
+    an attribute (``result``, ``plan``, ``trade_off`` …)."""
+
+
+def plan(case, axial_feed_mm=None):
+    """Plans the bore-milling ``case`` (``cutdyn plan``): the largest axial feed for its
+    straightness limit, or ``axial_feed_mm`` if given; with [limits], the optimum."""
+    return Plan(_cutdyn.plan(case, axial_feed_mm))
+
+
+class Force(_Fields):
+    """The cutting and thrust forces of a turning cut (``cutdyn force``), with the duty cycle
+    of vibration-assisted cutting: every quantity of the JSON as an attribute."""
+
+
+def force(case):
+    """The forces of the turning ``case`` (``cutdyn force``)."""
+    return Force(_cutdyn.force(case))
+
+
+class Fit(_Fields):
+    """Modes fitted to a measured FRF (``cutdyn fit``): ``modes`` (natural_hz, damping_ratio,
+    stiffness_n_per_m …) as in the JSON; ``modes_toml``, the [[modes]] tables ``--out``
+    writes; the arrays ``frequency_hz`` and ``receptance_m_per_n`` (complex128) of the file,
+    and ``fitted_frequency_hz``, ``fitted_receptance_m_per_n`` of the fitted model in the
+    band."""
+
+    def __init__(self, native):
+        super().__init__(native)
+        self.modes_toml = native["modes_toml"]
+        for name, values in native["columns"].items():
+            setattr(self, name, values)
+
+
+def fit(path, modes="auto", band=None, direction=None, format=None):
+    """Fits modes to the FRF file at ``path`` (``cutdyn fit``): ``modes`` "auto" (chosen from
+    the stabilisation diagram) or a number; ``band`` (lo_hz, hi_hz); ``direction`` "x" or
+    "y" (default: a UFF file's response direction, else x); ``format`` "frf", "csv" or "uff"
+    (default: from the content)."""
+    if modes == "auto" or modes is None:
+        count = 0
+    elif isinstance(modes, int) and not isinstance(modes, bool) and modes >= 1:
+        count = modes
+    else:
+        raise CaseError(f"request: modes = {modes!r}: must be 'auto' or a whole number >= 1")
+    lo, hi = (None, None) if band is None else band
+    import os
+
+    return Fit(_cutdyn.fit(os.fspath(path), count, lo, hi, direction or "", format or ""))
+
+
+class Identify(_Fields):
+    """Cutting and edge coefficients from test cuts (``cutdyn identify``): ``coefficients``,
+    ``samples``, ``fit`` … as in the JSON, and ``cutting_toml``, the [cutting] table
+    ``--out`` writes."""
+
+    def __init__(self, native):
+        super().__init__(native)
+        self.cutting_toml = native["cutting_toml"]
+
+
+def identify(case, force_files):
+    """Identifies Kt, Kr, Kte, Kre (and Ka, Kae with fz) of the milling ``case``'s cutter and
+    engagement from the ``force_files`` (``cutdyn identify``)."""
+    import os
+
+    if isinstance(force_files, (str, os.PathLike)):
+        force_files = [force_files]
+    return Identify(_cutdyn.identify(case, [os.fspath(f) for f in force_files]))
+
+
+from . import monitor  # noqa: E402  (the monitor's jobs, cutdyn.monitor.calibrate …)

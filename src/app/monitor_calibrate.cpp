@@ -22,7 +22,8 @@ Logs read_logs(const CalibrateOptions& o, const MonitorListener& listener,
                         std::map<std::string, std::vector<AxisRun>>& into) {
     for (const std::string& f : files) {
       logs.recorded.emplace_back(f, detail::RecordedMeasures{});
-      for (auto& [axis, run] : detail::read_log(f, column, o.stop_at_bad_line, listener, warnings,
+      const auto in = LogInput::open(f, o.texts);
+      for (auto& [axis, run] : detail::read_log(*in, column, o.stop_at_bad_line, listener, warnings,
                                                 &logs.recorded.back().second)) {
         into[axis].push_back(std::move(run));
         logs.axes.insert(axis);

@@ -276,11 +276,25 @@ LogInput::LogInput(const std::string& path) : buffer_(new char[kChunk]) {
   own_ = true;
 }
 
+LogInput::LogInput(std::string name, std::string text)
+    : name_(std::move(name)), in_memory_(true), text_(std::move(text)) {}
+
+std::unique_ptr<LogInput> LogInput::open(const std::string& name, const LogTexts& texts) {
+  if (const auto it = texts.find(name); it != texts.end())
+    return std::make_unique<LogInput>(name, it->second);
+  return std::make_unique<LogInput>(name);
+}
+
 LogInput::~LogInput() {
   if (own_) ::close(fd_);
 }
 
 std::string_view LogInput::read() {
+  if (in_memory_) {
+    if (text_read_) return {};
+    text_read_ = true;
+    return text_;
+  }
   for (;;) {
     const ssize_t n = ::read(fd_, buffer_.get(), kChunk);
     if (n >= 0) return {buffer_.get(), static_cast<std::size_t>(n)};

@@ -55,11 +55,10 @@ InvalidInput measure_mismatch(const std::string& measure_name, const std::string
       file);
 }
 
-std::map<std::string, AxisRun> read_log(const std::string& path, const std::string& force_column,
-                                        bool stop, const MonitorListener& listener,
+std::map<std::string, AxisRun> read_log(LogInput& in, const std::string& force_column, bool stop,
+                                        const MonitorListener& listener,
                                         std::vector<MonitorWarning>& warnings,
                                         RecordedMeasures* measures) {
-  LogInput in(path);
   CurrentCsvParser parser(in.name(), force_column);
   BadLines bad(in.name(), stop, listener, warnings);
   std::vector<CurrentRow> rows;

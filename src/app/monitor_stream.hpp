@@ -47,8 +47,8 @@ InvalidInput measure_mismatch(const std::string& measure_name, const std::string
 /// A whole log, per axis: the runs of calibration; `measures` gets the measure its comments
 /// record per axis (and the line).
 using RecordedMeasures = std::map<std::string, std::pair<CurrentMeasure, std::size_t>>;
-std::map<std::string, AxisRun> read_log(const std::string& path, const std::string& force_column,
-                                        bool stop, const MonitorListener& listener,
+std::map<std::string, AxisRun> read_log(LogInput& in, const std::string& force_column, bool stop,
+                                        const MonitorListener& listener,
                                         std::vector<MonitorWarning>& warnings,
                                         RecordedMeasures* measures = nullptr);
 

@@ -39,20 +39,22 @@ TeachReport teach(const TeachOptions& options, const MonitorListener& listener) 
   if (const auto p = options.validate(); !p.empty()) throw InvalidInput(p, "options");
   TeachReport report;
   report.options = options;
-  const Calibration calibration = read_calibration(options.calibration);
+  const Calibration calibration = options.calibration_given
+                                      ? *options.calibration_given
+                                      : read_calibration(options.calibration);
   std::map<std::string, std::vector<ForceRun>> runs;
   for (const std::string& input : options.references) {
     std::map<std::string, ForceRun> run;
-    LogInput in(input);
+    const auto in = LogInput::open(input, options.texts);
     detail::EstimateStream stream(
-        calibration, options.calibration, options.estimator, in.name(), options.stop_at_bad_line,
+        calibration, options.calibration, options.estimator, in->name(), options.stop_at_bad_line,
         listener, report.warnings,
         [&](const CurrentRow& r, const std::string& axis, const ForceEstimate& e) {
           run[axis].time_s.push_back(r.time_s);
           run[axis].force_n.push_back(e.force_n);
         },
         {});
-    for (std::string_view chunk = in.read(); !chunk.empty(); chunk = in.read()) stream.feed(chunk);
+    for (std::string_view chunk = in->read(); !chunk.empty(); chunk = in->read()) stream.feed(chunk);
     stream.finish();
     for (auto& [axis, r] : run) runs[axis].push_back(std::move(r));
   }

@@ -99,6 +99,33 @@ ReportTable sweep_table(const MillingSweepJobReport& job) {
   return out;
 }
 
+ReportTable trace_table(const DriveReport& run) {
+  ReportTable out{{"axis", "time_s", "axis_force_n", "load_torque_nm", "speed_rad_s",
+                   "position_error_um", "epsilon_um"},
+                  {}};
+  for (const DriveAxisReport& a : run.axes)
+    for (std::size_t i = 0; i < a.drive.time_s.size(); ++i)
+      if (a.drive.time_s[i] >= run.traces_from_s - 1e-12)
+        out.rows.push_back({a.axis.name, a.drive.time_s[i], a.drive.axis_force_n[i],
+                            a.drive.load_torque_nm[i], a.drive.speed_rad_s[i],
+                            units::m_to_um(a.drive.position_error_m[i]),
+                            units::m_to_um(a.epsilon_m[i])});
+  return out;
+}
+
+ReportTable sweep_table(const DriveSweepReport& sweep) {
+  const auto& names = drive_metric_names();
+  ReportTable out{{sweep.key, "axis"}, {}};
+  out.columns.insert(out.columns.end(), names.begin(), names.end());
+  for (std::size_t i = 0; i < sweep.runs.size(); ++i)
+    for (const DriveAxisReport& a : sweep.runs[i].axes) {
+      std::vector<io::CsvCell> row{sweep.values[i], a.axis.name};
+      for (double m : drive_metrics(a)) row.emplace_back(m);  // NaN: none for this drive
+      out.rows.push_back(std::move(row));
+    }
+  return out;
+}
+
 json to_json(const io::Case& c, const MillingSweepJobReport& job, const std::string& metric) {
   const auto& names = milling_metric_names();
   json points = json::array();

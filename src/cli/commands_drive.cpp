@@ -7,14 +7,13 @@
 #include "cli/milling_setup.hpp"
 #include "cutdyn/app/drive.hpp"
 #include "cutdyn/app/render.hpp"
+#include "cutdyn/app/report_json.hpp"
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/io/output.hpp"
 #include "cutdyn/io/plot.hpp"
 
 namespace cutdyn::cli {
 namespace {
-
-using units::m_to_um;
 
 constexpr const char* kDefaultDriveCase = "ermolaev2020";
 
@@ -39,17 +38,7 @@ app::SimulateRequest drive_request(const DriveArgs& args) {
 void write_sweep_files(const DriveArgs& args, const app::DriveSweepReport& sweep, const io::Case& c,
                        std::size_t column, io::OutputTransaction& outputs) {
   const auto& names = app::drive_metric_names();
-  if (!args.outputs.csv.empty()) {
-    app::ReportTable table{{sweep.key, "axis"}, {}};
-    table.columns.insert(table.columns.end(), names.begin(), names.end());
-    for (std::size_t i = 0; i < sweep.runs.size(); ++i)
-      for (const app::DriveAxisReport& a : sweep.runs[i].axes) {
-        std::vector<io::CsvCell> row{sweep.values[i], a.axis.name};
-        for (double m : app::drive_metrics(a)) row.emplace_back(m);  // NaN: none for this drive
-        table.rows.push_back(std::move(row));
-      }
-    write_csv(outputs, args.outputs.csv, table);
-  }
+  if (!args.outputs.csv.empty()) write_csv(outputs, args.outputs.csv, app::sweep_table(sweep));
   if (!args.outputs.json.empty())
     io::write_json(outputs.open(args.outputs.json), app::to_json(c, sweep, names[column]));
   if (!args.outputs.plot.empty())
@@ -73,18 +62,7 @@ int run_sweep(const DriveArgs& args, const io::Case& c, std::ostream& out, std::
 // The traces of each axis over the last summary revolutions (CSV), and their figure.
 void write_traces(const DriveArgs& args, const app::DriveReport& run,
                   io::OutputTransaction& outputs) {
-  const auto in_traces = [&](double t) { return t >= run.traces_from_s - 1e-12; };
-  if (!args.outputs.csv.empty()) {
-    io::CsvWriter csv(outputs.open(args.outputs.csv),
-                      {"axis", "time_s", "axis_force_n", "load_torque_nm", "speed_rad_s",
-                       "position_error_um", "epsilon_um"});
-    for (const app::DriveAxisReport& a : run.axes)
-      for (std::size_t i = 0; i < a.drive.time_s.size(); ++i)
-        if (in_traces(a.drive.time_s[i]))
-          csv.row({a.axis.name, a.drive.time_s[i], a.drive.axis_force_n[i],
-                   a.drive.load_torque_nm[i], a.drive.speed_rad_s[i],
-                   m_to_um(a.drive.position_error_m[i]), m_to_um(a.epsilon_m[i])});
-  }
+  if (!args.outputs.csv.empty()) write_csv(outputs, args.outputs.csv, app::trace_table(run));
   if (!args.outputs.plot.empty()) io::write_plot(app::figure(run), args.outputs.plot, outputs);
 }
 

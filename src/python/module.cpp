@@ -6,22 +6,15 @@
 // Long jobs run with the GIL released on a worker thread; the calling thread checks for
 // signals every 50 ms and, on Ctrl-C, asks the job to stop at its next progress report
 // (KeyboardInterrupt once it has).
-#include <pybind11/numpy.h>
-#include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <atomic>
-#include <chrono>
-#include <exception>
-#include <functional>
-#include <future>
 #include <optional>
 #include <sstream>
 #include <string>
-#include <thread>
-#include <variant>
 #include <vector>
 
+#include "common.hpp"
 #include "cutdyn/app/render.hpp"
 #include "cutdyn/app/report_json.hpp"
 #include "cutdyn/app/simulate.hpp"
@@ -30,105 +23,8 @@
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/io/case_file.hpp"
 
-namespace py = pybind11;
-
 namespace cutdyn::python {
 namespace {
-
-// Thrown from a job's progress report when the caller pressed Ctrl-C (never reaches Python:
-// run_interruptible raises the interrupt instead).
-struct Cancelled : std::exception {
-  const char* what() const noexcept override { return "cancelled"; }
-};
-
-// JSON ↔ Python through the json module: exact for every value a report holds.
-py::object to_python(const nlohmann::json& j) {
-  return py::module_::import("json").attr("loads")(j.dump());
-}
-
-nlohmann::json to_json(const py::handle& object, const std::string& where) {
-  std::string text;
-  try {
-    text = py::module_::import("json")
-               .attr("dumps")(object, py::arg("allow_nan") = false)
-               .cast<std::string>();
-  } catch (const py::error_already_set& e) {
-    throw InvalidInput({std::string("not a case: ") + e.what()}, where);
-  }
-  return nlohmann::json::parse(text);
-}
-
-// Runs `job` with the GIL released on a worker thread. A signal on the calling thread (Ctrl-C)
-// sets `cancel`, which a job's progress reports turn into Cancelled; the exception the signal's
-// handler raised (KeyboardInterrupt) is raised once the job has stopped — also for a job without
-// progress reports, which finishes first.
-template <typename Result>
-Result run_interruptible(const std::function<Result(const std::atomic<bool>& cancel)>& job) {
-  std::atomic<bool> cancel{false};
-  std::future<Result> result;
-  std::optional<py::error_already_set> interrupted;
-  {
-    py::gil_scoped_release release;
-    result = std::async(std::launch::async, [&] { return job(cancel); });
-    while (result.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
-      py::gil_scoped_acquire acquire;
-      if (!interrupted && PyErr_CheckSignals() != 0) {
-        cancel = true;
-        interrupted.emplace();  // fetches the handler's exception
-      }
-    }
-  }
-  if (interrupted) {
-    try {
-      result.get();
-    } catch (...) {  // Cancelled, or whatever the stopped job threw: the interrupt wins
-    }
-    throw std::move(*interrupted);
-  }
-  return result.get();
-}
-
-// A progress report that stops the job once `cancel` is set.
-std::function<void(int, int)> stop_on(const std::atomic<bool>& cancel) {
-  return [&cancel](int, int) {
-    if (cancel) throw Cancelled();
-  };
-}
-
-// The report as the command line prints it.
-template <typename Report>
-std::string text_of(const io::Case& c, const Report& r) {
-  std::ostringstream out;
-  app::write_text(out, c, r);
-  return out.str();
-}
-
-// A report table as {column: numpy array}: float64 for numbers, int64 for counts, a list of
-// str for text.
-py::dict columns_of(const app::ReportTable& table) {
-  py::dict out;
-  for (std::size_t k = 0; k < table.columns.size(); ++k) {
-    const auto kind = table.rows.empty() ? std::size_t{0} : table.rows.front()[k].index();
-    if (kind == 2) {
-      py::list text;
-      for (const auto& row : table.rows) text.append(std::get<std::string>(row[k]));
-      out[py::str(table.columns[k])] = text;
-    } else if (kind == 1) {
-      py::array_t<long long> a(static_cast<py::ssize_t>(table.rows.size()));
-      auto v = a.mutable_unchecked<1>();
-      for (std::size_t i = 0; i < table.rows.size(); ++i)
-        v(static_cast<py::ssize_t>(i)) = std::get<long long>(table.rows[i][k]);
-      out[py::str(table.columns[k])] = a;
-    } else {
-      py::array_t<double> a(static_cast<py::ssize_t>(table.rows.size()));
-      auto v = a.mutable_unchecked<1>();
-      for (std::size_t i = 0; i < table.rows.size(); ++i)
-        v(static_cast<py::ssize_t>(i)) = std::get<double>(table.rows[i][k]);
-      out[py::str(table.columns[k])] = a;
-    }
-  }
-  return out;
-}
 
 py::dict lobes(const io::Case& c, const std::string& method, std::optional<double> target_depth_mm,
                int threads) {
@@ -278,6 +174,8 @@ PYBIND11_MODULE(_cutdyn, m) {
         py::arg("duration_s") = py::none(), py::arg("threads") = 0);
   m.def("simulate", &simulate, py::arg("case"), py::arg("rpm") = py::none(),
         py::arg("depth_mm") = py::none(), py::arg("duration_s") = py::none());
+  add_jobs(m);
+  add_monitor(m);
 }
 
 }  // namespace cutdyn::python

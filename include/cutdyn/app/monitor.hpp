@@ -77,6 +77,7 @@ struct AxisValue {
 struct CalibrateOptions {
   std::vector<std::string> idle;    // no-cut logs at constant speeds (step 1)
   std::vector<std::string> loaded;  // logs with a reference force column (step 2)
+  LogTexts texts;    // logs in memory, by the name idle or loaded gives them (others are files)
   std::string base;  // a calibration file or "zheng2012": KT, J, measure, the values not fitted
   std::vector<AxisValue> torque_constant_nm_per_a;  // KT, winning over the base
   std::vector<AxisValue> inertia_kg_m2;             // J, winning over the base
@@ -196,7 +197,11 @@ EstimateReport estimate(const std::string& path, const std::string& calibration_
 
 struct TeachOptions {
   std::vector<std::string> references;  // reference runs (current logs), one cycle each
-  std::string calibration;              // a calibration file or "zheng2012"
+  LogTexts texts;           // logs in memory, by the name references gives them (others are files)
+  std::string calibration;  // a calibration file or "zheng2012"
+  // The calibration itself (e.g. from a calibrate job in memory): used instead of reading
+  // `calibration`, which then only names it.
+  std::optional<Calibration> calibration_given;
   EstimatorOptions estimator;
   // bin_s, k_sigma, the margins and cutting_fraction; smoothing_s, phase_tolerance_s and
   // average_s unless the cut below or the overrides set them.

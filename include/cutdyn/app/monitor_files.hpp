@@ -65,12 +65,20 @@ BandFile band_from_json(const nlohmann::json& doc, const std::string& source);
 /// The band file's document.
 nlohmann::json band_json(const BandFile& band);
 
+/// Current logs held in memory (e.g. made from arrays), by the name a job's options give
+/// them in place of a file's path.
+using LogTexts = std::map<std::string, std::string>;
+
 /// A current log (a file, or standard input for "-" or ""), read as it arrives: read()
 /// returns whatever is available, blocking until something is, so that a live stream is
 /// answered line by line.
 class LogInput {
  public:
   explicit LogInput(const std::string& path);
+  /// A log in memory, named `name` in messages: read() returns all of `text`, then the end.
+  LogInput(std::string name, std::string text);
+  /// The log that `name` is: `texts`' entry of that name, else the file (or standard input).
+  static std::unique_ptr<LogInput> open(const std::string& name, const LogTexts& texts);
   LogInput(const LogInput&) = delete;
   LogInput& operator=(const LogInput&) = delete;
   ~LogInput();
@@ -84,6 +92,9 @@ class LogInput {
   bool own_ = false;
   std::string name_;
   std::unique_ptr<char[]> buffer_;
+  bool in_memory_ = false;  // a log in memory: text_, all of it handed out by the first read()
+  bool text_read_ = false;
+  std::string text_;
 };
 
 /// "[AXIS=]VALUE" (e.g. "x=1.25", or "1.25" for every axis) as (axis or "", value); nullopt

@@ -45,6 +45,13 @@ ReportTable sweep_table(const MillingSweepJobReport& report);
 /// The traces of a turning simulation, every run one after the other: process, time_s,
 /// displacement_um, force_n, chip_thickness_um.
 ReportTable trace_table(const TurningSimulationJobReport& report);
+/// The traces of the drives over the last summary revolutions, every axis one after the
+/// other: axis, time_s, axis_force_n, load_torque_nm, speed_rad_s, position_error_um,
+/// epsilon_um.
+ReportTable trace_table(const DriveReport& report);
+/// A drive sweep, one row per value and axis: the key, axis, the metrics of
+/// drive_metric_names() (NaN where the drive has none).
+ReportTable sweep_table(const DriveSweepReport& report);
 
 nlohmann::json to_json(const io::Case& c, const LobesJobReport& report);
 /// A milling sweep: the metric plotted, and per value its metrics (null where NaN), chatter

@@ -1,0 +1,60 @@
+#include "common.hpp"
+
+#include "cutdyn/core/error.hpp"
+
+namespace cutdyn::python {
+
+py::object to_python(const nlohmann::json& j) {
+  return py::module_::import("json").attr("loads")(j.dump());
+}
+
+nlohmann::json to_json(const py::handle& object, const std::string& where) {
+  std::string text;
+  try {
+    text = py::module_::import("json")
+               .attr("dumps")(object, py::arg("allow_nan") = false)
+               .cast<std::string>();
+  } catch (const py::error_already_set& e) {
+    throw InvalidInput({std::string("not JSON data: ") + e.what()}, where);
+  }
+  return nlohmann::json::parse(text);
+}
+
+py::array_t<double> array_of(const std::vector<double>& values) {
+  py::array_t<double> a(static_cast<py::ssize_t>(values.size()));
+  std::copy(values.begin(), values.end(), a.mutable_data());
+  return a;
+}
+
+py::dict columns_of(const app::ReportTable& table) {
+  py::dict out;
+  for (std::size_t k = 0; k < table.columns.size(); ++k) {
+    const auto kind = table.rows.empty() ? std::size_t{0} : table.rows.front()[k].index();
+    if (kind == 2) {
+      py::list text;
+      for (const auto& row : table.rows) text.append(std::get<std::string>(row[k]));
+      out[py::str(table.columns[k])] = text;
+    } else if (kind == 1) {
+      py::array_t<long long> a(static_cast<py::ssize_t>(table.rows.size()));
+      auto v = a.mutable_unchecked<1>();
+      for (std::size_t i = 0; i < table.rows.size(); ++i)
+        v(static_cast<py::ssize_t>(i)) = std::get<long long>(table.rows[i][k]);
+      out[py::str(table.columns[k])] = a;
+    } else {
+      py::array_t<double> a(static_cast<py::ssize_t>(table.rows.size()));
+      auto v = a.mutable_unchecked<1>();
+      for (std::size_t i = 0; i < table.rows.size(); ++i)
+        v(static_cast<py::ssize_t>(i)) = std::get<double>(table.rows[i][k]);
+      out[py::str(table.columns[k])] = a;
+    }
+  }
+  return out;
+}
+
+std::function<void(int, int)> stop_on(const std::atomic<bool>& cancel) {
+  return [&cancel](int, int) {
+    if (cancel) throw Cancelled();
+  };
+}
+
+}  // namespace cutdyn::python

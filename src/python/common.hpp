@@ -1,0 +1,98 @@
+// What the parts of the Python module share (docs/python.md): JSON ↔ Python, report tables as
+// numpy arrays, and running a job with the GIL released so that Ctrl-C stops it.
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <functional>
+#include <future>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cutdyn/app/render.hpp"
+#include "cutdyn/app/report_json.hpp"
+#include "cutdyn/io/case_file.hpp"
+
+namespace cutdyn::python {
+
+namespace py = pybind11;
+
+/// Thrown from a job's progress report when the caller pressed Ctrl-C (never reaches Python:
+/// run_interruptible raises the interrupt instead).
+struct Cancelled : std::exception {
+  const char* what() const noexcept override { return "cancelled"; }
+};
+
+/// JSON ↔ Python through the json module: exact for every value a report holds. A Python
+/// object that is not JSON (or holds NaN) throws InvalidInput naming `where`.
+py::object to_python(const nlohmann::json& j);
+nlohmann::json to_json(const py::handle& object, const std::string& where);
+
+/// A report table as {column: numpy array}: float64 for numbers, int64 for counts, a list of
+/// str for text.
+py::dict columns_of(const app::ReportTable& table);
+/// A numpy float64 array holding `values`.
+py::array_t<double> array_of(const std::vector<double>& values);
+
+/// A progress report that stops the job once `cancel` is set.
+std::function<void(int, int)> stop_on(const std::atomic<bool>& cancel);
+
+/// Runs `job` with the GIL released on a worker thread. A signal on the calling thread (Ctrl-C)
+/// sets `cancel`, which a job's progress reports turn into Cancelled; the exception the
+/// signal's handler raised (KeyboardInterrupt) is raised once the job has stopped — also for a
+/// job without progress reports, which finishes first.
+template <typename Result>
+Result run_interruptible(const std::function<Result(const std::atomic<bool>& cancel)>& job) {
+  std::atomic<bool> cancel{false};
+  std::future<Result> result;
+  std::optional<py::error_already_set> interrupted;
+  {
+    py::gil_scoped_release release;
+    result = std::async(std::launch::async, [&] { return job(cancel); });
+    while (result.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
+      py::gil_scoped_acquire acquire;
+      if (!interrupted && PyErr_CheckSignals() != 0) {
+        cancel = true;
+        interrupted.emplace();  // fetches the handler's exception
+      }
+    }
+  }
+  if (interrupted) {
+    try {
+      result.get();
+    } catch (...) {  // Cancelled, or whatever the stopped job threw: the interrupt wins
+    }
+    throw std::move(*interrupted);
+  }
+  return result.get();
+}
+
+/// The report as the command line prints it.
+template <typename... Args>
+std::string text_of(const Args&... args) {
+  std::ostringstream out;
+  app::write_text(out, args...);
+  return out.str();
+}
+
+/// {"report": the --json document, "text": what the command prints}: every job's result.
+template <typename... Args>
+py::dict result_of(const nlohmann::json& report, const Args&... args) {
+  py::dict out;
+  out["report"] = to_python(report);
+  out["text"] = text_of(args...);
+  return out;
+}
+
+// The module's further parts (module.cpp has the cases and the stability and simulation jobs).
+void add_jobs(py::module_& m);     // drive, drive_sweep, plan, force, fit, identify
+void add_monitor(py::module_& m);  // monitor_calibrate, monitor_estimate, monitor_teach
+
+}  // namespace cutdyn::python
