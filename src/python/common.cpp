@@ -8,14 +8,15 @@ py::object to_python(const nlohmann::json& j) {
   return py::module_::import("json").attr("loads")(j.dump());
 }
 
-nlohmann::json to_json(const py::handle& object, const std::string& where) {
+nlohmann::json to_json(const py::handle& object, const std::string& where,
+                       const std::string& what) {
   std::string text;
   try {
     text = py::module_::import("json")
                .attr("dumps")(object, py::arg("allow_nan") = false)
                .cast<std::string>();
   } catch (const py::error_already_set& e) {
-    throw InvalidInput({std::string("not JSON data: ") + e.what()}, where);
+    throw InvalidInput({"not " + what + ": " + py::str(e.value()).cast<std::string>()}, where);
   }
   return nlohmann::json::parse(text);
 }

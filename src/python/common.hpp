@@ -31,9 +31,9 @@ struct Cancelled : std::exception {
 };
 
 /// JSON ↔ Python through the json module: exact for every value a report holds. A Python
-/// object that is not JSON (or holds NaN) throws InvalidInput naming `where`.
+/// object that is not JSON (or holds NaN) throws InvalidInput naming `where`: "not `what`: …".
 py::object to_python(const nlohmann::json& j);
-nlohmann::json to_json(const py::handle& object, const std::string& where);
+nlohmann::json to_json(const py::handle& object, const std::string& where, const std::string& what);
 
 /// A report table as {column: numpy array}: float64 for numbers, int64 for counts, a list of
 /// str for text.

@@ -142,8 +142,9 @@ PYBIND11_MODULE(_cutdyn, m) {
       .def_static(
           "from_toml", [](const std::string& path) { return io::load_case_file(path); },
           py::arg("path"), "Reads a case file (TOML), checking every key as the CLI does.")
-      .def(py::init(
-               [](const py::dict& d) { return io::parse_case_json(to_json(d, "dict"), "dict"); }),
+      .def(py::init([](const py::dict& d) {
+             return io::parse_case_json(to_json(d, "dict", "a case"), "dict");
+           }),
            py::arg("case"),
            "A case from a dict with the case file's keys (the `case` object of any --json "
            "output is accepted as is), checked as a TOML file is.")

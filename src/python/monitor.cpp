@@ -181,7 +181,7 @@ std::pair<app::Calibration, std::string> calibration_of(const py::handle& calib)
     const std::string path = path_of(calib);
     return {app::read_calibration(path), path};
   }
-  return {app::calibration_from_json(to_json(calib, "calib"), "calib"), "calib"};
+  return {app::calibration_from_json(to_json(calib, "calib", "a calibration"), "calib"), "calib"};
 }
 
 template <typename Options>
@@ -262,7 +262,7 @@ py::dict estimate(const py::object& log, const py::object& calib, const py::obje
   if (!band.is_none()) {
     band_name = is_path(band) ? path_of(band) : "band";
     band_file = is_path(band) ? app::read_band(band_name)
-                              : app::band_from_json(to_json(band, "band"), "band");
+                              : app::band_from_json(to_json(band, "band", "a band"), "band");
   }
   std::unique_ptr<app::LogInput> in;
   if (is_path(log))
@@ -329,7 +329,8 @@ py::dict teach(const py::object& references, const py::object& calib,
     o.calibration = path_of(calib);
   } else {
     o.calibration = "calib";
-    o.calibration_given = app::calibration_from_json(to_json(calib, "calib"), "calib");
+    o.calibration_given =
+        app::calibration_from_json(to_json(calib, "calib", "a calibration"), "calib");
   }
   set_if(bandwidth_hz, o.estimator, &EstimatorOptions::bandwidth_hz);
   set_if(standstill_rad_s, o.estimator, &EstimatorOptions::standstill_rad_s);
