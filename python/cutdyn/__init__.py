@@ -15,8 +15,15 @@ Bad input raises ``cutdyn.CaseError`` (a ``ValueError``) with the command line's
 naming the key; ``.problems`` lists each problem.
 """
 
+from __future__ import annotations
+
+import os
+from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple, Union
+
 from . import _cutdyn
 from ._cutdyn import Case, CaseError, example, examples
+
+PathLike = Union[str, "os.PathLike[str]"]
 
 __all__ = ["Case", "CaseError", "Lobes", "Check", "Simulation", "Sweep", "Drive", "DriveSweep",
            "Plan", "Force", "Fit", "Identify", "example", "examples", "lobes", "check", "simulate",
@@ -26,15 +33,17 @@ __all__ = ["Case", "CaseError", "Lobes", "Check", "Simulation", "Sweep", "Drive"
 class _Result:
     """A job's result: ``report`` is the command line's --json document, ``str()`` its text."""
 
-    def __init__(self, native):
+    report: Dict[str, Any]
+
+    def __init__(self, native: Dict[str, Any]) -> None:
         self.report = native["report"]
         self._text = native["text"]
 
-    def __str__(self):
+    def __str__(self) -> str:
         return self._text
 
     @property
-    def warnings(self):
+    def warnings(self) -> List[str]:
         """Where the method is weak, as the command line warns."""
         return list(self.report.get("warnings", []))
 
@@ -42,13 +51,15 @@ class _Result:
 class _Table(_Result):
     """A result with a table: each column an attribute (numpy arrays; text as lists of str)."""
 
-    def __init__(self, native):
+    columns: Dict[str, Any]
+
+    def __init__(self, native: Dict[str, Any]) -> None:
         super().__init__(native)
         self.columns = dict(native["columns"])
         for name, values in self.columns.items():
             setattr(self, name, values)
 
-    def to_pandas(self):
+    def to_pandas(self) -> Any:
         """The table as a pandas DataFrame (pandas must be installed)."""
         import pandas
 
@@ -66,12 +77,12 @@ class Lobes(_Table):
     """
 
     @property
-    def method(self):
+    def method(self) -> str:
         """The stability method used (never "auto")."""
         return self.report["method"]
 
     @property
-    def lowest(self):
+    def lowest(self) -> Dict[str, float]:
         """The lowest critical depth: {"spindle_rpm": ..., "critical_depth_mm": ...}."""
         return self.report["lowest"]
 
@@ -80,7 +91,7 @@ class _Fields(_Result):
     """A result whose report's keys are also attributes (``result.stable`` for
     ``result.report["stable"]``)."""
 
-    def __getattr__(self, name):
+    def __getattr__(self, name: str) -> Any:
         if name.startswith("_") or name == "report":
             raise AttributeError(name)
         try:
@@ -104,17 +115,18 @@ class Simulation(_Table):
     """
 
     @property
-    def summary(self):
+    def summary(self) -> Dict[str, Any]:
         """Milling: the summary of the last revolutions (as in the JSON)."""
         return self.report["summary"]
 
     @property
-    def results(self):
+    def results(self) -> List[Dict[str, Any]]:
         """Turning: one summary per run (conventional, vibration-assisted)."""
         return self.report["results"]
 
 
-def lobes(case, method="", target_depth_mm=None, threads=0):
+def lobes(case: Case, method: str = "", target_depth_mm: Optional[float] = None,
+          threads: int = 0) -> Lobes:
     """The lobe diagram of ``case`` (``cutdyn lobes``).
 
     ``method``: "auto", "zero-order", "closed-form", "multi-frequency",
@@ -125,13 +137,14 @@ def lobes(case, method="", target_depth_mm=None, threads=0):
     return Lobes(_cutdyn.lobes(case, method, target_depth_mm, threads))
 
 
-def check(case, rpm, depth_mm, method=""):
+def check(case: Case, rpm: float, depth_mm: float, method: str = "") -> Check:
     """Whether ``case`` cuts stably at ``rpm`` and ``depth_mm`` (``cutdyn check``): attributes
     ``stable``, ``critical_depth_mm``, ``margin``, ``chatter_hz``, ``method`` … as in the JSON."""
     return Check(_cutdyn.check(case, rpm, depth_mm, method))
 
 
-def simulate(case, rpm=None, depth_mm=None, duration_s=None):
+def simulate(case: Case, rpm: Optional[float] = None, depth_mm: Optional[float] = None,
+             duration_s: Optional[float] = None) -> Simulation:
     """Simulates the cut of ``case`` in time (``cutdyn simulate``): at ``rpm`` and
     ``depth_mm`` (default: the case's [simulate] table), for ``duration_s`` seconds (turning)
     or as many revolutions' time (milling: overrides [simulate] revolutions). Releases the GIL.
@@ -145,12 +158,14 @@ class Sweep(_Table):
     cut has none), and ``chatter`` (int64 0/1)."""
 
     @property
-    def values(self):
+    def values(self) -> Any:
         """The swept key's values."""
         return self.columns[self.report["sweep"]]
 
 
-def sweep(case, key, values, metric="", rpm=None, depth_mm=None, duration_s=None, threads=0):
+def sweep(case: Case, key: str, values: Iterable[float], metric: str = "",
+          rpm: Optional[float] = None, depth_mm: Optional[float] = None,
+          duration_s: Optional[float] = None, threads: int = 0) -> Sweep:
     """Simulates a milling ``case`` at each of ``values`` of one case ``key`` ("force_law.t2_s",
     "modes[0].damping_ratio", "tool.teeth" …), as ``cutdyn simulate --sweep`` does; ``metric``
     names the one its text and report lead with. ``values`` may be any sequence of numbers;
@@ -172,16 +187,19 @@ class Drive(_Table):
     (a log ``cutdyn.monitor.estimate`` reads).
     """
 
-    def __init__(self, native):
+    current_log: Optional[str]
+
+    def __init__(self, native: Dict[str, Any]) -> None:
         super().__init__(native)
         self.current_log = native.get("current_log")
 
     @property
-    def axes(self):
+    def axes(self) -> List[Dict[str, Any]]:
         return self.report["axes"]
 
 
-def drive(case, rpm=None, depth_mm=None, seed=None, currents=False):
+def drive(case: Case, rpm: Optional[float] = None, depth_mm: Optional[float] = None,
+          seed: Optional[int] = None, currents: bool = False) -> Drive:
     """The feed drives of a milling ``case`` with [[drives]] under its simulated cut
     (``cutdyn drive``): at ``rpm`` and ``depth_mm`` (default: the case's [simulate] table),
     with the current noise's ``seed`` for every axis. Releases the GIL."""
@@ -194,7 +212,9 @@ class DriveSweep(_Table):
     float64 array (NaN where a drive has none)."""
 
 
-def drive_sweep(case, key, values, metric="", rpm=None, depth_mm=None, seed=None, threads=0):
+def drive_sweep(case: Case, key: str, values: Iterable[float], metric: str = "",
+                rpm: Optional[float] = None, depth_mm: Optional[float] = None,
+                seed: Optional[int] = None, threads: int = 0) -> DriveSweep:
     """Runs ``cutdyn drive`` at each of ``values`` of one case ``key`` ("simulate.rpm",
     "drives[0].inertia_kg_m2" …); ``metric`` names the one its text and report lead with
     (default epsilon_um). Every varied case is checked before any runs. Releases the GIL;
@@ -208,7 +228,7 @@ class Plan(_Fields):
     an attribute (``result``, ``plan``, ``trade_off`` …)."""
 
 
-def plan(case, axial_feed_mm=None):
+def plan(case: Case, axial_feed_mm: Optional[float] = None) -> Plan:
     """Plans the bore-milling ``case`` (``cutdyn plan``): the largest axial feed for its
     straightness limit, or ``axial_feed_mm`` if given; with [limits], the optimum."""
     return Plan(_cutdyn.plan(case, axial_feed_mm))
@@ -219,7 +239,7 @@ class Force(_Fields):
     of vibration-assisted cutting: every quantity of the JSON as an attribute."""
 
 
-def force(case):
+def force(case: Case) -> Force:
     """The forces of the turning ``case`` (``cutdyn force``)."""
     return Force(_cutdyn.force(case))
 
@@ -231,14 +251,18 @@ class Fit(_Fields):
     and ``fitted_frequency_hz``, ``fitted_receptance_m_per_n`` of the fitted model in the
     band."""
 
-    def __init__(self, native):
+    modes_toml: str
+
+    def __init__(self, native: Dict[str, Any]) -> None:
         super().__init__(native)
         self.modes_toml = native["modes_toml"]
         for name, values in native["columns"].items():
             setattr(self, name, values)
 
 
-def fit(path, modes="auto", band=None, direction=None, format=None):
+def fit(path: PathLike, modes: Union[int, str] = "auto",
+        band: Optional[Tuple[float, float]] = None, direction: Optional[str] = None,
+        format: Optional[str] = None) -> Fit:
     """Fits modes to the FRF file at ``path`` (``cutdyn fit``): ``modes`` "auto" (chosen from
     the stabilisation diagram) or a number; ``band`` (lo_hz, hi_hz); ``direction`` "x" or
     "y" (default: a UFF file's response direction, else x); ``format`` "frf", "csv" or "uff"
@@ -250,8 +274,6 @@ def fit(path, modes="auto", band=None, direction=None, format=None):
     else:
         raise CaseError(f"request: modes = {modes!r}: must be 'auto' or a whole number >= 1")
     lo, hi = (None, None) if band is None else band
-    import os
-
     return Fit(_cutdyn.fit(os.fspath(path), count, lo, hi, direction or "", format or ""))
 
 
@@ -260,16 +282,16 @@ class Identify(_Fields):
     ``samples``, ``fit`` … as in the JSON, and ``cutting_toml``, the [cutting] table
     ``--out`` writes."""
 
-    def __init__(self, native):
+    cutting_toml: str
+
+    def __init__(self, native: Dict[str, Any]) -> None:
         super().__init__(native)
         self.cutting_toml = native["cutting_toml"]
 
 
-def identify(case, force_files):
+def identify(case: Case, force_files: Union[PathLike, Sequence[PathLike]]) -> Identify:
     """Identifies Kt, Kr, Kte, Kre (and Ka, Kae with fz) of the milling ``case``'s cutter and
     engagement from the ``force_files`` (``cutdyn identify``)."""
-    import os
-
     if isinstance(force_files, (str, os.PathLike)):
         force_files = [force_files]
     return Identify(_cutdyn.identify(case, [os.fspath(f) for f in force_files]))

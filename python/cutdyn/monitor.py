@@ -14,8 +14,17 @@ of a :func:`calibrate` result; a band likewise a path or the ``band`` of a :func
 result.
 """
 
+from __future__ import annotations
+
+import os
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+
 from . import _cutdyn
 from ._cutdyn import CaseError  # noqa: F401
+
+#: A log: a file's path, or its columns (a mapping of column name to values).
+Log = Union[str, "os.PathLike[str]", Mapping[str, Any]]
+Logs = Union[Log, Sequence[Log]]
 
 __all__ = ["Calibration", "Estimate", "Band", "calibrate", "estimate", "teach"]
 
@@ -23,15 +32,17 @@ __all__ = ["Calibration", "Estimate", "Band", "calibrate", "estimate", "teach"]
 class _Saved:
     """A result that is a file of the command line: ``save(path)`` writes that file."""
 
-    def __init__(self, native):
+    warnings: List[str]
+
+    def __init__(self, native: Dict[str, Any]) -> None:
         self._text = native["text"]
         self._file_text = native["file_text"]
         self.warnings = list(native["warnings"])
 
-    def __str__(self):
+    def __str__(self) -> str:
         return self._text
 
-    def save(self, path):
+    def save(self, path: Union[str, "os.PathLike[str]"]) -> None:
         """Writes the file the command line's ``--out`` writes."""
         with open(path, "w") as f:
             f.write(self._file_text)
@@ -41,7 +52,9 @@ class Calibration(_Saved):
     """The calibration of each axis (``cutdyn monitor calibrate``): ``calibration`` is the
     calibration file's document (a dict), usable wherever a calibration file is."""
 
-    def __init__(self, native):
+    calibration: Dict[str, Any]
+
+    def __init__(self, native: Dict[str, Any]) -> None:
         super().__init__(native)
         self.calibration = native["report"]
 
@@ -50,7 +63,9 @@ class Band(_Saved):
     """The taught band of each axis (``cutdyn monitor teach``): ``band`` is the band file's
     document (a dict), usable wherever a band file is."""
 
-    def __init__(self, native):
+    band: Dict[str, Any]
+
+    def __init__(self, native: Dict[str, Any]) -> None:
         super().__init__(native)
         self.band = native["report"]
 
@@ -66,7 +81,12 @@ class Estimate:
     (the filter of each axis, what force_sigma_n covers); ``warnings``.
     """
 
-    def __init__(self, native):
+    report: Dict[str, Any]
+    columns: Dict[str, Any]
+    alarms: List[Dict[str, Any]]
+    warnings: List[str]
+
+    def __init__(self, native: Dict[str, Any]) -> None:
         self.report = native["report"]
         self._text = native["text"]
         self.columns = dict(native["columns"])
@@ -75,23 +95,30 @@ class Estimate:
         self.alarms = list(native["alarms"])
         self.warnings = list(native["warnings"])
 
-    def __str__(self):
+    def __str__(self) -> str:
         return self._text
 
-    def to_pandas(self):
+    def to_pandas(self) -> Any:
         """The estimate as a pandas DataFrame (pandas must be installed)."""
         import pandas
 
         return pandas.DataFrame(self.columns)
 
 
-def _calibration(calib):
+CalibrationLike = Union[str, "os.PathLike[str]", Mapping[str, Any], Calibration]
+
+
+def _calibration(calib: CalibrationLike) -> Any:
     return calib.calibration if isinstance(calib, Calibration) else calib
 
 
-def calibrate(idle=None, loaded=None, base="", kt=None, inertia=None, measure="",
-              force_column="force_n", window_s=None, steady_tolerance=None,
-              standstill_rad_s=None, on_bad_line="stop"):
+def calibrate(idle: Optional[Logs] = None, loaded: Optional[Logs] = None, base: str = "",
+              kt: Union[None, float, Mapping[str, float]] = None,
+              inertia: Union[None, float, Mapping[str, float]] = None, measure: str = "",
+              force_column: str = "force_n", window_s: Optional[float] = None,
+              steady_tolerance: Optional[float] = None,
+              standstill_rad_s: Optional[float] = None,
+              on_bad_line: str = "stop") -> Calibration:
     """Calibrates the axes (``cutdyn monitor calibrate``): Tnzm and X from the ``idle`` logs
     (no cut, constant speeds), KBlf from the ``loaded`` logs (with the reference force column
     ``force_column``), on top of ``base`` (a calibration file or "zheng2012"). ``kt`` and
@@ -102,9 +129,13 @@ def calibrate(idle=None, loaded=None, base="", kt=None, inertia=None, measure=""
                                                  standstill_rad_s, on_bad_line))
 
 
-def estimate(log, calib, band=None, bandwidth_hz=None, standstill_rad_s=None,
-             tooth_frequency_hz=0.0, persist_s=None, wear_fraction=None,
-             wear_time_constant_s=None, on_bad_line="stop"):
+def estimate(log: Log, calib: CalibrationLike,
+             band: Union[None, str, "os.PathLike[str]", Mapping[str, Any], Band] = None,
+             bandwidth_hz: Optional[float] = None, standstill_rad_s: Optional[float] = None,
+             tooth_frequency_hz: float = 0.0, persist_s: Optional[float] = None,
+             wear_fraction: Optional[float] = None,
+             wear_time_constant_s: Optional[float] = None,
+             on_bad_line: str = "stop") -> Estimate:
     """Estimates the cutting force of each axis from a current ``log`` (a path or columns)
     with the calibration ``calib`` (``cutdyn monitor estimate``); with a ``band``, watches it
     and raises alarms. ``bandwidth_hz``: f_b of the estimate's filter (default 50).
@@ -116,10 +147,14 @@ def estimate(log, calib, band=None, bandwidth_hz=None, standstill_rad_s=None,
                                              wear_fraction, wear_time_constant_s, on_bad_line))
 
 
-def teach(references, calib, bandwidth_hz=None, standstill_rad_s=None, bin_s=None, rpm=None,
-          teeth=None, smoothing_s=None, k_sigma=None, relative_margin=None,
-          absolute_margin_n=None, peak_margin=None, phase_tolerance_s=None, average_s=None,
-          cutting_fraction=None, on_bad_line="stop"):
+def teach(references: Logs, calib: CalibrationLike, bandwidth_hz: Optional[float] = None,
+          standstill_rad_s: Optional[float] = None, bin_s: Optional[float] = None,
+          rpm: Optional[float] = None, teeth: Optional[int] = None,
+          smoothing_s: Optional[float] = None, k_sigma: Optional[float] = None,
+          relative_margin: Optional[float] = None, absolute_margin_n: Optional[float] = None,
+          peak_margin: Optional[float] = None, phase_tolerance_s: Optional[float] = None,
+          average_s: Optional[float] = None, cutting_fraction: Optional[float] = None,
+          on_bad_line: str = "stop") -> Band:
     """Teaches the band of the estimated force from reference runs (``cutdyn monitor
     teach``), each a path or columns; ``rpm`` with ``teeth`` average the level over the
     tooth period."""

@@ -97,6 +97,7 @@ DriveReport run_drive(const io::Case& c, const DriveCut& cut, const DriveOptions
   s.options.max_recorded_samples = 4'000'000;  // the whole run at full resolution
   MillingSimulationResult r;
   rethrow_as(s.where, "simulate", [&] { r = simulate_milling(s.cut, s.options); });
+  s.options.progress = nullptr;  // the report outlives the caller's progress
   // The drives run over the whole cut and are summarised over their periodic steady state at
   // the spindle revolution (the force's period); the traces shown are of the last summary
   // revolutions.

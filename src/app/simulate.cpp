@@ -41,6 +41,7 @@ TurningSimulationOptions turning_options(const io::Case& c, const SimulateReques
   o.feed_m = *c.cutting.uncut_chip_thickness_m;
   o.duration_s = r.duration_s.value_or(c.simulate.duration_s);
   o.initial_displacement_m = c.simulate.initial_displacement_m;
+  o.progress = r.progress;
   if (const auto problems = o.validate(); !problems.empty()) {
     std::vector<std::string> named;
     for (const auto& p : problems) named.push_back("simulate: " + p);
@@ -126,6 +127,7 @@ MillingSetup milling_setup(const io::Case& c, const SimulateRequest& r) {
   o.steps_per_tooth = c.simulate.steps_per_tooth;
   o.slices = c.simulate.slices;
   o.closed_form_helix = c.simulate.closed_form_helix;
+  o.progress = r.progress;
   Validator problems;
   for (const auto& p : cut.validate()) problems.add("simulate: " + p);
   for (const auto& p : o.validate()) problems.add("simulate: " + p);
@@ -138,6 +140,7 @@ MillingSimulationJobReport simulate_milling_case(const io::Case& c, const Simula
   report.setup = milling_setup(c, r);
   const MillingSetup& s = report.setup;
   rethrow_as(s.where, "simulate", [&] { report.result = simulate_milling(s.cut, s.options); });
+  report.setup.options.progress = nullptr;  // the report outlives the caller's progress
   report.s1_law = c.force_law.has_value();
   // The stability prediction at this speed, for the mechanistic law with regeneration.
   if (!report.s1_law && s.cut.regenerative && !s.cut.process.structure_modes().modes.empty()) {

@@ -1,6 +1,7 @@
 #include "common.hpp"
 
 #include "cutdyn/core/error.hpp"
+#include "cutdyn/core/units.hpp"
 
 namespace cutdyn::python {
 
@@ -56,6 +57,20 @@ std::function<void(int, int)> stop_on(const std::atomic<bool>& cancel) {
   return [&cancel](int, int) {
     if (cancel) throw Cancelled();
   };
+}
+
+app::SimulateRequest simulate_request(std::optional<double> rpm, std::optional<double> depth_mm,
+                                      std::optional<double> duration_s) {
+  app::SimulateRequest r;
+  r.rpm = rpm;
+  if (depth_mm) r.depth_m = units::mm_to_m(*depth_mm);
+  r.duration_s = duration_s;
+  return r;
+}
+
+app::SimulateRequest stoppable(app::SimulateRequest request, const std::atomic<bool>& cancel) {
+  request.progress = stop_on(cancel);
+  return request;
 }
 
 }  // namespace cutdyn::python

@@ -43,6 +43,12 @@ py::array_t<double> array_of(const std::vector<double>& values);
 
 /// A progress report that stops the job once `cancel` is set.
 std::function<void(int, int)> stop_on(const std::atomic<bool>& cancel);
+/// A simulation request: overrides of the case's [simulate] table, named as the Python
+/// arguments (rpm, depth_mm, duration_s).
+app::SimulateRequest simulate_request(std::optional<double> rpm, std::optional<double> depth_mm,
+                                      std::optional<double> duration_s);
+/// The request with its simulations stopped once `cancel` is set.
+app::SimulateRequest stoppable(app::SimulateRequest request, const std::atomic<bool>& cancel);
 
 /// Runs `job` with the GIL released on a worker thread. A signal on the calling thread (Ctrl-C)
 /// sets `cancel`, which a job's progress reports turn into Cancelled; the exception the

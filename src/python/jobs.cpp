@@ -21,20 +21,14 @@
 namespace cutdyn::python {
 namespace {
 
-app::SimulateRequest drive_request(std::optional<double> rpm, std::optional<double> depth_mm) {
-  app::SimulateRequest r;
-  r.rpm = rpm;
-  if (depth_mm) r.depth_m = units::mm_to_m(*depth_mm);
-  return r;
-}
-
 // `cutdyn drive`: the traces of every axis (the columns of its --out), the report and text;
 // with `currents`, the motor current log its --currents writes, as text.
 py::dict drive(const io::Case& c, std::optional<double> rpm, std::optional<double> depth_mm,
                std::optional<int> seed, bool currents) {
-  const app::SimulateRequest request = drive_request(rpm, depth_mm);
-  const auto run = run_interruptible<app::DriveReport>(
-      [&](const std::atomic<bool>&) { return app::run_drive(c, request, {seed}); });
+  const app::SimulateRequest request = simulate_request(rpm, depth_mm, std::nullopt);
+  const auto run = run_interruptible<app::DriveReport>([&](const std::atomic<bool>& cancel) {
+    return app::run_drive(c, stoppable(request, cancel), {seed});
+  });
   if (currents) app::require_motors(run, c.source);
   py::dict out = result_of(app::to_json(c, run), c, run);
   out["columns"] = columns_of(app::trace_table(run));
@@ -53,10 +47,10 @@ py::dict drive_sweep(const io::Case& c, const std::string& key, const std::vecto
                      std::optional<double> depth_mm, std::optional<int> seed, int threads) {
   const auto& names = app::drive_metric_names();
   const std::size_t column = app::metric_index(names, metric, "epsilon_um", "metric", "request");
-  const app::SimulateRequest request = drive_request(rpm, depth_mm);
+  const app::SimulateRequest request = simulate_request(rpm, depth_mm, std::nullopt);
   const auto sweep = run_interruptible<app::DriveSweepReport>([&](const std::atomic<bool>& cancel) {
-    return app::run_drive_sweep(c, app::Sweep{key, values}, request, {seed}, threads,
-                                stop_on(cancel));
+    return app::run_drive_sweep(c, app::Sweep{key, values}, stoppable(request, cancel), {seed},
+                                threads, stop_on(cancel));
   });
   py::dict out = result_of(app::to_json(c, sweep, names[column]), c, sweep, column);
   out["columns"] = columns_of(app::sweep_table(sweep));

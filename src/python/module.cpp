@@ -60,16 +60,6 @@ py::dict check(const io::Case& c, double rpm, double depth_mm, const std::string
   return out;
 }
 
-// Overrides of the case's [simulate] table, named as the Python arguments.
-app::SimulateRequest simulate_request(std::optional<double> rpm, std::optional<double> depth_mm,
-                                      std::optional<double> duration_s) {
-  app::SimulateRequest r;
-  r.rpm = rpm;
-  if (depth_mm) r.depth_m = units::mm_to_m(*depth_mm);
-  r.duration_s = duration_s;
-  return r;
-}
-
 // One simulation (`cutdyn simulate`): the traces as arrays (the columns of its --out), its
 // report and text; milling or turning, as the case says.
 py::dict simulate(const io::Case& c, std::optional<double> rpm, std::optional<double> depth_mm,
@@ -77,14 +67,18 @@ py::dict simulate(const io::Case& c, std::optional<double> rpm, std::optional<do
   const app::SimulateRequest request = simulate_request(rpm, depth_mm, duration_s);
   py::dict out;
   if (c.process == io::Process::kMilling) {
-    const auto job = run_interruptible<app::MillingSimulationJobReport>(
-        [&](const std::atomic<bool>&) { return app::simulate_milling_case(c, request); });
+    const auto job =
+        run_interruptible<app::MillingSimulationJobReport>([&](const std::atomic<bool>& cancel) {
+          return app::simulate_milling_case(c, stoppable(request, cancel));
+        });
     out["columns"] = columns_of(app::trace_table(job));
     out["report"] = to_python(app::to_json(c, job));
     out["text"] = text_of(c, job);
   } else {
-    const auto job = run_interruptible<app::TurningSimulationJobReport>(
-        [&](const std::atomic<bool>&) { return app::simulate_turning_case(c, request); });
+    const auto job =
+        run_interruptible<app::TurningSimulationJobReport>([&](const std::atomic<bool>& cancel) {
+          return app::simulate_turning_case(c, stoppable(request, cancel));
+        });
     out["columns"] = columns_of(app::trace_table(job));
     out["report"] = to_python(app::to_json(c, job));
     out["text"] = text_of(c, job);
@@ -101,10 +95,11 @@ py::dict sweep(const io::Case& c, const std::string& key, const std::vector<doub
   const std::size_t column = app::metric_index(names, metric, names.front(), "metric", "request");
   const app::SimulateRequest request = simulate_request(rpm, depth_mm, duration_s);
   // (The job refuses a case that is not milling, naming it.)
-  const auto job = run_interruptible<app::MillingSweepJobReport>([&](const std::atomic<bool>&
-                                                                         cancel) {
-    return app::sweep_milling_case(c, app::Sweep{key, values}, request, threads, stop_on(cancel));
-  });
+  const auto job =
+      run_interruptible<app::MillingSweepJobReport>([&](const std::atomic<bool>& cancel) {
+        return app::sweep_milling_case(c, app::Sweep{key, values}, stoppable(request, cancel),
+                                       threads, stop_on(cancel));
+      });
   py::dict out;
   out["columns"] = columns_of(app::sweep_table(job));
   out["report"] = to_python(app::to_json(c, job, names[column]));
@@ -122,6 +117,10 @@ PYBIND11_MODULE(_cutdyn, m) {
   // cutdyn.CaseError(ValueError): the command line's message, one "where: problem" per line,
   // and the problems themselves as `.problems`, the place as `.where`.
   static py::exception<InvalidInput> case_error(m, "CaseError", PyExc_ValueError);
+  case_error.attr("__doc__") =
+      "Bad input: a case, a file or a request the command line would refuse (exit 2). The "
+      "message is the command line's, one 'where: problem' line per problem; .problems lists "
+      "them, .where names the file, 'dict' or 'request'.";
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);

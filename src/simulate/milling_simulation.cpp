@@ -487,7 +487,12 @@ MillingSimulationResult simulate_milling(const MillingCut& cut, const MillingSim
   double amplitude_sum = 0.0;
 
   long long n = 0;
+  int reported = -1;  // the last hundredth of the run reported
   for (; n < steps; ++n) {
+    if (o.progress && static_cast<int>(n * 100 / steps) != reported) {
+      reported = static_cast<int>(n * 100 / steps);
+      o.progress(reported, 100);
+    }
     const double t = static_cast<double>(n) * dt;
     // Predictor: the displacement with the force held from the last node (error O(h³)).
     Eigen::Vector2d r = Eigen::Vector2d::Zero();

@@ -110,7 +110,12 @@ TurningSimulationResult simulate_turning(const TurningProcess& model,
   double rev_min = 1e300, rev_max = -1e300, diff_min = 1e300, diff_max = -1e300;
   double g_before = window.mean(-h, 0.0);  // window mean over the step ending at the node
   long long k = 0;
+  int reported = -1;  // the last hundredth of the run reported
   for (; k < steps; ++k) {
+    if (o.progress && static_cast<int>(k * 100 / steps) != reported) {
+      reported = static_cast<int>(k * 100 / steps);
+      o.progress(reported, 100);
+    }
     const double t = static_cast<double>(k) * h;
     const double g = window.mean(t, t + h);
     for (Run& r : runs) {

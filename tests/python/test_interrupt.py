@@ -67,25 +67,34 @@ def test_the_gil_is_released_while_lobes_run():
 SIMULATE = """
 import time
 import cutdyn
-case = cutdyn.example("milling-insperger")
+case = cutdyn.example(%r)
 print("start", flush=True)
 t = time.time()
 try:
-    cutdyn.simulate(case, duration_s=%s)
+    cutdyn.%s(case, %s)
     print("finished", time.time() - t)
 except KeyboardInterrupt:
     print("interrupted", time.time() - t)
 """
 
 
-def test_ctrl_c_during_a_simulation_is_not_lost():
-    # A simulation has no progress reports: it runs to its end, then the interrupt is raised
-    # (not swallowed). 200 s of the cut (33 000 revolutions) take about 1.6 s here; SIGINT at
-    # 0.3 s.
-    p = subprocess.Popen([sys.executable, "-c", SIMULATE % 200], stdout=subprocess.PIPE,
-                         text=True, env=os.environ)
+def interrupted_after(delay_s, example, function, arguments):
+    """Runs cutdyn.FUNCTION(case, ARGUMENTS) in a child, sends SIGINT after `delay_s`; returns
+    what it printed: ("interrupted" or "finished", seconds from its start)."""
+    p = subprocess.Popen([sys.executable, "-c", SIMULATE % (example, function, arguments)],
+                         stdout=subprocess.PIPE, text=True, env=os.environ)
     assert p.stdout.readline().strip() == "start"
-    time.sleep(0.3)
+    time.sleep(delay_s)
     p.send_signal(signal.SIGINT)
     out, _ = p.communicate(timeout=120)
-    assert out.split()[0] == "interrupted", out
+    return out.split()[0], float(out.split()[1])
+
+
+def test_ctrl_c_stops_one_long_simulation():
+    # 1000 s of the milling cut (166 000 revolutions) take about 9 s; the run reports its
+    # progress a hundred times, so SIGINT at 0.5 s ends it well within a second after.
+    what, seconds = interrupted_after(0.5, "milling-insperger", "simulate", "duration_s=1000")
+    assert what == "interrupted" and seconds < 1.5, (what, seconds)
+    # Turning too: 60 s of the vibration-assisted cut (about 3.4 s).
+    what, seconds = interrupted_after(0.5, "turning-ultrasonic", "simulate", "duration_s=60")
+    assert what == "interrupted" and seconds < 1.5, (what, seconds)

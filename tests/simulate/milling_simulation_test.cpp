@@ -50,6 +50,30 @@ MillingSimulationOptions short_run() {
   return o;
 }
 
+// The progress hook: a hundred reports in order, and a throw from it stops the run there.
+TEST(MillingSimulation, ReportsProgressAndStopsWhenTheReportThrows) {
+  const MillingCut cut = force_study(2, 0.0, kPi / 2);
+  std::vector<int> done;
+  MillingSimulationOptions o = short_run();
+  o.progress = [&](int d, int total) {
+    EXPECT_EQ(total, 100);
+    done.push_back(d);
+  };
+  const MillingSimulationResult whole = simulate_milling(cut, o);
+  ASSERT_EQ(done.size(), 100u);
+  for (int k = 0; k < 100; ++k) EXPECT_EQ(done[static_cast<std::size_t>(k)], k);
+  struct Stop {};
+  int calls = 0;
+  o.progress = [&](int d, int) {
+    ++calls;
+    if (d == 10) throw Stop{};
+  };
+  EXPECT_THROW(simulate_milling(cut, o), Stop);
+  EXPECT_EQ(calls, 11);
+  o.progress = nullptr;  // and the hook does not change the result
+  EXPECT_EQ(simulate_milling(cut, o).force_n, whole.force_n);
+}
+
 TEST(MillingSimulation, UniformCutHasNoForcePulsation) {
   // [Ermolaev2020] eq. 6: with B·z·tanβ/(π·d) = q an integer the flute covers q pitches and the
   // total force of the mechanistic law without edge terms is constant (ΔP < 1e-3, here to

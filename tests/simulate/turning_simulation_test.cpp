@@ -24,6 +24,30 @@ TurningSimulationResult run(const TurningProcess& m, double rpm, double depth) {
   return simulate_turning(m, o);
 }
 
+// The progress hook: a hundred reports in order, and a throw from it stops the run there.
+TEST(TurningSimulation, ReportsProgressAndStopsWhenTheReportThrows) {
+  TurningSimulationOptions o;
+  o.rpm = 1400.0;
+  o.depth_m = 1e-3;
+  o.feed_m = 0.05e-3;
+  o.duration_s = 0.2;
+  std::vector<int> done;
+  o.progress = [&](int d, int total) {
+    EXPECT_EQ(total, 100);
+    done.push_back(d);
+  };
+  const TurningSimulationResult whole = simulate_turning(table2_conventional(), o);
+  ASSERT_EQ(done.size(), 100u);
+  for (int k = 0; k < 100; ++k) EXPECT_EQ(done[static_cast<std::size_t>(k)], k);
+  struct Stop {};
+  o.progress = [&](int d, int) {
+    if (d == 50) throw Stop{};
+  };
+  EXPECT_THROW(simulate_turning(table2_conventional(), o), Stop);
+  o.progress = nullptr;
+  EXPECT_EQ(simulate_turning(table2_conventional(), o).displacement_m, whole.displacement_m);
+}
+
 // [Chikishev2018, fig. 6]: time-domain confirmation of the boundary at 1400 rpm.
 TEST(TurningSimulation, ConfirmsThePredictedBoundaryAt1400Rpm) {
   for (const TurningProcess& m : {table2_conventional(), table2_vibration(20000.0)}) {

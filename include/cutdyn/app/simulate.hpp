@@ -21,6 +21,9 @@ namespace cutdyn::app {
 struct SimulateRequest {
   std::optional<double> rpm, depth_m, duration_s;
   RequestNames names;
+  /// The simulations' progress (MillingSimulationOptions::progress): a front end's way to stop
+  /// one long run.
+  std::function<void(int, int)> progress;
   /// Where an error about the speed, depth or duration is: the request's names when it gave
   /// any of them, else the case.
   std::string where(const io::Case& c) const;

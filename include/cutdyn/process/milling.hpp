@@ -93,7 +93,7 @@ struct ErmolaevForceLaw {
   LagInput lag_input = LagInput::kChip;
   /// Instead of t2_s: the lag as the cutter's rotation during T2, ω·T2 (rad), so that T2 scales
   /// with the tooth's passage (T2 = ℓ/v, a chip-formation length over the cutting speed).
-  std::optional<double> t2_angle_rad;
+  std::optional<double> t2_angle_rad{};
 
   /// T2 at the spindle speed ω (rad/s): t2_angle_rad/ω when given, else t2_s.
   double time_constant_s(double spindle_rad_s) const {

@@ -13,6 +13,7 @@
 // of that perturbation over the periods decides chatter, and a runaway growth stops the run.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -47,6 +48,9 @@ struct MillingSimulationOptions {
   /// the feed per tooth (> 0): the disturbance whose growth or decay decides chatter. Not added
   /// when the chip comes from the feed alone (no chatter to decide).
   double perturbation = 1e-3;
+  /// Called at every hundredth of the run, (done, 100), from the simulating thread; it may
+  /// throw to stop the run (a front end's cancel), and the exception passes out unchanged.
+  std::function<void(int, int)> progress;
 
   std::vector<std::string> validate() const;
 };

@@ -16,6 +16,7 @@
 // of the cut, not of the run's length — decides chatter. A runaway growth stops the run.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,9 @@ struct TurningSimulationOptions {
   /// vibration period).
   double max_step_fraction = 1.0 / 256.0;
   int max_recorded_samples = 20000;  // traces are thinned to at most this many samples
+  /// Called at every hundredth of the run, (done, 100), from the simulating thread; it may
+  /// throw to stop the run (a front end's cancel), and the exception passes out unchanged.
+  std::function<void(int, int)> progress;
 
   std::vector<std::string> validate() const;
 };
