@@ -2,93 +2,16 @@
 example, a job the command line runs gives its --json report and its text, arrays its --out
 columns to the last digit; a job it refuses raises CaseError with its message."""
 
-import json
 import os
 
 import numpy as np
 import pytest
 
 import cutdyn
-from conftest import cli_csv, cli_json, run_cli
+from conftest import assert_columns_equal, cli_csv, cli_json, printed, run_cli, same_as_cli, toml_of
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 EXAMPLES = os.path.join(HERE, "..", "..", "examples")
-
-
-def printed(out):
-    """What a command printed, less the "wrote FILE" lines of its outputs."""
-    return "".join(line for line in out.splitlines(True) if "wrote " not in line)
-
-
-def cli_errors(err):
-    """The problems the command line named, "where: problem" each (its stderr less the
-    "cutdyn: error: " prefix)."""
-    return [line[len("cutdyn: error: "):] for line in err.splitlines()
-            if line.startswith("cutdyn: error: ")]
-
-
-def as_python(report, flags):
-    """The command line's report with its flags named as the Python arguments
-    (--axial-feed-mm → axial_feed_mm), which the messages of a request name."""
-    text = json.dumps(report)
-    for flag in flags:
-        if flag.startswith("--"):
-            text = text.replace(flag, flag[2:].replace("-", "_"))
-    return json.loads(text)
-
-
-def same_as_cli(job, name, run, tmp, *flags):
-    """Runs `cutdyn JOB NAME FLAGS --json` and `run(case)`; both succeed with the same report
-    and text, or both refuse with the same problems."""
-    code, out, err = run_cli(job, name, *flags, "--json", str(tmp / "r.json"))
-    if code == 0:
-        result = run(cutdyn.example(name))
-        assert result.report == as_python(cli_json(tmp / "r.json"), flags)
-        assert str(result) == as_python(printed(out), flags)
-        return result
-    assert code == 2, err
-    with pytest.raises(cutdyn.CaseError) as raised:
-        run(cutdyn.example(name))
-    problems = str(raised.value).splitlines()
-    # The case's problems are the same; the command line names the case "example NAME".
-    assert [p.replace(f"example {name}: ", "") for p in cli_errors(err)] == \
-        [p.replace(f"example {name}: ", "") for p in problems], (err, problems)
-    return None
-
-
-def toml_of(data):
-    """A case dict as a case file (tables, arrays of tables, scalars: what to_dict gives)."""
-    def value(v):
-        if isinstance(v, bool):
-            return "true" if v else "false"
-        if isinstance(v, str):
-            return json.dumps(v)
-        if isinstance(v, list):
-            return "[" + ", ".join(value(x) for x in v) + "]"
-        return repr(v)
-
-    lines = [f"{k} = {value(v)}" for k, v in data.items() if not isinstance(v, (dict, list))
-             or (isinstance(v, list) and not (v and isinstance(v[0], dict)))]
-    for k, v in data.items():
-        if isinstance(v, dict):
-            lines.append(f"[{k}]")
-            lines += [f"{kk} = {value(vv)}" for kk, vv in v.items()]
-        elif isinstance(v, list) and v and isinstance(v[0], dict):
-            for item in v:
-                lines.append(f"[[{k}]]")
-                lines += [f"{kk} = {value(vv)}" for kk, vv in item.items()]
-    return "\n".join(lines) + "\n"
-
-
-def assert_columns_equal(columns, cli):
-    assert list(columns) == list(cli)
-    for name, values in columns.items():
-        if isinstance(values, np.ndarray):
-            assert values.dtype == np.float64, name
-            expected = np.asarray([float(v) if v != "" else np.nan for v in cli[name]])
-            assert np.array_equal(expected, values, equal_nan=True), name
-        else:
-            assert list(values) == cli[name], name
 
 
 @pytest.mark.parametrize("name", cutdyn.examples())

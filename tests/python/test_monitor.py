@@ -2,14 +2,13 @@
 the command line's files, reports and text; a log given as arrays gives exactly what the same
 log as a file gives; bad arrays raise CaseError naming the column and row."""
 
-import json
 import os
 
 import numpy as np
 import pytest
 
 import cutdyn
-from conftest import cli_csv, cli_json, run_cli
+from conftest import cli_csv, cli_json, printed, run_cli
 
 KT = 0.16  # N·m/A
 INERTIA = 1.5e-3  # kg·m²
@@ -53,10 +52,6 @@ def write_log(columns, path):
             f.write(",".join(columns[n][i] if n == "axis" else repr(float(columns[n][i]))
                              for n in names) + "\n")
     return str(path)
-
-
-def printed(out):
-    return "".join(line for line in out.splitlines(True) if "wrote " not in line)
 
 
 @pytest.fixture

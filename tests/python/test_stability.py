@@ -2,13 +2,14 @@
 same numbers (the lobes to the last digit the CSV prints), float64 arrays, and the same
 reports."""
 
+import os
 import re
 
 import numpy as np
 import pytest
 
 import cutdyn
-from conftest import cli_csv, cli_json, run_cli
+from conftest import assert_columns_equal, cli_csv, cli_json, printed, run_cli, same_as_cli
 
 # Every built-in case the lobes command runs on (the plan case has no lobes; the FRF case
 # reads files relative to the examples folder).
@@ -89,3 +90,39 @@ def test_methods_by_name(method, tmp):
     lobes = cutdyn.lobes(cutdyn.example("milling-insperger"), method=method)
     assert lobes.method == method
     assert [float(v) for v in cli["critical_depth_mm"]] == list(lobes.critical_depth_mm)
+
+
+EXAMPLES_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples")
+
+
+@pytest.mark.parametrize("name", cutdyn.examples())
+def test_lobes_check_and_simulate_on_every_example(name, tmp):
+    # Where the command line runs, the same report and text; where it refuses, the same
+    # problems. (The lobes report states the seconds it took; the rest is the same.)
+    def lobes(case):
+        result = cutdyn.lobes(case)
+        result.report.pop("seconds", None)
+        return result
+
+    code, out, err = run_cli("lobes", name, "--json", str(tmp / "l.json"))
+    if code == 0:
+        report = cli_json(tmp / "l.json")
+        report.pop("seconds", None)
+        result = lobes(cutdyn.example(name))
+        assert result.report == report
+        assert without_timing(str(result)) == without_timing(printed(out))
+    else:
+        same_as_cli("lobes", name, lobes, tmp)
+    same_as_cli("check", name, lambda c: cutdyn.check(c, rpm=6000, depth_mm=0.5), tmp,
+                "--rpm", "6000", "--depth-mm", "0.5")
+    same_as_cli("simulate", name, lambda c: cutdyn.simulate(c, duration_s=0.05), tmp,
+                "--duration-s", "0.05")
+
+
+def test_a_case_with_measured_frfs(tmp):
+    # The measured-FRF example reads its files relative to its own folder.
+    path = os.path.join(EXAMPLES_DIR, "frf", "milling-measured.toml")
+    code, out, err = run_cli("lobes", path, "--out", str(tmp / "l.csv"))
+    assert code == 0, err
+    lobes = cutdyn.lobes(cutdyn.Case.from_toml(path))
+    assert_columns_equal(lobes.columns, cli_csv(tmp / "l.csv"))
