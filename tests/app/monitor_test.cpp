@@ -91,6 +91,51 @@ TEST_F(MonitorJobs, CalibrationFileReadsBackAsTheCalibrationInMemory) {
               zheng2012_preset());
 }
 
+// Logs held in memory (LogTexts) are read as the same logs in files: the same calibration and
+// band to the last bit, and messages name them by their names.
+TEST_F(MonitorJobs, LogsInMemoryAreReadAsFiles) {
+  const AxisModel x = zheng2012_axis('x');
+  const testing::LogNoise noise{0.05, 0.02};
+  const std::string idle =
+      testing::to_csv(synthetic_run(x, testing::idle_profile(0.3), 1e-3, noise, 1), "x");
+  const std::string loaded =
+      testing::to_csv(synthetic_run(x, testing::loaded_profile(0.2), 1e-3, noise, 2), "x", true);
+  CalibrateOptions files, memory;
+  files.idle = {write("idle.csv", idle)};
+  files.loaded = {write("loaded.csv", loaded)};
+  memory.idle = {"idle[0]"};
+  memory.loaded = {"loaded[0]"};
+  memory.texts = {{"idle[0]", idle}, {"loaded[0]", loaded}};
+  files.base = memory.base = "zheng2012";
+  const CalibrateReport from_files = calibrate(files);
+  expect_same(calibrate(memory).calibration(), from_files.calibration());
+
+  TeachOptions teach_files, teach_memory;
+  teach_files.references = {files.loaded.front()};
+  teach_files.calibration = "zheng2012";
+  teach_memory.references = {"run"};
+  teach_memory.texts = {{"run", loaded}};
+  teach_memory.calibration = "given";
+  teach_memory.calibration_given = zheng2012_preset();
+  const TeachReport a = teach(teach_files), b = teach(teach_memory);
+  EXPECT_EQ(band_json(a.band)["axes"], band_json(b.band)["axes"]);
+
+  // A bad line of a log in memory is named by the log's name and line.
+  memory.texts["idle[0]"] = idle.substr(0, idle.find('\n') + 1) + "0,x,1,2,three,4\n";
+  try {
+    calibrate(memory);
+    FAIL() << "accepted a bad line";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where(), "idle[0]");
+    EXPECT_NE(e.problems().at(0).find("line 2"), std::string::npos) << e.problems().at(0);
+  }
+  // One read gives all of the text, the next the end.
+  LogInput in("log", "a,b\n1,2\n");
+  EXPECT_EQ(in.read(), "a,b\n1,2\n");
+  EXPECT_EQ(in.read(), "");
+  EXPECT_EQ(in.name(), "log");
+}
+
 TEST_F(MonitorJobs, CalibrationFileErrorsNameTheKey) {
   nlohmann::json doc = calibration_json(zheng2012_preset());
   doc["axes"]["y"]["friction_nm"] = "much";
