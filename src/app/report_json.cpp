@@ -99,6 +99,15 @@ ReportTable sweep_table(const MillingSweepJobReport& job) {
   return out;
 }
 
+void write_csv(std::ostream& out, const ReportTable& table) {
+  io::CsvWriter csv(out, table.columns);
+  for (std::vector<io::CsvCell> row : table.rows) {
+    for (io::CsvCell& cell : row)
+      if (const double* v = std::get_if<double>(&cell); v && std::isnan(*v)) cell = std::string();
+    csv.row(row);
+  }
+}
+
 ReportTable trace_table(const DriveReport& run) {
   ReportTable out{{"axis", "time_s", "axis_force_n", "load_torque_nm", "speed_rad_s",
                    "position_error_um", "epsilon_um"},

@@ -85,6 +85,7 @@ TurningSimulationJobReport simulate_turning_case(const io::Case& c, const Simula
                                 "duration_s)");
     report.runs.push_back(std::move(out));
   }
+  report.options.progress = nullptr;  // the report outlives the caller's progress
   return report;
 }
 

@@ -58,7 +58,7 @@ struct Commands {
            *drive_cmd = nullptr, *plan_cmd = nullptr, *force_cmd = nullptr;
   CLI::App* identify_cmd = nullptr;
   CLI::App* fit_cmd = nullptr;
-  std::function<int(std::ostream&, std::ostream&)> run_monitor;
+  std::function<int(std::ostream&, std::ostream&)> run_monitor, run_serve;
 };
 
 void add_stability_commands(CLI::App& app, Commands& c) {
@@ -253,6 +253,7 @@ int dispatch(Commands& c, CLI::App& app, std::ostream& out, std::ostream& err) {
   if (c.identify_cmd->parsed()) return run_identify(c.identify, *report, err);
   if (c.fit_cmd->parsed()) return run_fit(c.fit, *report, err);
   if (const int code = c.run_monitor(out, err); code >= 0) return code;
+  if (const int code = c.run_serve(out, err); code >= 0) return code;
   err << app.help();
   return 2;
 }
@@ -304,6 +305,7 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       "  identify        milling cutting and edge coefficients from measured forces\n"
       "  monitor         cutting force from servo-motor currents: calibrate, estimate, teach-in\n"
       "  plan            two-edge face milling of a large bore: feeds, speeds, quality\n"
+      "  serve           the stability explorer in the browser\n"
       "Without CASE a command runs its built-in default case (see `cutdyn example --list`);\n"
       "fit and identify read measurements and need their files.",
       "cutdyn"};
@@ -322,6 +324,7 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   add_identify_command(app, c);
   add_fit_command(app, c);
   c.run_monitor = add_monitor_command(app);
+  c.run_serve = add_serve_command(app);
   if (const auto code = parse(app, args, out, err)) return *code;
   if (version) {
     out << "cutdyn " << CUTDYN_VERSION << "\n";

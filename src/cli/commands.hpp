@@ -113,5 +113,7 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
 /// Registers `monitor` (calibrate, estimate, teach) on `app`. The returned function runs the
 /// subcommand that was parsed and returns its exit code, or −1 if `monitor` was not used.
 std::function<int(std::ostream&, std::ostream&)> add_monitor_command(CLI::App& app);
+/// `cutdyn serve` (commands_serve.cpp), the same way.
+std::function<int(std::ostream&, std::ostream&)> add_serve_command(CLI::App& app);
 
 }  // namespace cutdyn::cli

@@ -36,12 +36,7 @@ void check_output_folder(Validator& v, const char* flag, const std::string& path
 
 void write_csv(io::OutputTransaction& outputs, const std::string& path,
                const app::ReportTable& table) {
-  io::CsvWriter csv(outputs.open(path), table.columns);
-  for (std::vector<io::CsvCell> row : table.rows) {
-    for (io::CsvCell& cell : row)
-      if (const double* v = std::get_if<double>(&cell); v && std::isnan(*v)) cell = std::string();
-    csv.row(row);
-  }
+  app::write_csv(outputs.open(path), table);
 }
 
 app::RequestNames flag_names() {

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <initializer_list>
+#include <nlohmann/json.hpp>
 #include <type_traits>
 #include <utility>
 
@@ -1366,6 +1367,34 @@ std::string key_axis_label(const Case& c, std::string_view key) {
   if (!field->label.empty() && !element.empty()) text += ", " + std::string(element);
   if (!ratio) text += " (" + std::string(unit) + ")";
   return text;
+}
+
+nlohmann::json schema_json() {
+  nlohmann::json out = nlohmann::json::object();
+  const auto plain = [](std::string text) {  // the doc's markdown, as plain text
+    text.erase(std::remove(text.begin(), text.end(), '`'), text.end());
+    return text;
+  };
+  for (const Section& s : case_sections()) {
+    nlohmann::json keys = nlohmann::json::object();
+    for (const Field& f : s.fields) {
+      nlohmann::json k{{"type", type_doc(f)},
+                       {"unit", std::string(f.unit.text)},
+                       {"default", plain(default_doc(f))},
+                       {"process", process_doc(f)},
+                       {"rule", plain(rule_doc(f))}};
+      if (!f.label.empty()) k["label"] = std::string(f.label);
+      if (f.type == Type::kChoice) {
+        nlohmann::json choices = nlohmann::json::array();
+        for (std::string_view c : f.choices) choices.push_back(std::string(c));
+        k["choices"] = std::move(choices);
+      }
+      keys[std::string(f.key)] = std::move(k);
+    }
+    const std::string name = s.name.empty() ? "(top level)" : std::string(s.name);
+    out[s.plan ? name + " (plan)" : name] = {{"array", s.array}, {"keys", std::move(keys)}};
+  }
+  return out;
 }
 
 std::string key_table_markdown(const Section& s) {

@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <functional>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -98,9 +99,9 @@ struct Alias {
 };
 
 struct Section {
-  std::string_view name;  // TOML path: "" (top level), "cutting", "modes", "material.thermal"
-  bool array = false;     // [[name]]
-  bool plan = false;      // a table of a plan case ([bore], [cutter], [process], [limits])
+  std::string_view name;        // TOML path: "" (top level), "cutting", "modes", "material.thermal"
+  bool array = false;           // [[name]]
+  bool plan = false;            // a table of a plan case ([bore], [cutter], [process], [limits])
   bool process_column = false;  // the doc's table has a process column
   bool echo_empty = true;       // to_json writes the table even without keys
   std::vector<Field> fields;
@@ -141,5 +142,8 @@ std::string key_axis_label(const Case& c, std::string_view key);
 
 /// The markdown key table of a section, as in docs/case-files.md.
 std::string key_table_markdown(const Section& section);
+
+/// The field tables as JSON (io::case_schema).
+nlohmann::json schema_json();
 
 }  // namespace cutdyn::io::detail

@@ -992,6 +992,8 @@ std::optional<toml::table> table_of(const nlohmann::json& j, const std::string& 
 
 }  // namespace
 
+nlohmann::json case_schema() { return detail::schema_json(); }
+
 Case parse_case_json(const nlohmann::json& j, std::string_view source) {
   if (!j.is_object())
     throw InvalidInput({"a case is a table of keys (a JSON object or Python dict), not " +

@@ -53,6 +53,9 @@ ReportTable trace_table(const DriveReport& report);
 /// drive_metric_names() (NaN where the drive has none).
 ReportTable sweep_table(const DriveSweepReport& report);
 
+/// The table as CSV (io::CsvWriter: numbers in shortest round-trip form), NaN as an empty cell.
+void write_csv(std::ostream& out, const ReportTable& table);
+
 nlohmann::json to_json(const io::Case& c, const LobesJobReport& report);
 /// A milling sweep: the metric plotted, and per value its metrics (null where NaN), chatter
 /// and status.

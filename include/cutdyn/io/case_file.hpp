@@ -174,4 +174,10 @@ Case load_example(std::string_view name);
 /// Optional sections that are absent are omitted.
 nlohmann::json to_json(const Case& c);
 
+/// Every table of a case file and its keys, from the same field tables the reader checks with:
+/// {"modes": {"array": true, "keys": {"natural_hz": {"type", "unit", "default", "process",
+/// "rule", "label", "choices"}}}, ...}; the top-level keys under "(top level)", a plan case's
+/// tables with " (plan)". For a front end's inputs (and their units, choices and rules).
+nlohmann::json case_schema();
+
 }  // namespace cutdyn::io

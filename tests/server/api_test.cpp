@@ -1,0 +1,120 @@
+// The explorer's JSON API without sockets (cutdyn/server/api.hpp): every request answered,
+// none throws; a cancelled job answers 409; the schema is the case file's.
+#include "cutdyn/server/api.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cutdyn/app/report_json.hpp"
+#include "cutdyn/app/stability.hpp"
+
+namespace cutdyn::server {
+namespace {
+
+using nlohmann::json;
+
+Api api() { return Api(io::load_example("milling-insperger")); }
+
+std::string case_body(const std::string& example = "milling-insperger") {
+  return io::to_json(io::load_example(example)).dump();
+}
+
+TEST(ServerApi, LobesAreTheJobsReportOfTheSameCase) {
+  const Response r = api().handle({"POST", "/api/lobes", {{"method", "zero-order"}}, case_body()});
+  ASSERT_EQ(r.status, 200) << r.body;
+  json got = json::parse(r.body);
+  const io::Case c = io::parse_case_json(json::parse(case_body()), "body");
+  app::LobesRequest request;
+  request.method = "zero-order";
+  json expected = app::to_json(c, app::run_lobes(c, request));
+  got.erase("seconds");
+  expected.erase("seconds");
+  EXPECT_EQ(got, expected);
+}
+
+TEST(ServerApi, EveryBadRequestIsAnsweredNeverThrown) {
+  const Api a = api();
+  const std::vector<std::pair<Request, int>> cases = {
+      {{"POST", "/api/lobes", {}, "{"}, 400},
+      {{"POST", "/api/lobes", {}, "\xff\xfe"}, 400},
+      {{"POST", "/api/lobes", {}, "[]"}, 400},
+      {{"POST", "/api/lobes", {{"format", "xml"}}, case_body()}, 400},
+      {{"POST", "/api/check", {{"rpm", "1e400"}, {"depth_mm", "1"}}, case_body()}, 400},
+      {{"POST", "/api/check", {{"rpm", "9000"}}, case_body()}, 400},
+      {{"POST", "/api/simulate", {{"points", "1"}}, case_body()}, 400},
+      {{"PUT", "/api/lobes", {}, case_body()}, 404},
+      {{"GET", "/api/case", {{"example", "nope"}}, ""}, 400},
+      {{"GET", "/api/lobes", {}, ""}, 404},
+  };
+  for (const auto& [request, status] : cases) {
+    Response r;
+    EXPECT_NO_THROW(r = a.handle(request)) << request.path;
+    EXPECT_EQ(r.status, status) << request.path << " " << request.body << ": " << r.body;
+    const json body = json::parse(r.body);
+    EXPECT_FALSE(body.at("error").get<std::string>().empty());
+    EXPECT_FALSE(body.at("problems").empty());
+  }
+}
+
+TEST(ServerApi, ACancelledJobAnswers409) {
+  std::atomic<bool> cancel{true};
+  const Response lobes = api().handle({"POST", "/api/lobes", {}, case_body()}, &cancel);
+  EXPECT_EQ(lobes.status, 409) << lobes.body;
+  const Response sim = api().handle(
+      {"POST", "/api/simulate", {{"rpm", "9000"}, {"depth_mm", "0.05"}}, case_body()}, &cancel);
+  EXPECT_EQ(sim.status, 409) << sim.body;
+  cancel = false;
+  EXPECT_EQ(api().handle({"POST", "/api/lobes", {}, case_body()}, &cancel).status, 200);
+}
+
+TEST(ServerApi, SchemaNamesEveryKeyWithItsUnitAndChoices) {
+  const json schema = json::parse(api().handle({"GET", "/api/schema", {}, ""}).body);
+  EXPECT_EQ(schema.at("modes").at("keys").at("natural_hz").at("unit"), "Hz");
+  EXPECT_TRUE(schema.at("modes").at("array").get<bool>());
+  const json methods = schema.at("lobes").at("keys").at("method").at("choices");
+  EXPECT_NE(std::find(methods.begin(), methods.end(), "full-discretization"), methods.end());
+  // Every key of a case the server echoes is in the schema.
+  const json c = json::parse(case_body());
+  for (const auto& [table, value] : c.items()) {
+    if (!value.is_object()) continue;
+    for (const auto& [key, v] : value.items())
+      EXPECT_TRUE(schema.at(table).at("keys").contains(key)) << table << "." << key;
+  }
+}
+
+TEST(ServerApi, SimulationCarriesThinnedTracesAndTheirSpectrum) {
+  const Response r = api().handle({"POST",
+                                   "/api/simulate",
+                                   {{"rpm", "11000"}, {"depth_mm", "0.08"}, {"points", "500"}},
+                                   case_body()});
+  ASSERT_EQ(r.status, 200) << r.body;
+  const json doc = json::parse(r.body);
+  EXPECT_LE(doc.at("traces").at("time_s").size(), 500u);
+  EXPECT_GT(doc.at("traces").at("time_s").size(), 250u);
+  const json& s = doc.at("spectrum");
+  ASSERT_EQ(s.at("frequency_hz").size(), s.at("x_um").size());
+  // Chatter (0.08 mm at 11000 rpm is above the lobes): the spectrum peaks at the chatter
+  // frequency the check predicts or one of its tooth-passing aliases (f ± k·tooth frequency,
+  // the same Hopf vibration seen through the period), within a few bins.
+  const json check = json::parse(
+      api()
+          .handle({"POST", "/api/check", {{"rpm", "11000"}, {"depth_mm", "0.08"}}, case_body()})
+          .body);
+  ASSERT_FALSE(check.at("stable").get<bool>());
+  std::size_t peak = 1;
+  for (std::size_t k = 1; k < s.at("x_um").size(); ++k)
+    if (s.at("x_um")[k].get<double>() > s.at("x_um")[peak].get<double>()) peak = k;
+  const double f = s.at("frequency_hz")[peak].get<double>();
+  const double chatter = check.at("chatter_hz").get<double>();
+  const double tooth = 2 * 11000.0 / 60.0;
+  const double bin = s.at("frequency_hz")[1].get<double>();
+  double nearest = 1e300;
+  for (int k = -10; k <= 10; ++k) nearest = std::min(nearest, std::abs(f - (chatter + k * tooth)));
+  EXPECT_LT(nearest, 3 * bin + 0.02 * chatter) << "peak " << f << " Hz, chatter " << chatter;
+}
+
+}  // namespace
+}  // namespace cutdyn::server
