@@ -5,13 +5,14 @@ ChromeDriver or Selenium is missing (./run installs them)."""
 
 import os
 import shutil
-import time
 
 import pytest
 
 webdriver = pytest.importorskip("selenium.webdriver")
 from selenium.webdriver.common.by import By  # noqa: E402
 from selenium.webdriver.support.ui import Select, WebDriverWait  # noqa: E402
+
+from conftest import run_cli  # noqa: E402
 
 CHROMIUM = shutil.which("chromium")
 CHROMEDRIVER = shutil.which("chromedriver")
@@ -41,9 +42,11 @@ def wait(driver, condition, seconds=30):
 
 
 def boundary(driver):
-    """The drawn boundary: the points of its polylines."""
-    return [e.get_attribute("points") for e in
-            driver.find_elements(By.CSS_SELECTOR, "#lobes-plot polyline.boundary")]
+    """The drawn boundary: the points of its polylines (read in one script, so that a redraw
+    between finding and reading them cannot get in the way)."""
+    return driver.execute_script(
+        "return [...document.querySelectorAll('#lobes-plot polyline.boundary')]"
+        ".map((e) => e.getAttribute('points'));")
 
 
 def console_errors(driver):
@@ -113,3 +116,32 @@ def test_the_page_fits_a_phone(server, browser):
         assert console_errors(browser) == []
     finally:
         browser.set_window_size(1280, 900)
+
+
+def test_the_downloads_are_the_command_lines_files(server, tmp_path_factory):
+    # The two buttons, in a browser that saves downloads to a folder: the TOML is a case file
+    # the command line reads back to the same case, the CSV is `cutdyn lobes --out` of it.
+    folder = tmp_path_factory.mktemp("downloads")
+    options = webdriver.ChromeOptions()
+    options.binary_location = CHROMIUM
+    for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--no-proxy-server",
+                "--disable-dev-shm-usage", f"--user-data-dir={tmp_path_factory.mktemp('c2')}"):
+        options.add_argument(arg)
+    options.add_experimental_option("prefs", {"download.default_directory": str(folder),
+                                              "download.prompt_for_download": False})
+    service = __import__("selenium.webdriver.chrome.service", fromlist=["Service"]) \
+        .Service(CHROMEDRIVER)
+    driver = webdriver.Chrome(service=service, options=options)
+    try:
+        driver.get(server.url + "/")
+        wait(driver, lambda d: boundary(d))
+        driver.find_element(By.ID, "download-toml").click()
+        wait(driver, lambda d: (folder / "case.toml").exists())
+        driver.find_element(By.ID, "download-csv").click()
+        wait(driver, lambda d: (folder / "lobes.csv").exists() and
+             (folder / "lobes.csv").stat().st_size > 0)
+    finally:
+        driver.quit()
+    code, out, err = run_cli("lobes", str(folder / "case.toml"), "--out", str(folder / "cli.csv"))
+    assert code == 0, err
+    assert (folder / "lobes.csv").read_text() == (folder / "cli.csv").read_text()
