@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <exception>
+#include <filesystem>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -66,14 +67,20 @@ class Query {
   Validator v_;
 };
 
-// The body's case: JSON, then the case file's rules.
-io::Case case_of(const std::string& body) {
+// The body's case: JSON, then the case file's rules. Relative [[frf]] files are the starting
+// case's: relative to its folder (`folder`, empty for an example).
+io::Case case_of(const std::string& body, const std::filesystem::path& folder) {
   json j;
   try {
     j = json::parse(body);
   } catch (const json::parse_error& e) {
     throw InvalidInput({std::string("not JSON: ") + e.what()}, "body");
   }
+  if (!folder.empty() && j.is_object() && j.contains("frf") && j["frf"].is_array())
+    for (json& table : j["frf"])
+      if (table.is_object() && table.contains("file") && table["file"].is_string() &&
+          std::filesystem::path(table["file"].get<std::string>()).is_relative())
+        table["file"] = (folder / table["file"].get<std::string>()).string();
   return io::parse_case_json(j, "body");
 }
 
@@ -186,7 +193,11 @@ json case_document(const io::Case& c) {
 
 }  // namespace
 
-Api::Api(io::Case start) : start_(std::move(start)) {}
+Api::Api(io::Case start) : start_(std::move(start)) {
+  // A case file's folder (an example's source is "example NAME", and has none).
+  if (start_.source.rfind("example ", 0) != 0)
+    folder_ = std::filesystem::absolute(std::filesystem::path(start_.source)).parent_path();
+}
 
 Response Api::handle(const Request& request, const std::atomic<bool>* cancel) const {
   try {
@@ -207,10 +218,10 @@ Response Api::handle(const Request& request, const std::atomic<bool>* cancel) co
       if (path == "/api/case") {
         Query q(request.query, {});
         q.throw_if_any();
-        return json_response(200, case_document(case_of(request.body)));
+        return json_response(200, case_document(case_of(request.body, folder_)));
       }
       if (path == "/api/lobes" || path == "/api/check" || path == "/api/simulate") {
-        const io::Case c = case_of(request.body);
+        const io::Case c = case_of(request.body, folder_);
         if (path == "/api/lobes") {
           Query q(request.query, {"method", "target_depth_mm", "format"});
           return lobes(c, q, cancel);

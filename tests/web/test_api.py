@@ -4,6 +4,7 @@ byte) when the CLI runs the same case; bad input is refused with the CLI's messa
 400, and the server stays up."""
 
 import json
+import os
 import re
 import signal
 import threading
@@ -12,6 +13,8 @@ import time
 import pytest
 
 from conftest import run_cli, start
+
+EXAMPLES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples")
 
 
 def examples(server):
@@ -182,3 +185,20 @@ def test_a_port_in_use_is_refused_with_exit_2(server):
     assert code == 2 and "cannot listen" in err and port in err, err
     code, out, err = run_cli("serve", "--port", "70000")
     assert code == 2 and "--port" in err, err
+
+
+def test_a_case_file_with_measured_frfs(tmp_path):
+    # Its [[frf]] files are relative to its folder: the page's case (as GET /api/case gives it)
+    # reads them from there, and gives the command line's lobes on the file.
+    path = os.path.join(EXAMPLES, "frf", "milling-measured.toml")
+    s = start(path)
+    try:
+        case = s.request("/api/case")[1]["case"]
+        status, csv = s.request("/api/lobes", body=case, query={"format": "csv"})
+        assert status == 200, csv
+        code, _, err = run_cli("lobes", path, "--out", str(tmp_path / "l.csv"))
+        assert code == 0, err
+        assert csv == (tmp_path / "l.csv").read_text()
+    finally:
+        s.process.terminate()
+        s.process.wait(timeout=20)

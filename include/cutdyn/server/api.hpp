@@ -14,11 +14,13 @@
 //        default 2000) and "spectrum" (of the displacement, app::trace_spectrum)
 //
 // A POST's body is a case as JSON: the case file's keys, or the `case` object of any --json
-// output as it is. Bad JSON, a bad case or a bad parameter: status 400 and
+// output as it is. Its relative [[frf]] files are read from the starting case file's folder. Bad
+// JSON, a bad case or a bad parameter: status 400 and
 // {"error": the command line's message, "where", "problems": [...]}.
 #pragma once
 
 #include <atomic>
+#include <filesystem>
 #include <map>
 #include <string>
 #include <string_view>
@@ -54,6 +56,7 @@ class Api {
 
  private:
   io::Case start_;
+  std::filesystem::path folder_;  // the starting case file's folder (none for an example)
 };
 
 }  // namespace cutdyn::server
