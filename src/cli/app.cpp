@@ -58,7 +58,7 @@ struct Commands {
            *drive_cmd = nullptr, *plan_cmd = nullptr, *force_cmd = nullptr;
   CLI::App* identify_cmd = nullptr;
   CLI::App* fit_cmd = nullptr;
-  std::function<int(std::ostream&, std::ostream&)> run_monitor, run_serve;
+  std::function<int(std::ostream&, std::ostream&)> run_monitor, run_serve, run_sweep;
 };
 
 void add_stability_commands(CLI::App& app, Commands& c) {
@@ -254,6 +254,7 @@ int dispatch(Commands& c, CLI::App& app, std::ostream& out, std::ostream& err) {
   if (c.fit_cmd->parsed()) return run_fit(c.fit, *report, err);
   if (const int code = c.run_monitor(out, err); code >= 0) return code;
   if (const int code = c.run_serve(out, err); code >= 0) return code;
+  if (const int code = c.run_sweep(out, err); code >= 0) return code;
   err << app.help();
   return 2;
 }
@@ -305,6 +306,7 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       "  identify        milling cutting and edge coefficients from measured forces\n"
       "  monitor         cutting force from servo-motor currents: calibrate, estimate, teach-in\n"
       "  plan            two-edge face milling of a large bore: feeds, speeds, quality\n"
+      "  sweep           the lobes of every variant of a case (keys over values, files)\n"
       "  serve           the stability explorer in the browser\n"
       "Without CASE a command runs its built-in default case (see `cutdyn example --list`);\n"
       "fit and identify read measurements and need their files.",
@@ -325,6 +327,7 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   add_fit_command(app, c);
   c.run_monitor = add_monitor_command(app);
   c.run_serve = add_serve_command(app);
+  c.run_sweep = add_sweep_command(app);
   if (const auto code = parse(app, args, out, err)) return *code;
   if (version) {
     out << "cutdyn " << CUTDYN_VERSION << "\n";

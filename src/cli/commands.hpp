@@ -115,5 +115,7 @@ int run_simulate_milling(const SimulateArgs& args, const io::Case& c, std::ostre
 std::function<int(std::ostream&, std::ostream&)> add_monitor_command(CLI::App& app);
 /// `cutdyn serve` (commands_serve.cpp), the same way.
 std::function<int(std::ostream&, std::ostream&)> add_serve_command(CLI::App& app);
+/// `cutdyn sweep` (commands_sweep.cpp), the same way.
+std::function<int(std::ostream&, std::ostream&)> add_sweep_command(CLI::App& app);
 
 }  // namespace cutdyn::cli
