@@ -3,14 +3,20 @@
 // in F.csv.partial and becomes F.csv when the sweep is done; `--resume` goes on from the
 // variants a stopped run finished.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <sstream>
+#include <thread>
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/sweep_mpi.hpp"
 #include "cutdyn/app/lobes_sweep.hpp"
 #include "cutdyn/core/error.hpp"
 
@@ -87,7 +93,74 @@ std::size_t resume_from(const std::string& partial, const std::string& header,
   return done;
 }
 
-int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
+// The rows of a variant as the file holds them (no header).
+std::string variant_text(const std::vector<std::string>& columns, const app::LobesVariant& variant,
+                         const app::LobesRequest& request) {
+  std::ostringstream text;
+  app::write_csv(text, {columns, app::lobes_variant_rows(columns, variant, request)});
+  const std::string s = text.str();
+  return s.substr(s.find('\n') + 1);
+}
+
+// Appends the variants' rows in the variants' order, whatever order they finish in.
+class OrderedWriter {
+ public:
+  OrderedWriter(const std::string& path, std::size_t start, std::size_t total, std::ostream& err)
+      : path_(path),
+        file_(path, std::ios::binary | std::ios::app),
+        next_(start),
+        total_(total),
+        err_(err) {
+    if (!file_) throw InvalidInput({"--out: cannot write " + path}, "command line");
+  }
+  void deliver(std::size_t index, std::string text) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    pending_[index] = std::move(text);
+    for (auto it = pending_.find(next_); it != pending_.end(); it = pending_.find(next_)) {
+      file_ << it->second << std::flush;
+      if (!file_) throw std::runtime_error("--out: cannot write " + path_);
+      // A failed variant is one row whose last cell (the error) is not empty.
+      const std::string& rows = it->second;
+      if (std::count(rows.begin(), rows.end(), '\n') == 1 && rows.size() > 1 &&
+          rows[rows.size() - 2] != ',')
+        ++failed_;
+      pending_.erase(it);
+      ++next_;
+      err_ << "cutdyn: sweep: " << next_ << "/" << total_ << " variants" << std::endl;
+    }
+  }
+  std::size_t failed() const { return failed_; }
+  void close() { file_.close(); }
+
+ private:
+  std::mutex mutex_;
+  std::string path_;
+  std::ofstream file_;
+  std::size_t next_, total_, failed_ = 0;
+  std::map<std::size_t, std::string> pending_;
+  std::ostream& err_;
+};
+
+// The order to start the variants in under MPI: the largest first (by speeds × modes), so
+// that no long one starts last; equal ones in their own order.
+std::vector<std::size_t> largest_first(const std::vector<app::LobesVariant>& variants,
+                                       std::size_t start) {
+  const auto cost = [&](std::size_t i) {
+    const auto& c = variants[i].c;
+    return c ? static_cast<double>(c->lobes.rpm_steps) *
+                   static_cast<double>(1 + c->modal.modes.size() + c->frfs.size())
+             : 0.0;
+  };
+  std::vector<std::size_t> order;
+  for (std::size_t i = start; i < variants.size(); ++i) order.push_back(i);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return cost(a) > cost(b); });
+  return order;
+}
+
+int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err,
+              const std::optional<MpiWorld>& world) {
+  const bool writer = !world || world->rank == 0;
   Validator v;
   if (args.out.empty()) v.add("--out: missing (where to write the CSV)");
   check_output_folder(v, "--out", args.out);
@@ -106,7 +179,17 @@ int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
   app::LobesRequest request;
   request.method = args.method;
   request.threads = args.threads;
+  // Ranks on one machine share its cores: by default each takes its share.
+  if (world && args.threads == 0)
+    request.threads = std::max(
+        1, static_cast<int>(std::thread::hardware_concurrency()) / std::max(1, world->local_size));
   request.names = flag_names();
+  const auto compute = [&](std::size_t i) { return variant_text(columns, variants[i], request); };
+
+  if (!writer) {  // a worker rank: compute what rank 0 hands out
+    mpi_share(*world, {}, compute, {});
+    return 0;
+  }
   const std::string partial = args.out + ".partial";
   std::size_t start = 0;
   // A finished file resumed: its variants are checked, none is done again but its last.
@@ -117,30 +200,35 @@ int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
   } else {
     std::ofstream(partial, std::ios::binary | std::ios::trunc) << header << "\n";
   }
-  std::ofstream file(partial, std::ios::binary | std::ios::app);
-  if (!file) throw InvalidInput({"--out: cannot write " + partial}, "command line");
-  std::size_t failed = 0;
-  for (std::size_t i = 0; i < variants.size(); ++i) {
-    if (i < start) continue;
-    const auto rows = app::lobes_variant_rows(columns, variants[i], request);
-    app::ReportTable table{columns, rows};
-    std::ostringstream text;
-    app::write_csv(text, table);
-    const std::string s = text.str();
-    file << s.substr(s.find('\n') + 1) << std::flush;  // the rows without the header
-    if (!file) throw std::runtime_error("--out: cannot write " + partial);
-    if (rows.size() == 1 && !std::get<std::string>(rows.front().back()).empty()) ++failed;
-    err << "cutdyn: sweep: " << (i + 1) << "/" << variants.size() << " variants" << std::endl;
+  OrderedWriter file(partial, start, variants.size(), err);
+  const auto deliver = [&](std::size_t i, std::string text) { file.deliver(i, std::move(text)); };
+  if (world && world->size > 1) {
+    mpi_share(*world, largest_first(variants, start), compute, deliver);
+  } else {
+    for (std::size_t i = start; i < variants.size(); ++i) deliver(i, compute(i));
   }
   file.close();
   std::filesystem::rename(partial, args.out);
   out << "cutdyn sweep: " << variants.size() << " variants"
-      << (start > 0 ? " (" + std::to_string(start) + " from the stopped run)" : "") << ", "
-      << failed << " failed\n  wrote " << args.out << "\n";
-  if (failed > 0)
-    err << "cutdyn: warning: command line: " << failed << " variants failed: their rows in "
+      << (start > 0 ? " (" + std::to_string(start) + " from the stopped run)" : "")
+      << (world && world->size > 1 ? ", on " + std::to_string(world->size) + " ranks" : "") << ", "
+      << file.failed() << " failed\n  wrote " << args.out << "\n";
+  if (file.failed() > 0)
+    err << "cutdyn: warning: command line: " << file.failed() << " variants failed: their rows in "
         << args.out << " carry the error\n";
   return 0;
+}
+
+// Under mpirun, every rank runs the sweep; only rank 0 speaks and writes. MPI ends however
+// the sweep ends.
+int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
+  const std::optional<MpiWorld> world = mpi_start();
+  struct Finish {
+    ~Finish() { mpi_finish(); }
+  } finish;
+  std::ostream silent(nullptr);
+  const bool quiet = world && world->rank != 0;
+  return run_sweep(args, quiet ? silent : out, quiet ? silent : err, world);
 }
 
 }  // namespace
