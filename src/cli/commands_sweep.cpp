@@ -19,6 +19,7 @@
 #include "cli/sweep_mpi.hpp"
 #include "cutdyn/app/lobes_sweep.hpp"
 #include "cutdyn/core/error.hpp"
+#include "cutdyn/io/output.hpp"
 
 namespace cutdyn::cli {
 namespace {
@@ -52,45 +53,60 @@ std::string lead_text(const std::vector<std::string>& columns, const app::LobesV
   return s.substr(s.find('\n') + 1) + ",";
 }
 
-// How many variants of `partial` (a stopped run's file) are complete: its header must be this
-// sweep's, its rows this sweep's variants in order; the last variant in it may have been cut
-// short, and is done again. Truncates the file after the complete ones.
-std::size_t resume_from(const std::string& partial, const std::string& header,
-                        const std::vector<std::string>& columns,
-                        const std::vector<app::LobesVariant>& variants) {
-  const auto size = static_cast<std::streamoff>(std::filesystem::file_size(partial));
+// The variant of each lead text (variant_of), for reading a partial file back.
+class Leads {
+ public:
+  Leads(const std::vector<std::string>& columns, const std::vector<app::LobesVariant>& variants) {
+    for (std::size_t i = 0; i < variants.size(); ++i)
+      index_.emplace(lead_text(columns, variants[i]), i);
+    cells_ = (columns.front() == "case" ? 1 : 0) + variants.front().values.size();
+  }
+  /// The variant a row belongs to (its first cells' text), or nullopt.
+  std::optional<std::size_t> variant_of(const std::string& row) const {
+    if (cells_ == 0) return index_.size() == 1 ? std::optional<std::size_t>(0) : std::nullopt;
+    std::size_t at = 0;
+    for (std::size_t k = 0; k < cells_; ++k) {  // past k cells, quotes respected
+      bool quoted = false;
+      while (at < row.size() && (quoted || row[at] != ',')) {
+        if (row[at] == '"') quoted = !quoted;
+        ++at;
+      }
+      if (at == row.size()) return std::nullopt;
+      ++at;
+    }
+    const auto it = index_.find(row.substr(0, at));
+    return it == index_.end() ? std::nullopt : std::optional<std::size_t>(it->second);
+  }
+
+ private:
+  std::map<std::string, std::size_t> index_;
+  std::size_t cells_ = 0;
+};
+
+// The rows of each variant in `partial`, by variant: variants are appended whole, in the order
+// they finished; the last one of a stopped run may have been cut short and is left out
+// (`keep_last` false). Throws unless the header and every row are this sweep's.
+std::map<std::size_t, std::string> read_partial(const std::string& partial,
+                                                const std::string& header, const Leads& leads,
+                                                bool keep_last) {
   std::ifstream in(partial, std::ios::binary);
   std::string line;
   if (!std::getline(in, line) || line != header)
     throw InvalidInput({"--resume: " + partial + " is not this sweep's file (its header differs)"},
                        "command line");
-  // Where the reading is: tellg, or the file's size once the last line (maybe cut short,
-  // without its line end) is read.
-  const auto position = [&] {
-    const std::streamoff at = in.tellg();
-    return at < 0 ? size : at;
-  };
-  const std::streamoff header_end = position();
-  std::vector<std::streamoff> variant_end;  // where each variant's last row ends
-  std::size_t current = 0;
-  const auto starts = [&](std::size_t i) {
-    return i < variants.size() && line.rfind(lead_text(columns, variants[i]), 0) == 0;
-  };
+  std::map<std::size_t, std::string> rows;
+  std::optional<std::size_t> last;
   while (std::getline(in, line)) {
-    if (variant_end.empty() ? !starts(0) : !starts(current) && !starts(++current))
-      throw InvalidInput({"--resume: " + partial +
-                          ": a row that is not the next variant's: " + line.substr(0, 80)},
-                         "command line");
-    variant_end.resize(current + 1, header_end);
-    variant_end[current] = position();
+    const auto variant = leads.variant_of(line);
+    if (!variant || (variant != last && rows.count(*variant)))
+      throw InvalidInput(
+          {"--resume: " + partial + ": a row that is not this sweep's: " + line.substr(0, 80)},
+          "command line");
+    rows[*variant] += line + "\n";
+    last = variant;
   }
-  // Variants before the last one in the file are complete; the last may not be. (With one
-  // case and no key varied, the one variant's rows cannot be told apart: it is done again.)
-  const std::size_t done = lead_text(columns, variants.front()).empty() ? 0 : current;
-  in.close();
-  std::filesystem::resize_file(
-      partial, static_cast<std::uintmax_t>(done == 0 ? header_end : variant_end[done - 1]));
-  return done;
+  if (last && !keep_last) rows.erase(*last);
+  return rows;
 }
 
 // The rows of a variant as the file holds them (no header).
@@ -102,60 +118,52 @@ std::string variant_text(const std::vector<std::string>& columns, const app::Lob
   return s.substr(s.find('\n') + 1);
 }
 
-// Appends the variants' rows in the variants' order, whatever order they finish in.
-class OrderedWriter {
+// Appends each variant's rows to the partial file as it finishes (whole, in one write).
+class PartialWriter {
  public:
-  OrderedWriter(const std::string& path, std::size_t start, std::size_t total, std::ostream& err)
+  PartialWriter(const std::string& path, std::size_t done, std::size_t total, std::ostream& err)
       : path_(path),
         file_(path, std::ios::binary | std::ios::app),
-        next_(start),
+        done_(done),
         total_(total),
         err_(err) {
     if (!file_) throw InvalidInput({"--out: cannot write " + path}, "command line");
   }
-  void deliver(std::size_t index, std::string text) {
+  void deliver(const std::string& text) {
     std::lock_guard<std::mutex> lock(mutex_);
-    pending_[index] = std::move(text);
-    for (auto it = pending_.find(next_); it != pending_.end(); it = pending_.find(next_)) {
-      file_ << it->second << std::flush;
-      if (!file_) throw std::runtime_error("--out: cannot write " + path_);
-      // A failed variant is one row whose last cell (the error) is not empty.
-      const std::string& rows = it->second;
-      if (std::count(rows.begin(), rows.end(), '\n') == 1 && rows.size() > 1 &&
-          rows[rows.size() - 2] != ',')
-        ++failed_;
-      pending_.erase(it);
-      ++next_;
-      err_ << "cutdyn: sweep: " << next_ << "/" << total_ << " variants" << std::endl;
-    }
+    file_ << text << std::flush;
+    if (!file_) throw std::runtime_error("--out: cannot write " + path_);
+    err_ << "cutdyn: sweep: " << ++done_ << "/" << total_ << " variants" << std::endl;
   }
-  std::size_t failed() const { return failed_; }
   void close() { file_.close(); }
 
  private:
   std::mutex mutex_;
   std::string path_;
   std::ofstream file_;
-  std::size_t next_, total_, failed_ = 0;
-  std::map<std::size_t, std::string> pending_;
+  std::size_t done_, total_;
   std::ostream& err_;
 };
+
+// A failed variant is one row whose last cell (the error) is not empty.
+bool failed(const std::string& rows) {
+  return std::count(rows.begin(), rows.end(), '\n') == 1 && rows.size() > 1 &&
+         rows[rows.size() - 2] != ',';
+}
 
 // The order to start the variants in under MPI: the largest first (by speeds × modes), so
 // that no long one starts last; equal ones in their own order.
 std::vector<std::size_t> largest_first(const std::vector<app::LobesVariant>& variants,
-                                       std::size_t start) {
+                                       std::vector<std::size_t> todo) {
   const auto cost = [&](std::size_t i) {
     const auto& c = variants[i].c;
     return c ? static_cast<double>(c->lobes.rpm_steps) *
                    static_cast<double>(1 + c->modal.modes.size() + c->frfs.size())
              : 0.0;
   };
-  std::vector<std::size_t> order;
-  for (std::size_t i = start; i < variants.size(); ++i) order.push_back(i);
-  std::stable_sort(order.begin(), order.end(),
+  std::stable_sort(todo.begin(), todo.end(),
                    [&](std::size_t a, std::size_t b) { return cost(a) > cost(b); });
-  return order;
+  return todo;
 }
 
 int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err,
@@ -191,30 +199,53 @@ int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err,
     return 0;
   }
   const std::string partial = args.out + ".partial";
-  std::size_t start = 0;
-  // A finished file resumed: its variants are checked, none is done again but its last.
-  if (args.resume && !std::filesystem::exists(partial) && std::filesystem::exists(args.out))
+  const Leads leads(columns, variants);
+  // A finished file resumed: read back whole, nothing is done again.
+  bool finished = false;
+  if (args.resume && !std::filesystem::exists(partial) && std::filesystem::exists(args.out)) {
     std::filesystem::rename(args.out, partial);
-  if (args.resume && std::filesystem::exists(partial)) {
-    start = resume_from(partial, header, columns, variants);
-  } else {
-    std::ofstream(partial, std::ios::binary | std::ios::trunc) << header << "\n";
+    finished = true;
   }
-  OrderedWriter file(partial, start, variants.size(), err);
-  const auto deliver = [&](std::size_t i, std::string text) { file.deliver(i, std::move(text)); };
+  std::map<std::size_t, std::string> earlier;
+  if (args.resume && std::filesystem::exists(partial))
+    earlier = read_partial(partial, header, leads, finished);
+  {  // the partial file: the header, then the variants kept from a stopped run
+    std::ofstream start(partial, std::ios::binary | std::ios::trunc);
+    start << header << "\n";
+    for (const auto& [i, rows] : earlier) start << rows;
+    if (!start) throw InvalidInput({"--out: cannot write " + partial}, "command line");
+  }
+  std::vector<std::size_t> todo;
+  for (std::size_t i = 0; i < variants.size(); ++i)
+    if (!earlier.count(i)) todo.push_back(i);
+  PartialWriter file(partial, earlier.size(), variants.size(), err);
+  const auto deliver = [&](std::size_t, std::string text) { file.deliver(text); };
   if (world && world->size > 1) {
-    mpi_share(*world, largest_first(variants, start), compute, deliver);
+    mpi_share(*world, largest_first(variants, todo), compute, deliver);
   } else {
-    for (std::size_t i = start; i < variants.size(); ++i) deliver(i, compute(i));
+    for (std::size_t i : todo) deliver(i, compute(i));
   }
   file.close();
-  std::filesystem::rename(partial, args.out);
+  // The file: the variants in their order, written whole and renamed into place.
+  const auto all = read_partial(partial, header, leads, true);
+  std::size_t failures = 0;
+  {
+    io::OutputTransaction outputs;
+    std::ostream& final_file = outputs.open(args.out);
+    final_file << header << "\n";
+    for (const auto& [i, rows] : all) {
+      final_file << rows;
+      failures += failed(rows) ? 1 : 0;
+    }
+    outputs.commit();
+  }
+  std::filesystem::remove(partial);
   out << "cutdyn sweep: " << variants.size() << " variants"
-      << (start > 0 ? " (" + std::to_string(start) + " from the stopped run)" : "")
+      << (earlier.empty() ? "" : " (" + std::to_string(earlier.size()) + " from the stopped run)")
       << (world && world->size > 1 ? ", on " + std::to_string(world->size) + " ranks" : "") << ", "
-      << file.failed() << " failed\n  wrote " << args.out << "\n";
-  if (file.failed() > 0)
-    err << "cutdyn: warning: command line: " << file.failed() << " variants failed: their rows in "
+      << failures << " failed\n  wrote " << args.out << "\n";
+  if (failures > 0)
+    err << "cutdyn: warning: command line: " << failures << " variants failed: their rows in "
         << args.out << " carry the error\n";
   return 0;
 }
