@@ -47,6 +47,8 @@ int run_serve(const ServeArgs& args, std::ostream& out, std::ostream& err) {
   sigaddset(&signals, SIGINT);
   sigaddset(&signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  // A client that goes away while being answered must not end the server.
+  std::signal(SIGPIPE, SIG_IGN);
   server::ServerOptions options;
   options.host = args.host;
   options.port = args.port;

@@ -202,3 +202,20 @@ def test_a_case_file_with_measured_frfs(tmp_path):
     finally:
         s.process.terminate()
         s.process.wait(timeout=20)
+
+
+def test_a_client_that_leaves_mid_request_does_not_stop_the_server(server):
+    # A lobes request whose client hangs up before the answer: the server answers into a
+    # closed socket and goes on.
+    import socket
+
+    case = json.dumps(server.request("/api/case")[1]["case"]).encode()
+    host, port = server.url.rsplit("/", 1)[-1].split(":")
+    for _ in range(5):
+        s = socket.create_connection((host, int(port)))
+        s.sendall(b"POST /api/lobes HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+                  b"Content-Length: " + str(len(case)).encode() + b"\r\n\r\n" + case)
+        s.close()
+    time.sleep(1.0)
+    assert server.alive()
+    assert server.request("/api/examples")[0] == 200
