@@ -1,5 +1,6 @@
 #include "cutdyn/monitor/current_csv.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -167,6 +168,7 @@ bool CurrentCsvParser::parse_line(std::string_view line, std::vector<CurrentRow>
   int f = 0;
   const char* p = line.data();
   const char* end = p + line.size();
+  bool more = true;  // fields after the last one read
   while (f < needed_fields_) {
     const char* comma =
         static_cast<const char*>(std::memchr(p, ',', static_cast<std::size_t>(end - p)));
@@ -174,13 +176,24 @@ bool CurrentCsvParser::parse_line(std::string_view line, std::vector<CurrentRow>
     const int slot = slot_of_field_[static_cast<std::size_t>(f)];
     if (slot >= 0) field[slot] = std::string_view(p, static_cast<std::size_t>(stop - p));
     ++f;
-    if (!comma) break;
+    if (!comma) {
+      more = false;
+      break;
+    }
     p = comma + 1;
   }
   const auto bad = [&](std::string what) {
     errors.push_back({line_, std::move(what)});
     return false;
   };
+  // A line with more fields than the header is not a line of this log (two lines run
+  // together, a shifted column): refused, so that its time cannot stand for the axis'.
+  if (more && f == needed_fields_) {
+    const int total = f + 1 + static_cast<int>(std::count(p, end, ','));
+    if (total > header_fields_)
+      return bad("the line has " + std::to_string(total) + " fields, the header " +
+                 std::to_string(header_fields_));
+  }
   if (f < needed_fields_) {
     // Name the first required column the line does not reach.
     std::string missing;

@@ -223,3 +223,25 @@ TEST(MonitorCsvComments, MalformedCommentIsAnErrorNamingTheLine) {
 
 }  // namespace
 }  // namespace cutdyn
+
+namespace cutdyn {
+namespace {
+
+// A line with more fields than the header (two lines run together) is a bad line, not a good
+// one whose time stands for the axis': in a 20 000-line stream with one such line far ahead in
+// time, only that line is skipped, and every good line after it is read.
+TEST(MonitorCsv, ALineWithMoreFieldsThanTheHeaderDoesNotPoisonTheRest) {
+  std::string text = "time_s,axis,iu_a,iv_a,iw_a,speed_rad_s\n";
+  for (int i = 0; i < 20000; ++i) {
+    text += std::to_string(i * 1e-3) + ",x,1,2,3,4\n";
+    if (i == 10000) text += "14.5,x,1,2,3,4,99.0,x\n";  // 14.5 s: 5 500 lines ahead
+  }
+  const Parsed r = parse(text, false);
+  EXPECT_EQ(r.rows.size(), 20000u);
+  ASSERT_EQ(r.errors.size(), 1u);
+  EXPECT_EQ(r.errors[0].line, 10003u);
+  EXPECT_EQ(r.errors[0].what, "the line has 8 fields, the header 6");
+}
+
+}  // namespace
+}  // namespace cutdyn
