@@ -1,13 +1,104 @@
 #include "common.hpp"
 
+#include <cmath>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <thread>
+
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
 
 namespace cutdyn::python {
 
 py::object to_python(const nlohmann::json& j) {
-  return py::module_::import("json").attr("loads")(j.dump());
+  using Type = nlohmann::json::value_t;
+  switch (j.type()) {
+    case Type::boolean:
+      return py::bool_(j.get<bool>());
+    case Type::number_integer:
+      return py::int_(j.get<std::int64_t>());
+    case Type::number_unsigned:
+      return py::int_(j.get<std::uint64_t>());
+    case Type::number_float: {
+      const double x = j.get<double>();
+      return std::isfinite(x) ? py::object(py::float_(x)) : py::object(py::none());
+    }
+    case Type::string:
+      return py::str(j.get_ref<const std::string&>());
+    case Type::array: {
+      py::list list(j.size());
+      std::size_t i = 0;
+      for (const auto& item : j) list[i++] = to_python(item);
+      return list;
+    }
+    case Type::object: {
+      py::dict dict;
+      for (const auto& [key, value] : j.items()) dict[py::str(key)] = to_python(value);
+      return dict;
+    }
+    default:
+      return py::none();
+  }
 }
+
+namespace detail {
+
+class Worker {
+ public:
+  Worker() : thread_([this] { loop(); }) { thread_.detach(); }  // lives as long as the process
+  void run(std::function<void()> task) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      task_ = std::move(task);
+    }
+    ready_.notify_one();
+  }
+
+ private:
+  void loop() {
+    for (;;) {
+      std::function<void()> task;
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        ready_.wait(lock, [this] { return static_cast<bool>(task_); });
+        task = std::move(task_);
+        task_ = nullptr;
+      }
+      task();  // a packaged task: what it throws goes to its future
+    }
+  }
+  std::mutex mutex_;
+  std::condition_variable ready_;
+  std::function<void()> task_;
+  std::thread thread_;
+};
+
+namespace {
+std::mutex g_pool_mutex;
+std::vector<Worker*>& idle_workers() {
+  static auto* idle = new std::vector<Worker*>();  // never destroyed: its threads live on
+  return *idle;
+}
+}  // namespace
+
+Worker* acquire_worker() {
+  std::lock_guard<std::mutex> lock(g_pool_mutex);
+  auto& idle = idle_workers();
+  if (idle.empty()) return new Worker();  // kept for the process' lifetime
+  Worker* w = idle.back();
+  idle.pop_back();
+  return w;
+}
+
+void release_worker(Worker* worker) {
+  std::lock_guard<std::mutex> lock(g_pool_mutex);
+  idle_workers().push_back(worker);
+}
+
+void run_on(Worker* worker, std::function<void()> task) { worker->run(std::move(task)); }
+
+}  // namespace detail
 
 nlohmann::json to_json(const py::handle& object, const std::string& where,
                        const std::string& what) {

@@ -30,7 +30,8 @@ struct Cancelled : std::exception {
   const char* what() const noexcept override { return "cancelled"; }
 };
 
-/// JSON ↔ Python through the json module: exact for every value a report holds. A Python
+/// JSON → Python objects directly (a non-finite number, which JSON text cannot hold, as
+/// None); Python → JSON through the json module. Exact for every value a report holds. A Python
 /// object that is not JSON (or holds NaN) throws InvalidInput naming `where`: "not `what`: …".
 py::object to_python(const nlohmann::json& j);
 nlohmann::json to_json(const py::handle& object, const std::string& where, const std::string& what);
@@ -50,18 +51,32 @@ app::SimulateRequest simulate_request(std::optional<double> rpm, std::optional<d
 /// The request with its simulations stopped once `cancel` is set.
 app::SimulateRequest stoppable(app::SimulateRequest request, const std::atomic<bool>& cancel);
 
-/// Runs `job` with the GIL released on a worker thread. A signal on the calling thread (Ctrl-C)
-/// sets `cancel`, which a job's progress reports turn into Cancelled; the exception the
-/// signal's handler raised (KeyboardInterrupt) is raised once the job has stopped — also for a
-/// job without progress reports, which finishes first.
+namespace detail {
+/// A thread that runs one task at a time, kept for the module's lifetime: a job on it finds
+/// the OpenMP team of its previous job alive, as a C++ program's main thread does (a fresh
+/// thread per call made each call 2–5 % slower; docs/benchmarks.md).
+class Worker;
+/// An idle worker (made when none is idle, so that concurrent calls from several Python
+/// threads each have one), and its return.
+Worker* acquire_worker();
+void release_worker(Worker* worker);
+void run_on(Worker* worker, std::function<void()> task);
+}  // namespace detail
+
+/// Runs `job` with the GIL released on a kept worker thread. A signal on the calling thread
+/// (Ctrl-C) sets `cancel`, which a job's progress reports turn into Cancelled; the exception
+/// the signal's handler raised (KeyboardInterrupt) is raised once the job has stopped — also
+/// for a job without progress reports, which finishes first.
 template <typename Result>
 Result run_interruptible(const std::function<Result(const std::atomic<bool>& cancel)>& job) {
   std::atomic<bool> cancel{false};
-  std::future<Result> result;
+  auto task = std::make_shared<std::packaged_task<Result()>>([&] { return job(cancel); });
+  std::future<Result> result = task->get_future();
   std::optional<py::error_already_set> interrupted;
   {
     py::gil_scoped_release release;
-    result = std::async(std::launch::async, [&] { return job(cancel); });
+    detail::Worker* worker = detail::acquire_worker();
+    detail::run_on(worker, [task] { (*task)(); });
     while (result.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
       py::gil_scoped_acquire acquire;
       if (!interrupted && PyErr_CheckSignals() != 0) {
@@ -69,6 +84,7 @@ Result run_interruptible(const std::function<Result(const std::atomic<bool>& can
         interrupted.emplace();  // fetches the handler's exception
       }
     }
+    detail::release_worker(worker);
   }
   if (interrupted) {
     try {
