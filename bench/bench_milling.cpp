@@ -7,6 +7,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "bench_support.hpp"
@@ -53,13 +56,37 @@ MillingStabilityOptions cli_options() {
   return o;
 }
 
-LobesReport fd_lobes(const MillingStabilityOptions& o, int threads, bool refine = true) {
-  return trace_lobes(
-      [&](double rpm) {
-        const MillingBoundary b = milling_critical_depth(model(), rpm, o);
-        return LobePoint{rpm, b.boundary, 1.0, b.lobe};
-      },
-      lobe_grid(threads, refine));
+// `cutdyn lobes` (trace_milling_lobes): warm = each speed's depth search started from its
+// neighbours' depths (the default); !warm = every speed searched on its own (coarse scan of
+// 16 depths, then Brent), the way before 2026-11-24, kept callable for this comparison.
+LobesReport fd_lobes(const MillingStabilityOptions& o, int threads, bool refine = true,
+                     bool warm = true) {
+  MillingStabilityOptions with = o;
+  with.warm_start = warm;
+  return trace_milling_lobes(model(), with, lobe_grid(threads, refine));
+}
+
+// The lobes of the last timed run of each variant, for the comparison in the summary.
+std::map<std::string, std::vector<LobePoint>>& traced() {
+  static std::map<std::string, std::vector<LobePoint>> points;
+  return points;
+}
+
+// Largest relative difference of the critical depth between two traced lobes over the speeds
+// both have (all of them without refinement), and how many speeds that is.
+std::pair<double, int> largest_difference(const std::vector<LobePoint>& a,
+                                          const std::vector<LobePoint>& b) {
+  double worst = 0.0;
+  int common = 0;
+  std::size_t j = 0;
+  for (const LobePoint& p : a) {
+    while (j < b.size() && b[j].rpm < p.rpm) ++j;
+    if (j == b.size() || b[j].rpm != p.rpm) continue;
+    ++common;
+    worst = std::max(worst, std::abs(p.boundary.depth_m - b[j].boundary.depth_m) /
+                                p.boundary.depth_m);
+  }
+  return {worst, common};
 }
 
 // The straightforward method at one speed: the dense transition matrix on the grid `fd` and
@@ -73,13 +100,19 @@ LobePoint grid_column(double rpm, const FdOptions& fd, int rows, int row_stride 
 
 // ---- 1. the lobes as `cutdyn lobes` computes them --------------------------------------
 
+// range(0): threads (0 = all); range(1): 1 = with the adaptive refinement; range(2): 1 = warm
+// start (today's default), 0 = every speed on its own (the former way).
 void BM_MillingLobes(benchmark::State& state) {
   const int threads = threads_arg(state);
+  const bool refine = state.range(1) != 0, warm = state.range(2) != 0;
+  const std::string key = std::string(refine ? "fd_lobes" : "fd_lobes_uniform") +
+                          (warm ? "" : "_old") + (state.range(0) == 1 ? "/1" : "/all");
   LobesReport report;
-  Result& r = timed(state, threads_key("fd_lobes", state),
-                    [&] { report = fd_lobes(cli_options(), threads); });
+  Result& r = timed(state, key, [&] { report = fd_lobes(cli_options(), threads, refine, warm); });
+  traced()[key] = report.points;
   r.figures["threads"] = threads;
   r.figures["speeds"] = static_cast<double>(report.points.size());
+  r.figures["per_speed_s"] = r.seconds / static_cast<double>(report.points.size());
   r.figures["evals_per_speed"] =
       static_cast<double>(report.evaluations) / static_cast<double>(report.points.size());
   // The finest spacing the adaptive tracing reached (around cusps).
@@ -89,19 +122,8 @@ void BM_MillingLobes(benchmark::State& state) {
   r.figures["finest_rpm"] = finest;
   state.counters["speeds"] = r.figures["speeds"];
   state.counters["threads"] = threads;
-  state.counters["ms_per_speed"] = 1e3 * r.seconds / kSpeeds;
+  state.counters["ms_per_speed"] = 1e3 * r.figures["per_speed_s"];
   state.counters["radii_per_speed"] = r.figures["evals_per_speed"];
-}
-
-// The same 200 speeds without the adaptive refinement: the per-speed cost of a uniform grid,
-// from which a uniform grid as fine as the adaptive tracing's finest spacing is extrapolated
-// (that grid would resolve the same cusps; running it would take minutes).
-void BM_MillingLobesUniform(benchmark::State& state) {
-  const int threads = threads_arg(state);
-  Result& r = timed(state, threads_key("fd_lobes_uniform", state),
-                    [&] { fd_lobes(cli_options(), threads, false); });
-  r.figures["per_speed_s"] = r.seconds / kSpeeds;
-  state.counters["ms_per_speed"] = 1e3 * r.seconds / kSpeeds;
 }
 
 // Multi-frequency against full discretization on the four-mode case of the tests (modes of
@@ -221,7 +243,7 @@ void BM_DenseGridScripts(benchmark::State& state) {
   // Its accuracy against the converged lobes (outside the timing).
   MillingStabilityOptions ref = cli_options();
   ref.rel_tol = 1e-5;
-  const LobesReport exact = fd_lobes(ref, threads, false);
+  const LobesReport exact = fd_lobes(ref, threads, false, false);
   double worst = 0.0;
   for (std::size_t i = 0; i < report.points.size(); ++i) {
     const double e = std::abs(report.points[i].boundary.depth_m - exact.points[i].boundary.depth_m);
@@ -238,8 +260,19 @@ void BM_DenseGridScripts(benchmark::State& state) {
 
 constexpr auto kMs = benchmark::kMillisecond;
 
-BENCHMARK(BM_MillingLobes)->ArgName("threads")->Arg(1)->Arg(0)->Unit(kMs)->UseRealTime();
-BENCHMARK(BM_MillingLobesUniform)->ArgName("threads")->Arg(0)->Unit(kMs)->UseRealTime();
+// Old and new alternate, so that a change of load on a shared machine touches both alike.
+BENCHMARK(BM_MillingLobes)
+    ->ArgNames({"threads", "refine", "warm"})
+    ->Args({1, 0, 0})
+    ->Args({1, 0, 1})
+    ->Args({0, 0, 0})
+    ->Args({0, 0, 1})
+    ->Args({1, 1, 0})
+    ->Args({1, 1, 1})
+    ->Args({0, 1, 0})
+    ->Args({0, 1, 1})
+    ->Unit(kMs)
+    ->UseRealTime();
 BENCHMARK(BM_FourModeMethods)
     ->ArgName("method")
     ->Arg(static_cast<int>(MillingMethod::kFullDiscretization))
@@ -306,6 +339,27 @@ void print_summary() {
                 seconds_text(uniform_s).c_str(), speeds);
     std::printf("  %-58s %11.0fx\n", "ratio uniform (as fine, extrap.) / adaptive, all thr.",
                 uniform_s / ln->seconds);
+  }
+  std::printf(
+      "\nWarm-started depth search (default) against every speed searched on its own (former "
+      "way),\nsame run; depth difference over the speeds both have:\n");
+  for (const char* grid : {"fd_lobes_uniform", "fd_lobes"}) {
+    for (const char* threads : {"/1", "/all"}) {
+      const std::string fresh = std::string(grid) + threads;
+      const std::string old = std::string(grid) + "_old" + threads;
+      const auto a = result(old), b = result(fresh);
+      if (!a || !b) continue;
+      const auto [worst, common] = largest_difference(traced()[old], traced()[fresh]);
+      std::printf("  %s, %s:\n", grid[8] == '_' ? "200 speeds, no refinement" : "with refinement",
+                  threads[1] == '1' ? "1 thread" : "all threads");
+      std::printf("    %-56s %9.2f ms  (%.0f speeds, %.2f radii per speed)\n", "former way",
+                  1e3 * a->seconds, a->figures.at("speeds"), a->figures.at("evals_per_speed"));
+      std::printf("    %-56s %9.2f ms  (%.0f speeds, %.2f radii per speed)\n", "warm start",
+                  1e3 * b->seconds, b->figures.at("speeds"), b->figures.at("evals_per_speed"));
+      std::printf("    %-56s %11.2fx\n", "ratio former / warm", a->seconds / b->seconds);
+      std::printf("    %-56s %11.4f %%  (%d speeds compared)\n",
+                  "largest relative depth difference", 1e2 * worst, common);
+    }
   }
   const auto fd4 = result("four_mode_fd"), mf4 = result("four_mode_mf");
   std::printf(

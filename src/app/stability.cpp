@@ -237,12 +237,7 @@ void milling_lobes(const io::Case& c, const LobesRequest& request, LobesJobRepor
   const LobesOptions grid = lobes_grid(c, request.threads);
   const MillingStabilityOptions options = milling_options(c, method);
   rethrow_as(c.source, "lobes.rpm_min", [&] { check_milling_speed(model, grid.rpm_min); });
-  r.lobes = trace_lobes(
-      [&](double rpm) {
-        const MillingBoundary b = milling_critical_depth(model, rpm, options);
-        return LobePoint{rpm, b.boundary, 1.0, b.lobe};
-      },
-      grid, request.progress);
+  r.lobes = trace_milling_lobes(model, options, grid, request.progress);
   r.description = describe(model);
   add_fit(model.measured, r);
   r.method = to_string(method);

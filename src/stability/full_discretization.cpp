@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <tuple>
 // GCC 12 reports a false -Wuse-after-free inside Spectra's inlined Eigen code.
 #if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12
 #pragma GCC diagnostic ignored "-Wuse-after-free"
 #endif
 #include <Spectra/GenEigsSolver.h>
+#include <Spectra/LinAlg/UpperHessenbergEigen.h>
+#include <Spectra/Util/SimpleRandom.h>
 
 #include <unsupported/Eigen/MatrixFunctions>
 
@@ -36,8 +39,10 @@ struct StepMatrices {
   bool active = false;   // some H̄k ≠ 0
   struct Term {          // one per delay term with H̄k ≠ 0 on this step
     int term = 0;
-    Eigen::MatrixXd w0EH;  // W0·E·H̄k, d×r
-    Eigen::MatrixXd w1EH;  // W1·E·H̄k, d×r
+    Eigen::MatrixXd w0EH;   // W0·E·H̄k, d×r
+    Eigen::MatrixXd w1EH;   // W1·E·H̄k, d×r
+    Eigen::MatrixXd w0EHC;  // W0·E·H̄k·C, d×d (depth-independent part of the step matrix)
+    Eigen::MatrixXd w1EHC;  // W1·E·H̄k·C, d×d
   };
   std::vector<Term> terms;
 };
@@ -99,7 +104,10 @@ class Discretization {
         const Eigen::MatrixXd h_mean = terms_[k].H.mean(t0, t1);
         if (k == 0) st.H = h_mean;
         if (h_mean.norm() == 0.0) continue;
-        st.terms.push_back({static_cast<int>(k), st.w0E * h_mean, st.w1E * h_mean});
+        StepMatrices::Term term{static_cast<int>(k), st.w0E * h_mean, st.w1E * h_mean, {}, {}};
+        term.w0EHC = term.w0EH * s.C;
+        term.w1EHC = term.w1EH * s.C;
+        st.terms.push_back(std::move(term));
       }
       st.active = !st.terms.empty();
       steps_.push_back(std::move(st));
@@ -152,23 +160,42 @@ class Discretization {
 };
 
 // The harmonic (θ + 2πk)/T that carries most of a Floquet solution sampled at `times`.
-// The factors e^(−i·ωk·t) are advanced from k to k + 1 by one rotation per sample.
+// The factors e^(−i·ωk·t) are advanced from k to k + 1 by one rotation per sample; the
+// samples are kept as separate real and imaginary arrays so that each harmonic's sum and the
+// rotation of every factor run as plain loops over the samples (the compiler vectorizes them).
 double dominant_frequency_hz(double theta, double period, const std::vector<double>& times,
                              const std::vector<cplx>& values, int steps) {
   const int kmax = std::max(0, steps / 2);
-  std::vector<cplx> acc(static_cast<std::size_t>(2 * kmax + 1), cplx{0.0, 0.0});
-  for (std::size_t i = 0; i < times.size(); ++i) {
+  const std::size_t m = times.size();
+  std::vector<double> fr(m), fi(m), rr(m), ri(m);
+  for (std::size_t i = 0; i < m; ++i) {
     const double t = times[i];
     const cplx rotation = std::polar(1.0, -kTwoPi * t / period);
-    cplx factor = values[i] * std::polar(1.0, -(theta - kTwoPi * kmax) * t / period);
-    for (cplx& a : acc) {
-      a += factor;
-      factor *= rotation;
-    }
+    const cplx factor = values[i] * std::polar(1.0, -(theta - kTwoPi * kmax) * t / period);
+    fr[i] = factor.real();
+    fi[i] = factor.imag();
+    rr[i] = rotation.real();
+    ri[i] = rotation.imag();
   }
   std::size_t best = 0;
-  for (std::size_t k = 1; k < acc.size(); ++k)
-    if (std::abs(acc[k]) > std::abs(acc[best])) best = k;
+  double best_norm = -1.0;
+  for (int k = 0; k <= 2 * kmax; ++k) {
+    double sr = 0.0, si = 0.0;
+    for (std::size_t i = 0; i < m; ++i) {
+      sr += fr[i];
+      si += fi[i];
+    }
+    const double norm = sr * sr + si * si;
+    if (norm > best_norm) {
+      best_norm = norm;
+      best = static_cast<std::size_t>(k);
+    }
+    for (std::size_t i = 0; i < m; ++i) {
+      const double a = fr[i] * rr[i] - fi[i] * ri[i];
+      fi[i] = fr[i] * ri[i] + fi[i] * rr[i];
+      fr[i] = a;
+    }
+  }
   const double w = (theta + kTwoPi * (static_cast<double>(best) - kmax)) / period;
   return std::abs(units::rad_per_s_to_hz(w));
 }
@@ -279,9 +306,10 @@ class PeriodMapT final : public PeriodMap {
       // the order of the step: well conditioned.
       MatDD lhs = MatDD::Identity(d_, d_);
       MatDD rhs = st.phi0;
+      // W·E·H̄·C is kept from the discretization: only the scaling by the depth is new.
       for (const StepMatrices::Term& t : st.terms) {
-        lhs.noalias() += depth * t.w1EH * c_;
-        rhs.noalias() -= depth * t.w0EH * c_;
+        lhs += depth * t.w1EHC;
+        rhs -= depth * t.w0EHC;
       }
       const MatDD inv = lhs.inverse();
       out.mx.noalias() = inv * rhs;
@@ -329,7 +357,9 @@ class PeriodMapT final : public PeriodMap {
     Ys y0(r_, cols), y1(r_, cols), yj(r_, cols);
     long long head = 0;                       // ring block that holds y(j − 1)
     const auto block = [&](long long back) {  // first row of the history block y(j − back)
-      return d_ + r_ * ((head + back - 1) % L_);
+      long long b = head + back - 1;             // 0 <= b < 2L: no division
+      if (b >= L_) b -= L_;
+      return d_ + r_ * b;
     };
     // weight·y at global node g seen from step j (g <= j): C·x(j) or a history block.
     const auto y_at = [&](int j, long long g) -> Ys {
@@ -353,7 +383,7 @@ class PeriodMapT final : public PeriodMap {
         delayed(j, disc_.ref(j + 1, gain.term), y1);
         x.noalias() += gain.k0 * y0 + gain.k1 * y1;
       }
-      head = (head + L_ - 1) % L_;  // push y(j) = C·x(j)
+      head = head == 0 ? L_ - 1 : head - 1;  // push y(j) = C·x(j)
       z.template middleRows<R>(d_ + r_ * head, r_) = yj;
     }
     next.resize(z.rows(), cols);
@@ -473,7 +503,7 @@ SpectralRadius fd_spectral_radius_arnoldi(const DelayedSystem& s, const FdGrid& 
 namespace {
 
 // The multiplier of largest modulus and its eigenvector (dense or Arnoldi).
-std::pair<cplx, Eigen::VectorXcd> dominant_multiplier(const PeriodMap& map, RadiusSolver solver) {
+std::pair<cplx, Eigen::VectorXcd> dominant_eigenpair(const PeriodMap& map, RadiusSolver solver) {
   if (solver == RadiusSolver::kArnoldi && map.dim() > 60) {
     PeriodMapOp op(map);
     Spectra::GenEigsSolver<PeriodMapOp> eigs(op, 3, 10);
@@ -489,6 +519,71 @@ std::pair<cplx, Eigen::VectorXcd> dominant_multiplier(const PeriodMap& map, Radi
   return {eig.eigenvalues()(k), eig.eigenvectors().col(k)};
 }
 
+// The dominant multiplier by an unrestarted Arnoldi iteration: Krylov vectors from a fixed
+// pseudo-random start (as Spectra's default), classical Gram–Schmidt applied twice, and after
+// each product from the kFirstTest-th on the Ritz values of the Hessenberg matrix; accepted
+// once the kNev of largest modulus pass Spectra's residual test (|h(m+1,m)·y(m)| <
+// tol·max(|θ|, eps^(2/3)), y the unit eigenvector of H). nullopt when kMaxVectors are not
+// enough or the map is small (the caller then uses Spectra or the dense matrix).
+std::optional<DominantMultiplier> krylov_dominant(const PeriodMap& map) {
+  constexpr int kNev = 3, kMaxVectors = 30, kFirstTest = 7;
+  constexpr double kTol = 1e-10;
+  const Eigen::Index n = map.dim();
+  if (n <= 2 * kMaxVectors) return std::nullopt;
+  const double eps23 = std::pow(std::numeric_limits<double>::epsilon(), 2.0 / 3.0);
+  Eigen::MatrixXd V(n, kMaxVectors + 1);
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(kMaxVectors + 1, kMaxVectors);
+  Spectra::SimpleRandom<double> rng(0);
+  V.col(0) = rng.random_vec(n);
+  V.col(0).normalize();
+  Eigen::MatrixXd z(n, 1), next;
+  Eigen::VectorXd h, h2;
+  DominantMultiplier out;
+  out.krylov = true;
+  for (int k = 0; k < kMaxVectors; ++k) {
+    z.col(0) = V.col(k);
+    map.apply(z, next);
+    ++out.operations;
+    const auto basis = V.leftCols(k + 1);
+    h.noalias() = basis.transpose() * z.col(0);
+    z.col(0).noalias() -= basis * h;
+    h2.noalias() = basis.transpose() * z.col(0);
+    z.col(0).noalias() -= basis * h2;
+    H.col(k).head(k + 1) = h + h2;
+    const double beta = z.col(0).norm();
+    H(k + 1, k) = beta;
+    const int m = k + 1;
+    const bool invariant = beta <= std::numeric_limits<double>::epsilon() * H.col(k).norm();
+    if (!invariant) V.col(k + 1) = z.col(0) / beta;
+    if (m < kFirstTest && !invariant) continue;
+    if (m < kNev) return std::nullopt;
+    Spectra::UpperHessenbergEigen<double> eig(H.topLeftCorner(m, m));
+    const Eigen::VectorXcd values = eig.eigenvalues();
+    const Eigen::MatrixXcd vectors = eig.eigenvectors();  // unit columns
+    std::vector<int> order(static_cast<std::size_t>(m));
+    for (int i = 0; i < m; ++i) order[static_cast<std::size_t>(i)] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return std::abs(values(a)) > std::abs(values(b)); });
+    bool converged = true;
+    for (int q = 0; q < kNev && converged; ++q) {
+      const int i = order[static_cast<std::size_t>(q)];
+      const double residual = invariant ? 0.0 : std::abs(vectors(m - 1, i)) * beta;
+      converged = residual < kTol * std::max(eps23, std::abs(values(i)));
+    }
+    if (!converged) continue;
+    const int top = order.front();
+    out.mu = values(top);
+    out.radius = std::abs(out.mu);
+    const Eigen::VectorXd re = V.leftCols(m) * vectors.col(top).real();
+    const Eigen::VectorXd im = V.leftCols(m) * vectors.col(top).imag();
+    out.vector.resize(n);
+    out.vector.real() = re;
+    out.vector.imag() = im;
+    return out;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::pair<Bifurcation, double> FdDiscretization::dominant_mode(double depth_m,
@@ -496,7 +591,7 @@ std::pair<Bifurcation, double> FdDiscretization::dominant_mode(double depth_m,
   const DelayedSystem& s = impl_->system;
   const auto map_ptr = make_period_map(impl_->disc, s, depth_m);
   const PeriodMap& map = *map_ptr;
-  const auto [mu, v] = dominant_multiplier(map, solver);
+  const auto [mu, v] = dominant_eigenpair(map, solver);
   const double theta = std::arg(mu);
   // The eigenvector's history holds y over the last L nodes.
   const auto d = s.A0.rows();
@@ -509,6 +604,53 @@ std::pair<Bifurcation, double> FdDiscretization::dominant_mode(double depth_m,
   }
   return {classify_multiplier(theta),
           dominant_frequency_hz(theta, impl_->grid.period_s, times, values, impl_->grid.steps())};
+}
+
+DominantMultiplier FdDiscretization::dominant_multiplier(double depth_m,
+                                                         RadiusSolver solver) const {
+  const auto map_ptr = make_period_map(impl_->disc, impl_->system, depth_m);
+  const PeriodMap& map = *map_ptr;
+  if (solver == RadiusSolver::kArnoldi) {
+    if (auto d = krylov_dominant(map)) return std::move(*d);
+  }
+  // Spectra (maps of more than 60 rows), else the dense matrix: as dominant_mode.
+  auto [mu, v] = dominant_eigenpair(map, solver);
+  DominantMultiplier out;
+  out.mu = mu;
+  out.radius = std::abs(mu);
+  out.vector = std::move(v);
+  return out;
+}
+
+std::pair<Bifurcation, double> FdDiscretization::mode_of(const DominantMultiplier& dm) const {
+  const DelayedSystem& s = impl_->system;
+  const double theta = std::arg(dm.mu);
+  const Eigen::VectorXcd& v = dm.vector;
+  const auto d = s.A0.rows();
+  const auto r = s.C.rows();
+  std::vector<double> times{0.0};
+  std::vector<cplx> values{(s.C.cast<cplx>() * v.head(d))(0)};
+  for (Eigen::Index b = 0; d + r * (b + 1) <= v.size(); ++b) {
+    times.push_back(impl_->disc.time(-(b + 1)));
+    values.push_back(v(d + r * b));
+  }
+  return {classify_multiplier(theta),
+          dominant_frequency_hz(theta, impl_->grid.period_s, times, values, impl_->grid.steps())};
+}
+
+namespace {
+
+double radius_at_zero(const DelayedSystem& s, double period_s) {
+  const Eigen::VectorXcd poles = s.A0.eigenvalues();
+  double growth = -std::numeric_limits<double>::infinity();
+  for (Eigen::Index i = 0; i < poles.size(); ++i) growth = std::max(growth, poles(i).real());
+  return std::exp(growth * period_s);
+}
+
+}  // namespace
+
+double FdDiscretization::radius_without_cutting() const {
+  return radius_at_zero(impl_->system, impl_->grid.period_s);
 }
 
 namespace {
@@ -543,6 +685,159 @@ CriticalDepth fd_critical_depth_by_radius(const std::function<DelayedSystem(doub
   const double above = result.depth_m * (1.0 + 0.5 * rel_tol);
   std::tie(result.bifurcation, result.chatter_hz) =
       FdDiscretization(system_at(above), grid).dominant_mode(above, solver);
+  return result;
+}
+
+namespace {
+
+// The warm-started search (fd_critical_depth_from_hint) on g(w) = ρ(w) − 1, with `at(w)` the
+// dominant multiplier at depth w and ρ(0) = rho0 known. nullopt: the exhaustive search must
+// decide (no bracket near the hint, or the guard found an unstable grid point below it).
+struct WarmFound {
+  CriticalDepth result;
+  DominantMultiplier at_hi;
+  double hi = 0.0;
+};
+
+std::optional<WarmFound> warm_search(const std::function<DominantMultiplier(double)>& at,
+                                     double rho0, double depth_max, int coarse_steps,
+                                     double rel_tol, double hint, long long& evaluations) {
+  if (!(hint > 0.0 && hint <= depth_max) || !(rho0 < 1.0)) return std::nullopt;
+  const auto evaluate = [&](double w) {
+    ++evaluations;
+    return at(w);
+  };
+  const auto secant = [](double xa, double ga, double xb, double gb) {
+    return gb == ga ? std::numeric_limits<double>::quiet_NaN() : xb - gb * (xb - xa) / (gb - ga);
+  };
+  double lo = 0.0, g_lo = rho0 - 1.0;  // stable
+  double hi = -1.0, g_hi = 0.0;        // unstable, once found
+  DominantMultiplier at_hi;
+  double xa = 0.0, ga = g_lo;  // the point evaluated before the last (for the secant)
+  double x = hint, g = 0.0;
+  // 1. Bracket: from the hint, secant steps (the first through (0, ρ(0) − 1)) pushed half a
+  //    tolerance past the estimated root, so that the next point tends to land on its far side.
+  constexpr int kMaxBracketSteps = 40;
+  for (int step = 0;; ++step) {
+    if (step == kMaxBracketSteps) return std::nullopt;
+    DominantMultiplier d = evaluate(x);
+    g = d.radius - 1.0;
+    if (g >= 0.0) {
+      hi = x;
+      g_hi = g;
+      at_hi = std::move(d);
+    } else {
+      lo = x;
+      g_lo = g;
+    }
+    if (hi > 0.0 && lo > 0.0) break;
+    if (hi > 0.0 && lo == 0.0 && x <= depth_max / 1e6) return std::nullopt;  // unstable near 0
+    double next = secant(xa, ga, x, g);
+    if (g < 0.0) {  // stable so far: go up
+      if (x >= depth_max) return std::nullopt;  // stable to the limit above the hint
+      next = std::isfinite(next) && next > x ? next * (1.0 + 0.5 * rel_tol) : 2.0 * x;
+      next = std::min(std::max(next, x * (1.0 + rel_tol)), std::min(depth_max, 2.0 * x));
+    } else {  // unstable: go down (towards the stable anchor lo)
+      next = std::isfinite(next) && next < x ? next * (1.0 - 0.5 * rel_tol) : 0.5 * (lo + x);
+      next = std::clamp(next, 0.5 * x, x * (1.0 - rel_tol));
+    }
+    xa = x;
+    ga = g;
+    x = next;
+  }
+  // 2. Shrink [lo, hi] to rel_tol·hi: the secant (or regula falsi) estimate r, and a probe a
+  //    little past it on the side away from the nearer end, so that when r is good the next
+  //    bracket is already narrow enough; a bisection whenever a probe did not halve it.
+  double prev_width = hi - lo;
+  bool bisect = false;
+  // The exhaustive search stops Brent's method at rel_tol times the upper end of its grid
+  // cell; the same absolute tolerance here: rel_tol times the grid point at or above hi.
+  const double cell = depth_max / coarse_steps;
+  const auto tolerance = [&] { return rel_tol * cell * std::ceil(hi / cell - 1e-9); };
+  for (int step = 0; hi - lo > tolerance(); ++step) {
+    if (step == 200) return std::nullopt;
+    double r = secant(xa, ga, x, g);
+    if (!(r > lo && r < hi)) r = lo - g_lo * (hi - lo) / (g_hi - g_lo);
+    const double width = hi - lo;
+    const double offset = 0.3 * tolerance();
+    double probe = (hi - r <= r - lo) ? r - offset : r + offset;
+    if (bisect) probe = 0.5 * (lo + hi);
+    probe = std::clamp(probe, lo + 0.02 * width, hi - 0.02 * width);
+    xa = x;
+    ga = g;
+    x = probe;
+    DominantMultiplier d = evaluate(x);
+    g = d.radius - 1.0;
+    if (g >= 0.0) {
+      hi = x;
+      g_hi = g;
+      at_hi = std::move(d);
+    } else {
+      lo = x;
+      g_lo = g;
+    }
+    bisect = !bisect && (hi - lo) > 0.5 * prev_width;
+    prev_width = hi - lo;
+  }
+  // 3. The guard: every point of the exhaustive scan's grid below the bracket is stable.
+  for (int k = coarse_steps; k >= 1; --k) {
+    const double w = depth_max * k / coarse_steps;
+    if (!(w < lo)) continue;
+    if (evaluate(w).radius >= 1.0) return std::nullopt;
+  }
+  WarmFound out;
+  out.result.found = true;
+  out.result.depth_m = lo - g_lo * (hi - lo) / (g_hi - g_lo);
+  out.at_hi = std::move(at_hi);
+  out.hi = hi;
+  return out;
+}
+
+}  // namespace
+
+CriticalDepth fd_critical_depth_from_hint(const DelayedSystem& s, const FdOptions& o,
+                                          RadiusSolver solver, double rel_tol, int coarse_steps,
+                                          double hint_depth_m) {
+  const FdDiscretization fd(s, o);
+  long long evaluations = 0;
+  auto found = warm_search([&](double w) { return fd.dominant_multiplier(w, solver); },
+                           fd.radius_without_cutting(), o.depth_max_m, coarse_steps, rel_tol,
+                           hint_depth_m, evaluations);
+  if (!found) {
+    CriticalDepth result = critical_depth_by_bracketing(
+        [&](double w) { return radius(fd, w, solver) - 1.0; }, o.depth_max_m, coarse_steps,
+        rel_tol);
+    result.evaluations += evaluations;
+    if (!result.found) return result;
+    std::tie(result.bifurcation, result.chatter_hz) =
+        fd.dominant_mode(result.depth_m * (1.0 + 0.5 * rel_tol), solver);
+    return result;
+  }
+  CriticalDepth result = found->result;
+  result.evaluations = evaluations;
+  std::tie(result.bifurcation, result.chatter_hz) = fd.mode_of(found->at_hi);
+  return result;
+}
+
+CriticalDepth fd_critical_depth_from_hint(const std::function<DelayedSystem(double)>& system_at,
+                                          const FdOptions& o, RadiusSolver solver,
+                                          double rel_tol, int coarse_steps, double hint_depth_m) {
+  const DelayedSystem at_limit = system_at(o.depth_max_m);
+  const FdGrid grid = fd_grid(at_limit, o);
+  long long evaluations = 0;
+  auto found = warm_search(
+      [&](double w) { return FdDiscretization(system_at(w), grid).dominant_multiplier(w, solver); },
+      radius_at_zero(at_limit, grid.period_s), o.depth_max_m, coarse_steps, rel_tol, hint_depth_m,
+      evaluations);
+  if (!found) {
+    CriticalDepth result = fd_critical_depth_by_radius(system_at, o, solver, rel_tol, coarse_steps);
+    result.evaluations += evaluations;
+    return result;
+  }
+  CriticalDepth result = found->result;
+  result.evaluations = evaluations;
+  std::tie(result.bifurcation, result.chatter_hz) =
+      FdDiscretization(system_at(found->hi), grid).mode_of(found->at_hi);
   return result;
 }
 

@@ -5,6 +5,9 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <mutex>
+
+#include <omp.h>
 
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/detail/parallel.hpp"
@@ -80,41 +83,41 @@ void complete_lobes(const std::function<LobePoint(double)>& at_speed,
   if (!missing.empty()) add_points(at_speed, missing, threads, points);
 }
 
-void refine_lobes(const std::function<LobePoint(double)>& at_speed, const LobesOptions& o,
-                  std::vector<LobePoint>& points) {
+namespace {
+
+// The refinement with each added speed computed by `add(rpm, a, b)` from its two neighbours.
+void refine_with(const std::function<LobePoint(double, const LobePoint&, const LobePoint&)>& add,
+                 const LobesOptions& o, std::vector<LobePoint>& points) {
   // Narrowest interval worth halving: 1e-5 of the speed (a cusp located to that).
   constexpr double kNarrowest = 1e-5;
   for (int level = 0; level < o.refine_levels; ++level) {
-    std::vector<double> added;
+    std::vector<std::size_t> left;  // index of the left neighbour of each added speed
     for (std::size_t i = 0; i + 1 < points.size(); ++i) {
       const LobePoint& a = points[i];
       const LobePoint& b = points[i + 1];
       if (b.rpm - a.rpm > kNarrowest * b.rpm && needs_refinement(a, b, o.refine_change))
-        added.push_back(0.5 * (a.rpm + b.rpm));
+        left.push_back(i);
     }
     const std::size_t room = static_cast<std::size_t>(o.refine_max_points) - points.size();
-    if (added.empty() || room == 0) return;
-    if (added.size() > room) added.resize(room);
-    add_points(at_speed, added, o.threads, points);
+    if (left.empty() || room == 0) return;
+    if (left.size() > room) left.resize(room);
+    std::vector<LobePoint> fresh(left.size());
+    parallel_for(static_cast<int>(left.size()), o.threads, [&](int k) {
+      const LobePoint& a = points[left[static_cast<std::size_t>(k)]];
+      const LobePoint& b = points[left[static_cast<std::size_t>(k)] + 1];
+      fresh[static_cast<std::size_t>(k)] = add(0.5 * (a.rpm + b.rpm), a, b);
+    });
+    std::vector<LobePoint> merged;
+    merged.reserve(points.size() + fresh.size());
+    std::merge(points.begin(), points.end(), fresh.begin(), fresh.end(),
+               std::back_inserter(merged),
+               [](const LobePoint& x, const LobePoint& y) { return x.rpm < y.rpm; });
+    points = std::move(merged);
   }
 }
 
-LobesReport trace_lobes(const std::function<LobePoint(double)>& at_speed, const LobesOptions& o,
-                        const std::function<void(int, int)>& progress) {
-  if (const auto problems = o.validate(); !problems.empty()) throw InvalidInput(problems, "lobes");
-  const auto start = std::chrono::steady_clock::now();
-  const std::vector<double> speeds = o.speeds_rpm();
-  const int n = static_cast<int>(speeds.size());
-  LobesReport report;
-  report.options = o;
-  report.points.resize(speeds.size());
-  parallel_for(
-      n, o.threads,
-      [&](int i) {
-        report.points[static_cast<std::size_t>(i)] = at_speed(speeds[static_cast<std::size_t>(i)]);
-      },
-      progress);
-  if (o.refine) refine_lobes(at_speed, o, report.points);
+// Totals, warnings and time of a traced report.
+void finish_report(LobesReport& report, std::chrono::steady_clock::time_point start) {
   std::string unresolved, truncated;
   int unresolved_count = 0, truncated_count = 0;
   const auto list = [](std::string& text, int& count, double rpm) {
@@ -140,6 +143,76 @@ LobesReport trace_lobes(const std::function<LobePoint(double)>& at_speed, const 
                       truncated + (truncated_count > 10 ? ", ..." : "") + " rpm";
   }
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+void refine_lobes(const std::function<LobePoint(double)>& at_speed, const LobesOptions& o,
+                  std::vector<LobePoint>& points) {
+  refine_with([&](double rpm, const LobePoint&, const LobePoint&) { return at_speed(rpm); }, o,
+              points);
+}
+
+LobesReport trace_lobes(const std::function<LobePoint(double)>& at_speed, const LobesOptions& o,
+                        const std::function<void(int, int)>& progress) {
+  if (const auto problems = o.validate(); !problems.empty()) throw InvalidInput(problems, "lobes");
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<double> speeds = o.speeds_rpm();
+  const int n = static_cast<int>(speeds.size());
+  LobesReport report;
+  report.options = o;
+  report.points.resize(speeds.size());
+  parallel_for(
+      n, o.threads,
+      [&](int i) {
+        report.points[static_cast<std::size_t>(i)] = at_speed(speeds[static_cast<std::size_t>(i)]);
+      },
+      progress);
+  if (o.refine) refine_lobes(at_speed, o, report.points);
+  finish_report(report, start);
+  return report;
+}
+
+LobesReport trace_lobes_warm(const WarmSpeedFunction& at_speed, const LobesOptions& o,
+                             const std::function<void(int, int)>& progress) {
+  if (const auto problems = o.validate(); !problems.empty()) throw InvalidInput(problems, "lobes");
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<double> speeds = o.speeds_rpm();
+  const int n = static_cast<int>(speeds.size());
+  LobesReport report;
+  report.options = o;
+  report.points.resize(speeds.size());
+  // Runs of consecutive speeds: enough of them for the dynamic schedule to balance the
+  // threads, long enough that few speeds start cold.
+  constexpr int kRunsPerThread = 4, kShortestRun = 8;
+  const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+  const int runs = std::clamp(std::min(kRunsPerThread * threads, n / kShortestRun), 1, n);
+  std::mutex mutex;
+  int done = 0;
+  parallel_for(runs, o.threads, [&](int run) {
+    const int first = static_cast<int>(static_cast<long long>(n) * run / runs);
+    const int last = static_cast<int>(static_cast<long long>(n) * (run + 1) / runs);
+    std::vector<const LobePoint*> near;
+    for (int i = first; i < last; ++i) {
+      near.clear();
+      if (i - 1 >= first) near.push_back(&report.points[static_cast<std::size_t>(i - 1)]);
+      if (i - 2 >= first) near.push_back(&report.points[static_cast<std::size_t>(i - 2)]);
+      report.points[static_cast<std::size_t>(i)] =
+          at_speed(speeds[static_cast<std::size_t>(i)], near);
+      if (progress) {
+        std::lock_guard<std::mutex> lock(mutex);
+        progress(++done, n);
+      }
+    }
+  });
+  if (o.refine) {
+    refine_with(
+        [&](double rpm, const LobePoint& a, const LobePoint& b) {
+          return at_speed(rpm, std::vector<const LobePoint*>{&a, &b});
+        },
+        o, report.points);
+  }
+  finish_report(report, start);
   return report;
 }
 

@@ -200,8 +200,11 @@ MillingStabilityOptions extend_search(const MillingStabilityOptions& o, double d
   return out;
 }
 
-MillingBoundary milling_critical_depth(const MillingProcess& model, double rpm,
-                                       const MillingStabilityOptions& o) {
+namespace {
+
+// The search at one speed; hint > 0: the full discretization starts from it.
+MillingBoundary critical_depth_at(const MillingProcess& model, double rpm,
+                                  const MillingStabilityOptions& o, double hint) {
   Validator v;
   v.merge(model.validate_for_stability());
   v.merge(o.validate());
@@ -249,6 +252,13 @@ MillingBoundary milling_critical_depth(const MillingProcess& model, double rpm,
       const RadiusSolver solver = o.method == MillingMethod::kFullDiscretizationDense
                                       ? RadiusSolver::kDense
                                       : RadiusSolver::kArnoldi;
+      if (hint > 0.0) {
+        out.boundary = helical ? fd_critical_depth_from_hint(system_at, fd, solver, o.rel_tol,
+                                                             o.coarse_steps, hint)
+                               : fd_critical_depth_from_hint(system_at(0.0), fd, solver,
+                                                             o.rel_tol, o.coarse_steps, hint);
+        break;
+      }
       out.boundary =
           helical
               ? fd_critical_depth_by_radius(system_at, fd, solver, o.rel_tol, o.coarse_steps)
@@ -261,6 +271,58 @@ MillingBoundary milling_critical_depth(const MillingProcess& model, double rpm,
     out.lobe = static_cast<int>(std::floor(out.boundary.chatter_hz * tooth_period));
   }
   return out;
+}
+
+}  // namespace
+
+MillingBoundary milling_critical_depth(const MillingProcess& model, double rpm,
+                                       const MillingStabilityOptions& o) {
+  return critical_depth_at(model, rpm, o, 0.0);
+}
+
+MillingBoundary milling_critical_depth(const MillingProcess& model, double rpm,
+                                       const MillingStabilityOptions& o, double hint_depth_m) {
+  if (!(hint_depth_m > 0.0) || !std::isfinite(hint_depth_m))
+    throw InvalidInput({"depth hint = " + format_value(hint_depth_m) + " m: must be positive"},
+                       "milling stability");
+  return critical_depth_at(model, rpm, o, hint_depth_m);
+}
+
+double milling_depth_hint(double rpm, const std::vector<const LobePoint*>& near) {
+  if (near.empty() || !near[0]->boundary.found) return 0.0;
+  const LobePoint& a = *near[0];
+  if (near.size() < 2 || !near[1]->boundary.found) return a.boundary.depth_m;
+  const LobePoint& b = *near[1];
+  const double da = a.boundary.depth_m, db = b.boundary.depth_m;
+  if (a.lobe != b.lobe || a.boundary.bifurcation != b.boundary.bifurcation || a.rpm == b.rpm) {
+    // Across a cusp: a refined speed between a and b lies near both; a run's next speed
+    // after a lobe change is nearest to a.
+    return (rpm - a.rpm) * (rpm - b.rpm) < 0.0 ? std::min(da, db) : da;
+  }
+  // Along a lobe the depth changes by a similar factor per step: interpolate ln(depth).
+  const double line = da * std::pow(db / da, (rpm - a.rpm) / (b.rpm - a.rpm));
+  return std::clamp(line, 0.5 * da, 2.0 * da);
+}
+
+LobesReport trace_milling_lobes(const MillingProcess& model, const MillingStabilityOptions& o,
+                                const LobesOptions& grid,
+                                const std::function<void(int, int)>& progress) {
+  const bool fd = o.method == MillingMethod::kFullDiscretization ||
+                  o.method == MillingMethod::kFullDiscretizationDense;
+  if (!fd || !o.warm_start) {
+    return trace_lobes(
+        [&](double rpm) {
+          const MillingBoundary b = milling_critical_depth(model, rpm, o);
+          return LobePoint{rpm, b.boundary, 1.0, b.lobe};
+        },
+        grid, progress);
+  }
+  return trace_lobes_warm(
+      [&](double rpm, const std::vector<const LobePoint*>& near) {
+        const MillingBoundary b = critical_depth_at(model, rpm, o, milling_depth_hint(rpm, near));
+        return LobePoint{rpm, b.boundary, 1.0, b.lobe};
+      },
+      grid, progress);
 }
 
 std::optional<std::string> milling_method_caveat(const MillingProcess& model, MillingMethod method,

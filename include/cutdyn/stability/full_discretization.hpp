@@ -22,6 +22,7 @@
 //   multiplier of the same Φ crosses the unit circle, exactly, without forming Φ.
 #pragma once
 
+#include <complex>
 #include <functional>
 #include <memory>
 #include <string>
@@ -82,6 +83,16 @@ SpectralRadius fd_spectral_radius_arnoldi(const DelayedSystem& system, const FdG
 
 enum class RadiusSolver { kDense, kArnoldi };
 
+/// The multiplier of largest modulus at one depth and its eigenvector: what the warm depth
+/// search keeps of each evaluation (the last unstable one gives the chatter mode).
+struct DominantMultiplier {
+  double radius = 0.0;             // spectral radius |mu|
+  std::complex<double> mu;         // the multiplier of largest modulus
+  Eigen::VectorXcd vector;         // its eigenvector (state of the period map)
+  long long operations = 0;        // products with the period map
+  bool krylov = false;             // false: from the dense matrix
+};
+
 /// The discretized system at one speed — step matrices and delay references, which do not
 /// depend on the depth. Build it once and evaluate the period map at many depths.
 class FdDiscretization {
@@ -99,6 +110,20 @@ class FdDiscretization {
   /// The multiplier of largest modulus at `depth_m`: how stability is lost there
   /// (hopf/flip/fold) and the frequency (Hz) of the harmonic that carries its eigenvector.
   std::pair<Bifurcation, double> dominant_mode(double depth_m, RadiusSolver solver) const;
+  /// Spectral radius with the dominant multiplier and its eigenvector. kArnoldi: an
+  /// unrestarted Arnoldi iteration (up to 30 Krylov vectors, orthogonalized twice) from the
+  /// same fixed pseudo-random start at every call, stopped once the three Ritz values of
+  /// largest modulus satisfy the residual test Spectra applies in spectral_radius_arnoldi
+  /// (|residual| < 1e-10·|Ritz value|) — the same acceptance, without the restarts and
+  /// with the test made after each product from the 6th on, so typically 8–10 products
+  /// instead of 11–17; if it does not converge, Spectra, then the dense eigenvalues.
+  /// kDense: the dense matrix's eigenvalues and eigenvectors.
+  DominantMultiplier dominant_multiplier(double depth_m, RadiusSolver solver) const;
+  /// How stability is lost with that multiplier (as dominant_mode) and the chatter frequency.
+  std::pair<Bifurcation, double> mode_of(const DominantMultiplier& dominant) const;
+  /// Spectral radius of the map at depth 0 without evaluating it: the map is then block
+  /// triangular, its nonzero multipliers those of e^(A0·T), so ρ(0) = max e^(Re(pole)·T).
+  double radius_without_cutting() const;
 
  private:
   struct Impl;
@@ -124,6 +149,28 @@ CriticalDepth fd_critical_depth_by_radius(const DelayedSystem& system, const FdO
 CriticalDepth fd_critical_depth_by_radius(
     const std::function<DelayedSystem(double depth_m)>& system_at, const FdOptions& options,
     RadiusSolver solver, double rel_tol = 1e-6, int coarse_steps = 24);
+
+/// Critical depth from the spectral radius with the search started at `hint_depth_m`, the
+/// critical depth at a neighbouring speed (docs/models/milling-stability.md, "Warm-started
+/// depth search"). The same boundary as fd_critical_depth_by_radius, with the same
+/// guarantee against a lower crossing: (1) from the hint, secant steps with a small
+/// overshoot bracket an upward crossing of ρ − 1 and shrink the bracket [lo, hi] to the
+/// exhaustive search's tolerance (rel_tol times the coarse grid point at or above hi); (2) the
+/// guard: ρ < 1 is verified at every point of the coarse
+/// depth grid (depth_max/coarse_steps apart, the grid of the exhaustive scan) below lo — the
+/// exhaustive search's own condition for reporting a boundary in a higher grid cell; (3) if
+/// the guard finds an unstable grid point, or the bracket cannot be made (stable up to
+/// depth_max, no hint, a hint outside (0, depth_max]), the exhaustive search decides. The
+/// mode (bifurcation, chatter frequency) is that of the dominant multiplier at hi, within
+/// rel_tol above the boundary. `evaluations` counts every spectral radius.
+CriticalDepth fd_critical_depth_from_hint(const DelayedSystem& system, const FdOptions& options,
+                                          RadiusSolver solver, double rel_tol, int coarse_steps,
+                                          double hint_depth_m);
+
+/// The same for a depth-dependent system (helical cutter), as fd_critical_depth_by_radius.
+CriticalDepth fd_critical_depth_from_hint(
+    const std::function<DelayedSystem(double depth_m)>& system_at, const FdOptions& options,
+    RadiusSolver solver, double rel_tol, int coarse_steps, double hint_depth_m);
 
 /// Critical depth by the dense method: spectral radius on a coarse depth scan to bracket the
 /// first unstable depth, then Brent's method to `rel_tol`. For cross-checks at short delays.

@@ -63,6 +63,21 @@ LobesReport trace_lobes(const std::function<LobePoint(double rpm)>& at_speed,
                         const LobesOptions& options,
                         const std::function<void(int done, int total)>& progress = {});
 
+/// A speed's boundary computed with the points already known next to it: `near` holds the
+/// nearest computed speeds (up to two; empty for the first speed of a run), nearest first.
+using WarmSpeedFunction =
+    std::function<LobePoint(double rpm, const std::vector<const LobePoint*>& near)>;
+
+/// trace_lobes for a method that starts each speed from its neighbours (warm start): the
+/// uniform grid is cut into runs of consecutive speeds (4 per thread, at least 8 speeds
+/// each), each run traced in ascending order on one thread with `near` = the previous two
+/// speeds of the run (empty for its first); the threads share the runs. The refinement adds
+/// speeds as trace_lobes does, each with `near` = the two speeds it lies between. Whatever
+/// `at_speed` does with `near`, the speeds and the order of the points are those of
+/// trace_lobes; `progress` counts speeds.
+LobesReport trace_lobes_warm(const WarmSpeedFunction& at_speed, const LobesOptions& options,
+                             const std::function<void(int done, int total)>& progress = {});
+
 /// The adaptive refinement of trace_lobes on its own: adds speeds to `points` (ascending)
 /// as LobesOptions::refine describes.
 void refine_lobes(const std::function<LobePoint(double rpm)>& at_speed, const LobesOptions& options,

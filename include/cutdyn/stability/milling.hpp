@@ -18,6 +18,7 @@
 #include "cutdyn/stability/critical_depth.hpp"
 #include "cutdyn/stability/delayed_system.hpp"
 #include "cutdyn/stability/full_discretization.hpp"
+#include "cutdyn/stability/lobes.hpp"
 #include "cutdyn/stability/method.hpp"
 
 namespace cutdyn {
@@ -56,6 +57,11 @@ struct MillingStabilityOptions {
   FdOptions fd;           // depth_max_m is taken from above
   double rel_tol = 1e-3;  // critical depth, full discretization and helix iterations
   int coarse_steps = 16;  // depth scan before Brent's method (unstable islands)
+  /// Lobes by the full discretization (trace_milling_lobes): start each speed's depth search
+  /// from its neighbours' critical depths (fd_critical_depth_from_hint), with the same guard
+  /// against a lower crossing as the coarse scan. false: every speed searched on its own
+  /// (coarse scan, then Brent), as before 2026-11-24.
+  bool warm_start = true;
 
   std::vector<std::string> validate() const;
 };
@@ -71,6 +77,28 @@ struct MillingBoundary {
 /// method through the margin a − w_crit(H(a)) (coarse scan, then Brent).
 MillingBoundary milling_critical_depth(const MillingProcess& model, double rpm,
                                        const MillingStabilityOptions& options);
+
+/// The same with the full discretization's depth search started from `hint_depth_m`, the
+/// critical depth at a neighbouring speed (fd_critical_depth_from_hint: the same boundary
+/// to rel_tol, verified against a lower crossing on the coarse grid). The other methods
+/// ignore the hint.
+MillingBoundary milling_critical_depth(const MillingProcess& model, double rpm,
+                                       const MillingStabilityOptions& options,
+                                       double hint_depth_m);
+
+/// The hint for a speed from the computed speeds next to it (LobesOptions/trace_lobes_warm's
+/// `near`, nearest first): none (0) when the nearest has no boundary; the interpolation or
+/// extrapolation of ln(depth), linear in speed, of two neighbours on the same lobe with the same
+/// bifurcation (kept within a factor 2 of the nearest); else the nearest's depth, or the
+/// smaller of the two around a refined speed.
+double milling_depth_hint(double rpm, const std::vector<const LobePoint*>& near);
+
+/// The lobes of `model` over `grid`, as `cutdyn lobes` traces them. Full discretization with
+/// options.warm_start: trace_lobes_warm with milling_depth_hint; otherwise trace_lobes with
+/// milling_critical_depth at every speed on its own.
+LobesReport trace_milling_lobes(const MillingProcess& model, const MillingStabilityOptions& options,
+                                const LobesOptions& grid,
+                                const std::function<void(int done, int total)>& progress = {});
 
 /// Where `method` is known to be weak for this cut over rpm_min..rpm_max, the warning a front
 /// end prints with its results (docs/models/milling-stability.md, "How far the methods

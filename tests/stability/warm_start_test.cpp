@@ -1,0 +1,269 @@
+// The warm-started depth search of the milling lobes (fd_critical_depth_from_hint,
+// trace_milling_lobes) against the exhaustive one (coarse scan of 16 depths, then Brent) on the
+// reference cases, and at the places where a warm start could go wrong: an unstable island
+// below the neighbour's depth, hints far off, lobe cusps, flip/Hopf changes and speeds where an
+// island grazes the unit circle. docs/models/milling-stability.md, "Warm-started depth search".
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "cutdyn/core/error.hpp"
+#include "cutdyn/core/units.hpp"
+#include "cutdyn/stability/full_discretization.hpp"
+#include "cutdyn/stability/milling.hpp"
+#include "support/reference_cases.hpp"
+
+namespace cutdyn {
+namespace {
+
+using testing::four_mode_milling;
+using testing::insperger_benchmark;
+
+// Both searches stop with the root in a bracket of rel_tol times the upper end of the grid
+// cell (0.1 % of at most 2× the depth), and interpolate in it: on the same boundary they
+// agree to well within 0.3 %.
+constexpr double kSameBoundary = 3e-3;
+
+struct Case {
+  std::string name;
+  MillingProcess model;
+  double rpm_min, rpm_max;
+  int speeds;
+  double depth_max_m;
+  bool refine = false;
+};
+
+MillingStabilityOptions fd_options(double depth_max_m, bool warm) {
+  MillingStabilityOptions o;
+  o.method = MillingMethod::kFullDiscretization;
+  o.depth_max_m = depth_max_m;
+  o.warm_start = warm;
+  return o;
+}
+
+LobesReport lobes(const Case& c, bool warm) {
+  LobesOptions g;
+  g.rpm_min = c.rpm_min;
+  g.rpm_max = c.rpm_max;
+  g.rpm_steps = c.speeds;
+  g.refine = c.refine;
+  return trace_milling_lobes(c.model, fd_options(c.depth_max_m, warm), g);
+}
+
+// Whether `depth` is an upward crossing of the spectral radius at `rpm`: stable 0.2 % below it,
+// unstable 0.2 % above it.
+bool is_crossing(const MillingProcess& m, double rpm, double depth) {
+  const auto rho = [&](double w) {
+    return FdDiscretization(milling_system(m, rpm, w), FdOptions{}).spectral_radius_arnoldi(w).value;
+  };
+  return rho(depth * (1.0 - 2e-3)) < 1.0 && rho(depth * (1.0 + 2e-3)) >= 1.0;
+}
+
+// The warm lobes against the exhaustive ones at every speed both have: the same boundary
+// (found, depth to kSameBoundary, lobe, bifurcation and chatter frequency), or — where the
+// exhaustive search's Brent step in a grid cell that holds an island landed on the island's
+// upper crossing — a lower depth that is a true crossing; never a larger one. Returns the
+// number of speeds compared; `lower` counts the second kind.
+int expect_same_lobes(const Case& c, int* lower = nullptr) {
+  const LobesReport old = lobes(c, false), warm = lobes(c, true);
+  EXPECT_EQ(old.status, LobesStatus::kSuccess) << c.name;
+  EXPECT_EQ(warm.status, LobesStatus::kSuccess) << c.name;
+  int compared = 0, below = 0;
+  std::size_t j = 0;
+  for (const LobePoint& p : old.points) {
+    while (j < warm.points.size() && warm.points[j].rpm < p.rpm) ++j;
+    if (j == warm.points.size() || warm.points[j].rpm != p.rpm) continue;
+    const LobePoint& q = warm.points[j];
+    ++compared;
+    const std::string where = c.name + " at " + std::to_string(p.rpm) + " rpm";
+    EXPECT_EQ(q.boundary.found, p.boundary.found) << where;
+    EXPECT_LE(q.boundary.depth_m, p.boundary.depth_m * (1.0 + kSameBoundary)) << where;
+    if (q.boundary.depth_m < p.boundary.depth_m * (1.0 - kSameBoundary)) {
+      ++below;
+      EXPECT_TRUE(is_crossing(c.model, p.rpm, q.boundary.depth_m)) << where;
+      continue;
+    }
+    EXPECT_EQ(q.lobe, p.lobe) << where;
+    EXPECT_EQ(q.boundary.bifurcation, p.boundary.bifurcation) << where;
+    EXPECT_NEAR(q.boundary.chatter_hz, p.boundary.chatter_hz, 5e-3 * p.boundary.chatter_hz)
+        << where;
+  }
+  if (lower) *lower = below;
+  return compared;
+}
+
+TEST(WarmStart, DefaultExampleLobesAreTheExhaustiveOnes) {
+  // The embedded example (slotting benchmark, 200 speeds 5000–25 000 rpm, 1 mm), with the
+  // adaptive refinement: the added speeds sit at every cusp between lobes.
+  Case c{"slotting", insperger_benchmark(1.0), 5000.0, 25000.0, 200, 1e-3, true};
+  EXPECT_GE(expect_same_lobes(c), 250);
+}
+
+TEST(WarmStart, UpAndDownMillingLobesAreTheExhaustiveOnes) {
+  for (bool down : {true, false}) {
+    Case c{down ? "a/D 0.5 down" : "a/D 0.5 up", insperger_benchmark(0.5, true, down), 5000.0,
+           25000.0, 60, 2e-3};
+    EXPECT_EQ(expect_same_lobes(c), 60);
+  }
+}
+
+TEST(WarmStart, LowImmersionFlipAndHopfLobesAreTheExhaustiveOnes) {
+  // a/D 0.05, one direction: flip lobes between the Hopf lobes, and unstable islands (the
+  // refinement adds the speeds where flip and Hopf take turns).
+  // Two refined speeds (5943 and 7711 rpm, where flip and Hopf lobes cross) hold an island
+  // inside one 0.625 mm grid cell: the exhaustive search returns its upper crossing (3.5 and
+  // 3.7 mm), the warm search its lower one (2.6 and 2.0 mm).
+  Case c{"a/D 0.05 flip", insperger_benchmark(0.05, false), 5000.0, 25000.0, 60, 10e-3, true};
+  int lower = 0;
+  EXPECT_GE(expect_same_lobes(c, &lower), 60);
+  EXPECT_LE(lower, 4);
+}
+
+TEST(WarmStart, FourModeLobesAreTheExhaustiveOnes) {
+  Case c{"four modes", four_mode_milling(0.5, true), 4000.0, 16000.0, 24, 0.03};
+  EXPECT_EQ(expect_same_lobes(c), 24);
+}
+
+TEST(WarmStart, VariablePitchHelicalExampleLobesAreTheExhaustiveOnes) {
+  // The milling-variable-pitch example: 4 teeth 70/110/70/110°, 30° helix, a/D 0.5 down — one
+  // delay per tooth and a depth-dependent coefficient (the system rebuilt at each depth).
+  MillingProcess m = insperger_benchmark(0.5);
+  m.tool.teeth = 4;
+  m.tool.helix_rad = units::deg_to_rad(30.0);
+  for (double deg : {70.0, 110.0, 70.0, 110.0}) m.tool.pitch_rad.push_back(units::deg_to_rad(deg));
+  Case c{"variable pitch", m, 4000.0, 12000.0, 24, 1e-3};
+  EXPECT_EQ(expect_same_lobes(c), 24);
+}
+
+// ---- edge cases ---------------------------------------------------------------------------
+
+// The low-immersion speed of MillingLobes.UnstableIslandAtLowImmersionIsNotSkipped: unstable
+// in a band near 1.7–2.0 mm, stable above it up to about 4.5 mm.
+struct Island {
+  MillingProcess model = insperger_benchmark(0.05, false);
+  double rpm = 10900.0;
+  MillingStabilityOptions options = fd_options(10e-3, true);
+};
+
+TEST(WarmStart, IslandBelowTheNeighboursDepthIsFoundByTheGuard) {
+  // A hint on the upper boundary (4.5 mm, as a neighbouring speed without the island would
+  // give): the bracket forms there, and the guard's grid point in the island (1.875 mm) sends
+  // the speed to the exhaustive search, which returns the island's lower edge.
+  const Island is;
+  const MillingBoundary old = milling_critical_depth(is.model, is.rpm, is.options);
+  ASSERT_TRUE(old.boundary.found);
+  ASSERT_LT(old.boundary.depth_m, 2.0e-3);
+  for (double hint : {4.45e-3, 5e-3, 3e-3, 2.5e-3}) {
+    const MillingBoundary warm = milling_critical_depth(is.model, is.rpm, is.options, hint);
+    EXPECT_NEAR(warm.boundary.depth_m, old.boundary.depth_m, kSameBoundary * old.boundary.depth_m)
+        << "hint " << hint;
+    EXPECT_EQ(warm.boundary.bifurcation, old.boundary.bifurcation) << "hint " << hint;
+  }
+}
+
+TEST(WarmStart, HintsFarOffGiveTheSameBoundary) {
+  // Far below, far above, at the limit, on a grid point: the same boundary every time.
+  const MillingProcess m = insperger_benchmark(1.0);
+  const MillingStabilityOptions warm = fd_options(1e-3, true);
+  for (double rpm : {5000.0, 9200.0, 13800.0, 21000.0}) {
+    const MillingBoundary old = milling_critical_depth(m, rpm, warm);
+    for (double hint : {1e-9, 1e-6, 0.5 * old.boundary.depth_m, 2.0 * old.boundary.depth_m,
+                        1e-3 / 16, 1e-3, 2e-3}) {
+      const MillingBoundary b = milling_critical_depth(m, rpm, warm, hint);
+      EXPECT_NEAR(b.boundary.depth_m, old.boundary.depth_m, kSameBoundary * old.boundary.depth_m)
+          << rpm << " rpm, hint " << hint;
+      EXPECT_EQ(b.lobe, old.lobe) << rpm << " rpm, hint " << hint;
+    }
+  }
+  EXPECT_THROW(milling_critical_depth(m, 5000.0, warm, 0.0), InvalidInput);
+}
+
+TEST(WarmStart, StableToTheLimitIsLeftToTheExhaustiveSearch) {
+  // A limit below the boundary: no crossing near any hint, so the exhaustive search decides
+  // (stable to the limit, found = false).
+  const MillingProcess m = insperger_benchmark(1.0);
+  const MillingStabilityOptions o = fd_options(0.04e-3, true);
+  const MillingBoundary b = milling_critical_depth(m, 5000.0, o, 0.03e-3);
+  EXPECT_FALSE(b.boundary.found);
+  EXPECT_EQ(b.boundary.depth_m, 0.04e-3);
+}
+
+TEST(WarmStart, NeverLessConservativeWhereAnIslandGrazes) {
+  // Around the island's speed at a/D 0.05 the island is born and dies (its depth band shrinks
+  // to a point: ρ's local maximum grazes 1). 81 speeds 10 000–12 000 rpm: wherever warm and
+  // exhaustive differ, the warm depth is the lower one and a true crossing (stable just below
+  // it, unstable just above), never a larger depth.
+  const Island is;
+  Case c{"grazing", is.model, 10000.0, 12000.0, 81, 10e-3};
+  const LobesReport old = lobes(c, false), warm = lobes(c, true);
+  ASSERT_EQ(old.points.size(), warm.points.size());
+  int islands = 0;
+  for (std::size_t i = 0; i < old.points.size(); ++i) {
+    const CriticalDepth& p = old.points[i].boundary;
+    const CriticalDepth& q = warm.points[i].boundary;
+    const double rpm = old.points[i].rpm;
+    if (p.depth_m < 2.5e-3) ++islands;
+    EXPECT_LE(q.depth_m, p.depth_m * (1.0 + kSameBoundary)) << rpm;
+    if (std::abs(q.depth_m - p.depth_m) <= kSameBoundary * p.depth_m) continue;
+    const FdDiscretization fd(milling_system(is.model, rpm), FdOptions{});
+    EXPECT_LT(fd.spectral_radius_arnoldi(q.depth_m * (1.0 - 2e-3)).value, 1.0) << rpm;
+    EXPECT_GE(fd.spectral_radius_arnoldi(q.depth_m * (1.0 + 2e-3)).value, 1.0) << rpm;
+  }
+  EXPECT_GT(islands, 0) << "no island in this speed range";
+}
+
+// ---- the pieces -------------------------------------------------------------------------
+
+TEST(WarmStart, KrylovRadiusIsSpectrasAndTheDenseOne) {
+  // The unrestarted Arnoldi of dominant_multiplier against Spectra's restarted one and the
+  // dense eigenvalues, on both sides of the boundary, slotting, low immersion and four modes.
+  struct Point {
+    MillingProcess m;
+    double rpm, depth;
+  };
+  const std::vector<Point> points = {
+      {insperger_benchmark(1.0), 5000.0, 0.0475e-3}, {insperger_benchmark(1.0), 9200.0, 0.5e-3},
+      {insperger_benchmark(1.0), 24000.0, 0.3e-3},   {insperger_benchmark(0.05, false), 10900.0, 1.9e-3},
+      {insperger_benchmark(0.05, false), 16000.0, 1e-3}, {four_mode_milling(0.5), 8000.0, 2e-3}};
+  for (const Point& p : points) {
+    const FdDiscretization fd(milling_system(p.m, p.rpm), FdOptions{});
+    for (double f : {0.5, 0.99, 1.0, 1.01, 2.0}) {
+      const double w = f * p.depth;
+      const DominantMultiplier k = fd.dominant_multiplier(w, RadiusSolver::kArnoldi);
+      const double spectra = fd.spectral_radius_arnoldi(w).value;
+      EXPECT_NEAR(k.radius, spectra, 1e-7) << p.rpm << " rpm, " << w;
+      EXPECT_NEAR(k.radius, std::abs(k.mu), 1e-15);
+      if (p.rpm == 24000.0 || p.rpm == 16000.0)  // small enough for the dense matrix
+        EXPECT_NEAR(k.radius, fd.spectral_radius(w), 1e-7) << p.rpm << " rpm, " << w;
+    }
+  }
+}
+
+TEST(WarmStart, RadiusWithoutCuttingIsThatOfTheMap) {
+  for (double rpm : {5000.0, 13000.0, 25000.0}) {
+    const FdDiscretization fd(milling_system(insperger_benchmark(1.0), rpm), FdOptions{});
+    EXPECT_NEAR(fd.radius_without_cutting(), fd.spectral_radius(0.0), 1e-10) << rpm;
+  }
+}
+
+TEST(WarmStart, HintFromTheNeighbours) {
+  LobePoint a{10000.0, {}, 1.0, 2}, b{10100.0, {}, 1.0, 2};
+  a.boundary.found = b.boundary.found = true;
+  a.boundary.depth_m = 1e-4;
+  b.boundary.depth_m = 2e-4;
+  a.boundary.bifurcation = b.boundary.bifurcation = Bifurcation::kHopf;
+  EXPECT_EQ(milling_depth_hint(10200.0, {}), 0.0);
+  EXPECT_EQ(milling_depth_hint(10200.0, {&b}), 2e-4);
+  EXPECT_NEAR(milling_depth_hint(10200.0, {&b, &a}), 4e-4, 1e-15);  // the ratio carried on
+  EXPECT_NEAR(milling_depth_hint(10050.0, {&a, &b}), std::sqrt(2.0) * 1e-4, 1e-15);
+  b.lobe = 3;  // across a cusp: the smaller of the two around a refined speed
+  EXPECT_EQ(milling_depth_hint(10050.0, {&a, &b}), 1e-4);
+  EXPECT_EQ(milling_depth_hint(10200.0, {&b, &a}), 2e-4);
+  b.boundary.found = false;
+  EXPECT_EQ(milling_depth_hint(10200.0, {&b, &a}), 0.0);
+}
+
+}  // namespace
+}  // namespace cutdyn
