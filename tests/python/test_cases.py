@@ -49,10 +49,10 @@ def test_a_case_from_a_dict_gives_the_same_lobes(tmp):
     b = cutdyn.lobes(cutdyn.Case.from_toml(str(tmp / "same.toml")))
     assert list(a.critical_depth_mm) == list(b.critical_depth_mm)
     # The echo (to_dict, like the --json case) rounds to 15 digits (natural_hz 228.8…): the
-    # example itself agrees to 1e-11 (measured 4.6e-12; the depth search amplifies a 1e-15
-    # change of the modes a few hundred times).
+    # example itself agrees to 1e-9 (measured 8.4e-11: the depth search, whose own tolerance is
+    # 1e-3, takes a slightly different path after a 1e-15 change of the modes).
     c = cutdyn.lobes(cutdyn.example("milling-insperger"))
-    assert np.allclose(a.critical_depth_mm, c.critical_depth_mm, rtol=1e-11, atol=0)
+    assert np.allclose(a.critical_depth_mm, c.critical_depth_mm, rtol=1e-9, atol=0)
 
 
 def expect_case_error(call, *needles):

@@ -235,8 +235,9 @@ TEST(WarmStart, KrylovRadiusIsSpectrasAndTheDenseOne) {
       const double spectra = fd.spectral_radius_arnoldi(w).value;
       EXPECT_NEAR(k.radius, spectra, 1e-7) << p.rpm << " rpm, " << w;
       EXPECT_NEAR(k.radius, std::abs(k.mu), 1e-15);
-      if (p.rpm == 24000.0 || p.rpm == 16000.0)  // small enough for the dense matrix
+      if (p.rpm == 24000.0 || p.rpm == 16000.0) {  // small enough for the dense matrix
         EXPECT_NEAR(k.radius, fd.spectral_radius(w), 1e-7) << p.rpm << " rpm, " << w;
+      }
     }
   }
 }
