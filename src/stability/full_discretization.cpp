@@ -357,7 +357,7 @@ class PeriodMapT final : public PeriodMap {
     Ys y0(r_, cols), y1(r_, cols), yj(r_, cols);
     long long head = 0;                       // ring block that holds y(j − 1)
     const auto block = [&](long long back) {  // first row of the history block y(j − back)
-      long long b = head + back - 1;             // 0 <= b < 2L: no division
+      long long b = head + back - 1;          // 0 <= b < 2L: no division
       if (b >= L_) b -= L_;
       return d_ + r_ * b;
     };
@@ -588,22 +588,13 @@ std::optional<DominantMultiplier> krylov_dominant(const PeriodMap& map) {
 
 std::pair<Bifurcation, double> FdDiscretization::dominant_mode(double depth_m,
                                                                RadiusSolver solver) const {
-  const DelayedSystem& s = impl_->system;
-  const auto map_ptr = make_period_map(impl_->disc, s, depth_m);
-  const PeriodMap& map = *map_ptr;
-  const auto [mu, v] = dominant_eigenpair(map, solver);
-  const double theta = std::arg(mu);
-  // The eigenvector's history holds y over the last L nodes.
-  const auto d = s.A0.rows();
-  const auto r = s.C.rows();
-  std::vector<double> times{0.0};
-  std::vector<cplx> values{(s.C.cast<cplx>() * v.head(d))(0)};
-  for (Eigen::Index b = 0; d + r * (b + 1) <= v.size(); ++b) {
-    times.push_back(impl_->disc.time(-(b + 1)));
-    values.push_back(v(d + r * b));
-  }
-  return {classify_multiplier(theta),
-          dominant_frequency_hz(theta, impl_->grid.period_s, times, values, impl_->grid.steps())};
+  const auto map_ptr = make_period_map(impl_->disc, impl_->system, depth_m);
+  auto [mu, v] = dominant_eigenpair(*map_ptr, solver);
+  DominantMultiplier dm;
+  dm.mu = mu;
+  dm.radius = std::abs(mu);
+  dm.vector = std::move(v);
+  return mode_of(dm);
 }
 
 DominantMultiplier FdDiscretization::dominant_multiplier(double depth_m,
@@ -733,7 +724,7 @@ std::optional<WarmFound> warm_search(const std::function<DominantMultiplier(doub
     if (hi > 0.0 && lo > 0.0) break;
     if (hi > 0.0 && lo == 0.0 && x <= depth_max / 1e6) return std::nullopt;  // unstable near 0
     double next = secant(xa, ga, x, g);
-    if (g < 0.0) {  // stable so far: go up
+    if (g < 0.0) {                              // stable so far: go up
       if (x >= depth_max) return std::nullopt;  // stable to the limit above the hint
       next = std::isfinite(next) && next > x ? next * (1.0 + 0.5 * rel_tol) : 2.0 * x;
       next = std::min(std::max(next, x * (1.0 + rel_tol)), std::min(depth_max, 2.0 * x));
@@ -804,9 +795,9 @@ CriticalDepth fd_critical_depth_from_hint(const DelayedSystem& s, const FdOption
                            fd.radius_without_cutting(), o.depth_max_m, coarse_steps, rel_tol,
                            hint_depth_m, evaluations);
   if (!found) {
-    CriticalDepth result = critical_depth_by_bracketing(
-        [&](double w) { return radius(fd, w, solver) - 1.0; }, o.depth_max_m, coarse_steps,
-        rel_tol);
+    CriticalDepth result =
+        critical_depth_by_bracketing([&](double w) { return radius(fd, w, solver) - 1.0; },
+                                     o.depth_max_m, coarse_steps, rel_tol);
     result.evaluations += evaluations;
     if (!result.found) return result;
     std::tie(result.bifurcation, result.chatter_hz) =
@@ -820,8 +811,8 @@ CriticalDepth fd_critical_depth_from_hint(const DelayedSystem& s, const FdOption
 }
 
 CriticalDepth fd_critical_depth_from_hint(const std::function<DelayedSystem(double)>& system_at,
-                                          const FdOptions& o, RadiusSolver solver,
-                                          double rel_tol, int coarse_steps, double hint_depth_m) {
+                                          const FdOptions& o, RadiusSolver solver, double rel_tol,
+                                          int coarse_steps, double hint_depth_m) {
   const DelayedSystem at_limit = system_at(o.depth_max_m);
   const FdGrid grid = fd_grid(at_limit, o);
   long long evaluations = 0;

@@ -1,5 +1,7 @@
 #include "cutdyn/stability/lobes.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -7,11 +9,9 @@
 #include <limits>
 #include <mutex>
 
-#include <omp.h>
-
-#include "cutdyn/core/error.hpp"
 #include "cutdyn/core/detail/parallel.hpp"
 #include "cutdyn/core/detail/roots.hpp"
+#include "cutdyn/core/error.hpp"
 
 namespace cutdyn {
 
@@ -109,8 +109,7 @@ void refine_with(const std::function<LobePoint(double, const LobePoint&, const L
     });
     std::vector<LobePoint> merged;
     merged.reserve(points.size() + fresh.size());
-    std::merge(points.begin(), points.end(), fresh.begin(), fresh.end(),
-               std::back_inserter(merged),
+    std::merge(points.begin(), points.end(), fresh.begin(), fresh.end(), std::back_inserter(merged),
                [](const LobePoint& x, const LobePoint& y) { return x.rpm < y.rpm; });
     points = std::move(merged);
   }
@@ -153,15 +152,25 @@ void refine_lobes(const std::function<LobePoint(double)>& at_speed, const LobesO
               points);
 }
 
+namespace {
+
+// The report of the options' speeds, its points to be filled.
+LobesReport empty_report(const LobesOptions& o, const std::vector<double>& speeds) {
+  LobesReport report;
+  report.options = o;
+  report.points.resize(speeds.size());
+  return report;
+}
+
+}  // namespace
+
 LobesReport trace_lobes(const std::function<LobePoint(double)>& at_speed, const LobesOptions& o,
                         const std::function<void(int, int)>& progress) {
   if (const auto problems = o.validate(); !problems.empty()) throw InvalidInput(problems, "lobes");
   const auto start = std::chrono::steady_clock::now();
   const std::vector<double> speeds = o.speeds_rpm();
   const int n = static_cast<int>(speeds.size());
-  LobesReport report;
-  report.options = o;
-  report.points.resize(speeds.size());
+  LobesReport report = empty_report(o, speeds);
   parallel_for(
       n, o.threads,
       [&](int i) {
@@ -179,9 +188,7 @@ LobesReport trace_lobes_warm(const WarmSpeedFunction& at_speed, const LobesOptio
   const auto start = std::chrono::steady_clock::now();
   const std::vector<double> speeds = o.speeds_rpm();
   const int n = static_cast<int>(speeds.size());
-  LobesReport report;
-  report.options = o;
-  report.points.resize(speeds.size());
+  LobesReport report = empty_report(o, speeds);
   // Runs of consecutive speeds: enough of them for the dynamic schedule to balance the
   // threads, long enough that few speeds start cold.
   constexpr int kRunsPerThread = 4, kShortestRun = 8;
