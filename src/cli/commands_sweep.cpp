@@ -154,16 +154,16 @@ bool failed(const std::string& rows) {
 // The order to start the variants in under MPI: the largest first (by speeds × modes), so
 // that no long one starts last; equal ones in their own order.
 std::vector<std::size_t> largest_first(const std::vector<app::LobesVariant>& variants,
-                                       std::vector<std::size_t> todo) {
+                                       std::vector<std::size_t> remaining) {
   const auto cost = [&](std::size_t i) {
     const auto& c = variants[i].c;
     return c ? static_cast<double>(c->lobes.rpm_steps) *
                    static_cast<double>(1 + c->modal.modes.size() + c->frfs.size())
              : 0.0;
   };
-  std::stable_sort(todo.begin(), todo.end(),
+  std::stable_sort(remaining.begin(), remaining.end(),
                    [&](std::size_t a, std::size_t b) { return cost(a) > cost(b); });
-  return todo;
+  return remaining;
 }
 
 int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err,
@@ -215,15 +215,15 @@ int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err,
     for (const auto& [i, rows] : earlier) start << rows;
     if (!start) throw InvalidInput({"--out: cannot write " + partial}, "command line");
   }
-  std::vector<std::size_t> todo;
+  std::vector<std::size_t> remaining;
   for (std::size_t i = 0; i < variants.size(); ++i)
-    if (!earlier.count(i)) todo.push_back(i);
+    if (!earlier.count(i)) remaining.push_back(i);
   PartialWriter file(partial, earlier.size(), variants.size(), err);
   const auto deliver = [&](std::size_t, std::string text) { file.deliver(text); };
   if (world && world->size > 1) {
-    mpi_share(*world, largest_first(variants, todo), compute, deliver);
+    mpi_share(*world, largest_first(variants, remaining), compute, deliver);
   } else {
-    for (std::size_t i : todo) deliver(i, compute(i));
+    for (std::size_t i : remaining) deliver(i, compute(i));
   }
   file.close();
   // The file: the variants in their order, written whole and renamed into place.

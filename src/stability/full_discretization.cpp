@@ -706,21 +706,25 @@ std::optional<WarmFound> warm_search(const std::function<DominantMultiplier(doub
   DominantMultiplier at_hi;
   double xa = 0.0, ga = g_lo;  // the point evaluated before the last (for the secant)
   double x = hint, g = 0.0;
+  // Evaluates x, and makes it the bracket's stable or unstable end.
+  const auto take = [&](double depth) {
+    DominantMultiplier d = evaluate(depth);
+    g = d.radius - 1.0;
+    if (g >= 0.0) {
+      hi = depth;
+      g_hi = g;
+      at_hi = std::move(d);
+    } else {
+      lo = depth;
+      g_lo = g;
+    }
+  };
   // 1. Bracket: from the hint, secant steps (the first through (0, ρ(0) − 1)) pushed half a
   //    tolerance past the estimated root, so that the next point tends to land on its far side.
   constexpr int kMaxBracketSteps = 40;
   for (int step = 0;; ++step) {
     if (step == kMaxBracketSteps) return std::nullopt;
-    DominantMultiplier d = evaluate(x);
-    g = d.radius - 1.0;
-    if (g >= 0.0) {
-      hi = x;
-      g_hi = g;
-      at_hi = std::move(d);
-    } else {
-      lo = x;
-      g_lo = g;
-    }
+    take(x);
     if (hi > 0.0 && lo > 0.0) break;
     if (hi > 0.0 && lo == 0.0 && x <= depth_max / 1e6) return std::nullopt;  // unstable near 0
     double next = secant(xa, ga, x, g);
@@ -757,16 +761,7 @@ std::optional<WarmFound> warm_search(const std::function<DominantMultiplier(doub
     xa = x;
     ga = g;
     x = probe;
-    DominantMultiplier d = evaluate(x);
-    g = d.radius - 1.0;
-    if (g >= 0.0) {
-      hi = x;
-      g_hi = g;
-      at_hi = std::move(d);
-    } else {
-      lo = x;
-      g_lo = g;
-    }
+    take(x);
     bisect = !bisect && (hi - lo) > 0.5 * prev_width;
     prev_width = hi - lo;
   }
