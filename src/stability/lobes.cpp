@@ -182,6 +182,22 @@ LobesReport trace_lobes(const std::function<LobePoint(double)>& at_speed, const 
   return report;
 }
 
+std::vector<int> warm_run_starts(const std::vector<double>& speeds_rpm) {
+  const int n = static_cast<int>(speeds_rpm.size());
+  const int runs = std::clamp(n / kWarmRunLength, 1, std::max(n, 1));
+  double total = 0.0;
+  for (double rpm : speeds_rpm) total += 1.0 / rpm;
+  std::vector<int> starts{0};
+  double sum = 0.0;
+  for (int i = 0; i < n && static_cast<int>(starts.size()) < runs; ++i) {
+    sum += 1.0 / speeds_rpm[static_cast<std::size_t>(i)];
+    if (sum >= total * static_cast<double>(starts.size()) / runs && i + 1 < n)
+      starts.push_back(i + 1);
+  }
+  starts.push_back(n);
+  return starts;
+}
+
 LobesReport trace_lobes_warm(const WarmSpeedFunction& at_speed, const LobesOptions& o,
                              const std::function<void(int, int)>& progress) {
   if (const auto problems = o.validate(); !problems.empty()) throw InvalidInput(problems, "lobes");
@@ -189,16 +205,15 @@ LobesReport trace_lobes_warm(const WarmSpeedFunction& at_speed, const LobesOptio
   const std::vector<double> speeds = o.speeds_rpm();
   const int n = static_cast<int>(speeds.size());
   LobesReport report = empty_report(o, speeds);
-  // Runs of consecutive speeds: enough of them for the dynamic schedule to balance the
-  // threads, long enough that few speeds start cold.
-  constexpr int kRunsPerThread = 4, kShortestRun = 8;
-  const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
-  const int runs = std::clamp(std::min(kRunsPerThread * threads, n / kShortestRun), 1, n);
+  // Runs of consecutive speeds, cut where the estimated cost (the period, 1/rpm) reaches equal
+  // shares, from the speeds alone: the points never depend on the number of threads.
+  const std::vector<int> starts = warm_run_starts(speeds);
+  const int runs = static_cast<int>(starts.size()) - 1;
   std::mutex mutex;
   int done = 0;
   parallel_for(runs, o.threads, [&](int run) {
-    const int first = static_cast<int>(static_cast<long long>(n) * run / runs);
-    const int last = static_cast<int>(static_cast<long long>(n) * (run + 1) / runs);
+    const int first = starts[static_cast<std::size_t>(run)];
+    const int last = starts[static_cast<std::size_t>(run + 1)];
     std::vector<const LobePoint*> near;
     for (int i = first; i < last; ++i) {
       near.clear();

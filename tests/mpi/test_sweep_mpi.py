@@ -46,6 +46,22 @@ def test_mpi_file_is_the_serial_file(serial, tmp_path):
     assert (tmp_path / "one.csv").read_bytes() == serial
 
 
+def test_full_discretization_on_default_threads_is_the_serial_file(tmp_path):
+    # Each rank takes its share of the cores (here 1 thread under -n 2, 2 threads alone): the
+    # warm-started lobes must not depend on the threads (they did before 2026-11-24).
+    sweep = ["sweep", "--vary", "tool.teeth=2:1:3", "--vary", "lobes.rpm_steps=60:20:80",
+             "--method", "full-discretization"]
+    code, out, err = run(*sweep, "--out", str(tmp_path / "s.csv"))
+    assert code == 0, err
+    code, out, err = run(*sweep, "--out", str(tmp_path / "m.csv"), mpi=2)
+    assert code == 0, err
+    assert "on 2 ranks" in out
+    assert (tmp_path / "m.csv").read_bytes() == (tmp_path / "s.csv").read_bytes()
+    code, out, err = run(*sweep, "--threads", "1", "--out", str(tmp_path / "t.csv"))
+    assert code == 0, err
+    assert (tmp_path / "t.csv").read_bytes() == (tmp_path / "s.csv").read_bytes()
+
+
 def test_a_failing_variant_is_reported_and_the_rest_complete(serial, tmp_path):
     code, out, err = run(*SWEEP, "--out", str(tmp_path / "m.csv"), mpi=2)
     assert code == 0, err

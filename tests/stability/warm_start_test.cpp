@@ -56,7 +56,9 @@ LobesReport lobes(const Case& c, bool warm) {
 // unstable 0.2 % above it.
 bool is_crossing(const MillingProcess& m, double rpm, double depth) {
   const auto rho = [&](double w) {
-    return FdDiscretization(milling_system(m, rpm, w), FdOptions{}).spectral_radius_arnoldi(w).value;
+    return FdDiscretization(milling_system(m, rpm, w), FdOptions{})
+        .spectral_radius_arnoldi(w)
+        .value;
   };
   return rho(depth * (1.0 - 2e-3)) < 1.0 && rho(depth * (1.0 + 2e-3)) >= 1.0;
 }
@@ -103,8 +105,12 @@ TEST(WarmStart, DefaultExampleLobesAreTheExhaustiveOnes) {
 
 TEST(WarmStart, UpAndDownMillingLobesAreTheExhaustiveOnes) {
   for (bool down : {true, false}) {
-    Case c{down ? "a/D 0.5 down" : "a/D 0.5 up", insperger_benchmark(0.5, true, down), 5000.0,
-           25000.0, 60, 2e-3};
+    Case c{down ? "a/D 0.5 down" : "a/D 0.5 up",
+           insperger_benchmark(0.5, true, down),
+           5000.0,
+           25000.0,
+           60,
+           2e-3};
     EXPECT_EQ(expect_same_lobes(c), 60);
   }
 }
@@ -223,10 +229,12 @@ TEST(WarmStart, KrylovRadiusIsSpectrasAndTheDenseOne) {
     MillingProcess m;
     double rpm, depth;
   };
-  const std::vector<Point> points = {
-      {insperger_benchmark(1.0), 5000.0, 0.0475e-3}, {insperger_benchmark(1.0), 9200.0, 0.5e-3},
-      {insperger_benchmark(1.0), 24000.0, 0.3e-3},   {insperger_benchmark(0.05, false), 10900.0, 1.9e-3},
-      {insperger_benchmark(0.05, false), 16000.0, 1e-3}, {four_mode_milling(0.5), 8000.0, 2e-3}};
+  const std::vector<Point> points = {{insperger_benchmark(1.0), 5000.0, 0.0475e-3},
+                                     {insperger_benchmark(1.0), 9200.0, 0.5e-3},
+                                     {insperger_benchmark(1.0), 24000.0, 0.3e-3},
+                                     {insperger_benchmark(0.05, false), 10900.0, 1.9e-3},
+                                     {insperger_benchmark(0.05, false), 16000.0, 1e-3},
+                                     {four_mode_milling(0.5), 8000.0, 2e-3}};
   for (const Point& p : points) {
     const FdDiscretization fd(milling_system(p.m, p.rpm), FdOptions{});
     for (double f : {0.5, 0.99, 1.0, 1.01, 2.0}) {
@@ -264,6 +272,55 @@ TEST(WarmStart, HintFromTheNeighbours) {
   EXPECT_EQ(milling_depth_hint(10200.0, {&b, &a}), 2e-4);
   b.boundary.found = false;
   EXPECT_EQ(milling_depth_hint(10200.0, {&b, &a}), 0.0);
+}
+
+// The runs are cut from the speeds alone, so the lobes are the same, bit for bit, on any number
+// of threads (a sweep under MPI gives each rank a share of the cores and must write the file of
+// a single process).
+TEST(WarmStart, LobesDoNotDependOnTheThreads) {
+  LobesOptions g;
+  g.rpm_min = 5000.0;
+  g.rpm_max = 25000.0;
+  g.rpm_steps = 120;
+  std::vector<LobesReport> reports;
+  for (int threads : {1, 2, 3, 5}) {
+    g.threads = threads;
+    reports.push_back(trace_milling_lobes(insperger_benchmark(1.0), fd_options(1e-3, true), g));
+  }
+  for (std::size_t k = 1; k < reports.size(); ++k) {
+    ASSERT_EQ(reports[k].points.size(), reports[0].points.size());
+    for (std::size_t i = 0; i < reports[0].points.size(); ++i) {
+      const LobePoint &a = reports[0].points[i], &b = reports[k].points[i];
+      EXPECT_EQ(a.rpm, b.rpm);
+      EXPECT_EQ(a.boundary.depth_m, b.boundary.depth_m) << a.rpm << " rpm, run " << k;
+      EXPECT_EQ(a.boundary.chatter_hz, b.boundary.chatter_hz) << a.rpm;
+      EXPECT_EQ(a.lobe, b.lobe) << a.rpm;
+    }
+  }
+}
+
+TEST(WarmStart, RunsShareTheCostEqually) {
+  std::vector<double> speeds;
+  for (int i = 0; i < 200; ++i) speeds.push_back(5000.0 + 100.0 * i);
+  const std::vector<int> starts = warm_run_starts(speeds);
+  ASSERT_EQ(starts.size(), 200 / kWarmRunLength + 1u);
+  EXPECT_EQ(starts.front(), 0);
+  EXPECT_EQ(starts.back(), 200);
+  double total = 0.0;
+  for (double rpm : speeds) total += 1.0 / rpm;
+  const double share = total / static_cast<double>(starts.size() - 1);
+  for (std::size_t r = 0; r + 1 < starts.size(); ++r) {
+    ASSERT_LT(starts[r], starts[r + 1]);
+    double cost = 0.0;
+    for (int i = starts[r]; i < starts[r + 1]; ++i)
+      cost += 1.0 / speeds[static_cast<std::size_t>(i)];
+    // Each run ends at the first speed that completes its share: off by at most one speed.
+    EXPECT_NEAR(cost, share, 1.0 / 5000.0) << "run " << r;
+  }
+  // Longer runs where the speeds are cheaper (higher).
+  EXPECT_GT(starts[starts.size() - 1] - starts[starts.size() - 2], starts[1] - starts[0]);
+  EXPECT_EQ(warm_run_starts({}), (std::vector<int>{0, 0}));
+  EXPECT_EQ(warm_run_starts({1000.0, 2000.0}), (std::vector<int>{0, 2}));
 }
 
 }  // namespace
