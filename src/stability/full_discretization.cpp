@@ -18,10 +18,112 @@
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/stability/detail/boundary_scan.hpp"
+#include "cutdyn/stability/detail/chatter_harmonic.hpp"
 #include "cutdyn/stability/lobes.hpp"
 #include "cutdyn/stability/multi_frequency.hpp"
 
 namespace cutdyn {
+namespace detail {
+
+using cplx = std::complex<double>;
+using units::kTwoPi;
+
+// The harmonic (θ + 2πk)/T that carries most of a Floquet solution sampled at `times`.
+// The factors e^(−i·ωk·t) are advanced from k to k + 1 by one rotation per sample; the
+// samples are kept as separate real and imaginary arrays so that each harmonic's sum and the
+// rotation of every factor run as plain loops over the samples (the compiler vectorizes them).
+double dominant_frequency_hz(double theta, double period, const std::vector<double>& times,
+                             const std::vector<cplx>& values, int steps) {
+  const int kmax = std::max(0, steps / 2);
+  const std::size_t m = times.size();
+  std::vector<double> fr(m), fi(m), rr(m), ri(m);
+  for (std::size_t i = 0; i < m; ++i) {
+    const double t = times[i];
+    const cplx rotation = std::polar(1.0, -kTwoPi * t / period);
+    const cplx factor = values[i] * std::polar(1.0, -(theta - kTwoPi * kmax) * t / period);
+    fr[i] = factor.real();
+    fi[i] = factor.imag();
+    rr[i] = rotation.real();
+    ri[i] = rotation.imag();
+  }
+  std::size_t best = 0;
+  double best_norm = -1.0;
+  for (int k = 0; k <= 2 * kmax; ++k) {
+    double sr = 0.0, si = 0.0;
+    for (std::size_t i = 0; i < m; ++i) {
+      sr += fr[i];
+      si += fi[i];
+    }
+    const double norm = sr * sr + si * si;
+    if (norm > best_norm) {
+      best_norm = norm;
+      best = static_cast<std::size_t>(k);
+    }
+    for (std::size_t i = 0; i < m; ++i) {
+      const double a = fr[i] * rr[i] - fi[i] * ri[i];
+      fi[i] = fr[i] * ri[i] + fi[i] * rr[i];
+      fr[i] = a;
+    }
+  }
+  const double w = (theta + kTwoPi * (static_cast<double>(best) - kmax)) / period;
+  return std::abs(units::rad_per_s_to_hz(w));
+}
+
+// The same harmonic when the samples are uniform, t_i = −i·h with h = period/n: the factor
+// of harmonic k is then e^(i·2πk·i/n), periodic in i with period n, so the samples folded
+// modulo n, G_q, give every harmonic's sum S_k = Σq G_q·e^(i·2πkq/n) (k = 0 … n − 1; k = n,
+// the same sum as k = 0, loses the tie to it as in the direct sum). Parseval bounds what the
+// harmonics not yet summed can hold, Σk |S_k|² = n·Σq |G_q|², so the sums are taken from the
+// lowest frequency up and stop once the largest so far exceeds everything left: the
+// chatter frequency lies near a structural mode, far below the steps' Nyquist frequency, and
+// a few harmonics settle it instead of all n.
+double dominant_frequency_hz_uniform(double theta, double period, int n,
+                                     const std::vector<cplx>& values) {
+  const int kmax = n / 2;
+  const auto un = static_cast<std::size_t>(n);
+  std::vector<cplx> folded(un, cplx(0.0, 0.0)), roots(un);
+  const double h = period / n;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const double t = -static_cast<double>(i) * h;
+    folded[i % un] += values[i] * std::polar(1.0, -(theta - kTwoPi * kmax) * t / period);
+  }
+  double total = 0.0;
+  for (const cplx& g : folded) total += std::norm(g);
+  total *= n;
+  for (std::size_t q = 0; q < un; ++q)
+    roots[q] = std::polar(1.0, kTwoPi * static_cast<double>(q) / n);
+  // Harmonics k = 0 … n − 1 by their frequency |θ + 2π(k − kmax)|/T, lowest first.
+  std::vector<int> order(un);
+  for (int k = 0; k < n; ++k) order[static_cast<std::size_t>(k)] = k;
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    const double fa = std::abs(theta + kTwoPi * (a - kmax)),
+                 fb = std::abs(theta + kTwoPi * (b - kmax));
+    return fa < fb || (fa == fb && a < b);
+  });
+  int best = -1;
+  double best_norm = -1.0, seen = 0.0;
+  for (int k : order) {
+    cplx sum(0.0, 0.0);
+    std::size_t index = 0;  // k·q mod n
+    for (std::size_t q = 0; q < un; ++q) {
+      sum += folded[q] * roots[index];
+      index += static_cast<std::size_t>(k);
+      if (index >= un) index -= un;
+    }
+    const double norm = std::norm(sum);
+    seen += norm;
+    if (norm > best_norm || (norm == best_norm && k < best)) {
+      best_norm = norm;
+      best = k;
+    }
+    if (best_norm > (total - seen) + 1e-9 * total) break;
+  }
+  const double w = (theta + kTwoPi * (static_cast<double>(best) - kmax)) / period;
+  return std::abs(units::rad_per_s_to_hz(w));
+}
+
+}  // namespace detail
+
 namespace {
 
 using cplx = std::complex<double>;
@@ -159,47 +261,6 @@ class Discretization {
   std::vector<std::vector<DelayRef>> refs_;
 };
 
-// The harmonic (θ + 2πk)/T that carries most of a Floquet solution sampled at `times`.
-// The factors e^(−i·ωk·t) are advanced from k to k + 1 by one rotation per sample; the
-// samples are kept as separate real and imaginary arrays so that each harmonic's sum and the
-// rotation of every factor run as plain loops over the samples (the compiler vectorizes them).
-double dominant_frequency_hz(double theta, double period, const std::vector<double>& times,
-                             const std::vector<cplx>& values, int steps) {
-  const int kmax = std::max(0, steps / 2);
-  const std::size_t m = times.size();
-  std::vector<double> fr(m), fi(m), rr(m), ri(m);
-  for (std::size_t i = 0; i < m; ++i) {
-    const double t = times[i];
-    const cplx rotation = std::polar(1.0, -kTwoPi * t / period);
-    const cplx factor = values[i] * std::polar(1.0, -(theta - kTwoPi * kmax) * t / period);
-    fr[i] = factor.real();
-    fi[i] = factor.imag();
-    rr[i] = rotation.real();
-    ri[i] = rotation.imag();
-  }
-  std::size_t best = 0;
-  double best_norm = -1.0;
-  for (int k = 0; k <= 2 * kmax; ++k) {
-    double sr = 0.0, si = 0.0;
-    for (std::size_t i = 0; i < m; ++i) {
-      sr += fr[i];
-      si += fi[i];
-    }
-    const double norm = sr * sr + si * si;
-    if (norm > best_norm) {
-      best_norm = norm;
-      best = static_cast<std::size_t>(k);
-    }
-    for (std::size_t i = 0; i < m; ++i) {
-      const double a = fr[i] * rr[i] - fi[i] * ri[i];
-      fi[i] = fr[i] * ri[i] + fi[i] * rr[i];
-      fr[i] = a;
-    }
-  }
-  const double w = (theta + kTwoPi * (static_cast<double>(best) - kmax)) / period;
-  return std::abs(units::rad_per_s_to_hz(w));
-}
-
 double shortest_structural_period(const DelayedSystem& s) {
   const Eigen::VectorXcd poles = s.A0.eigenvalues();
   double w = 0.0;
@@ -318,6 +379,13 @@ class PeriodMapT final : public PeriodMap {
         g.term = t.term;
         g.k0.noalias() = depth * inv * t.w0EH;
         g.k1.noalias() = depth * inv * t.w1EH;
+        // Where the delayed values of nodes j and j + 1 are, counted back from node j.
+        const DelayRef& r0 = disc_.ref(j, t.term);
+        const DelayRef& r1 = disc_.ref(j + 1, t.term);
+        g.back0 = j - r0.g;
+        g.alpha0 = r0.alpha;
+        g.back1 = j - r1.g;
+        g.alpha1 = r1.alpha;
         gains_.push_back(g);
       }
       out.last = static_cast<int>(gains_.size());
@@ -330,7 +398,7 @@ class PeriodMapT final : public PeriodMap {
   // in order at the end.
   void apply(Eigen::MatrixXd& z, Eigen::MatrixXd& next) const override {
     if (z.cols() == 1)
-      run<1>(z, next);
+      run_vector(z, next);
     else
       run<Eigen::Dynamic>(z, next);
   }
@@ -342,11 +410,60 @@ class PeriodMapT final : public PeriodMap {
   struct Gain {  // of one delay term on one step
     MatDR k0, k1;
     int term = 0;
+    // The delayed values of nodes j and j + 1: (1 − α)·y(j − back) + α·y(j − back + 1).
+    long long back0 = 0, back1 = 0;
+    double alpha0 = 0.0, alpha1 = 0.0;
   };
   struct Step {
     MatDD mx;
     int first = 0, last = 0;  // its gains: gains_[first, last)
   };
+
+  // One column (the Arnoldi product): the same operations as run<Cols>, on maps of fixed
+  // size (blocks of the dynamic z keep a dynamic column count, which slows every small
+  // kernel), with each gain's delay positions computed once by the constructor.
+  void run_vector(Eigen::MatrixXd& z, Eigen::MatrixXd& next) const {
+    using Xv = Eigen::Matrix<double, D, 1>;
+    using Yv = Eigen::Matrix<double, R, 1>;
+    double* const zp = z.data();
+    Eigen::Map<Xv> x(zp, d_);
+    Xv xo(d_);
+    Yv y0(r_), y1(r_), yj(r_);
+    long long head = 0;                       // ring block that holds y(j − 1)
+    const auto block = [&](long long back) {  // first row of the history block y(j − back)
+      long long b = head + back - 1;          // 0 <= b < 2L: no division
+      if (b >= L_) b -= L_;
+      return d_ + r_ * b;
+    };
+    const auto y_at = [&](long long back) -> Yv {  // y(j − back)
+      if (back == 0) return yj;
+      return Eigen::Map<const Yv>(zp + block(back), r_);
+    };
+    const auto delayed = [&](long long back, double alpha, Yv& out) {
+      out = y_at(back);
+      if (alpha > 0.0) out = (1.0 - alpha) * out + alpha * y_at(back - 1);
+    };
+    const int n = disc_.n();
+    for (int j = 0; j < n; ++j) {
+      const Step& st = steps_[static_cast<std::size_t>(j)];
+      xo = x;
+      yj.noalias() = c_ * xo;
+      x.noalias() = st.mx * xo;
+      for (int g = st.first; g < st.last; ++g) {
+        const Gain& gain = gains_[static_cast<std::size_t>(g)];
+        delayed(gain.back0, gain.alpha0, y0);
+        delayed(gain.back1, gain.alpha1, y1);
+        x.noalias() += gain.k0 * y0 + gain.k1 * y1;
+      }
+      head = head == 0 ? L_ - 1 : head - 1;  // push y(j) = C·x(j)
+      Eigen::Map<Yv>(zp + d_ + r_ * head, r_) = yj;
+    }
+    next.resize(z.rows(), 1);
+    next.topRows(d_) = z.topRows(d_);
+    for (long long b = 1; b <= L_; ++b)
+      next.middleRows(d_ + r_ * (b - 1), r_) = z.middleRows(block(b), r_);
+    z.swap(next);
+  }
 
   template <int Cols>
   void run(Eigen::MatrixXd& z, Eigen::MatrixXd& next) const {
@@ -625,8 +742,17 @@ std::pair<Bifurcation, double> FdDiscretization::mode_of(const DominantMultiplie
     times.push_back(impl_->disc.time(-(b + 1)));
     values.push_back(v(d + r * b));
   }
+  const int n = impl_->grid.steps();
+  const std::vector<double>& nodes = impl_->grid.nodes_s;
+  const double h = impl_->grid.period_s / n;
+  bool uniform = true;
+  for (int j = 0; j < n && uniform; ++j) {
+    const double step = nodes[static_cast<std::size_t>(j + 1)] - nodes[static_cast<std::size_t>(j)];
+    uniform = std::abs(step - h) <= 1e-9 * h;
+  }
   return {classify_multiplier(theta),
-          dominant_frequency_hz(theta, impl_->grid.period_s, times, values, impl_->grid.steps())};
+          uniform ? detail::dominant_frequency_hz_uniform(theta, impl_->grid.period_s, n, values)
+                  : detail::dominant_frequency_hz(theta, impl_->grid.period_s, times, values, n)};
 }
 
 namespace {
@@ -646,36 +772,40 @@ double FdDiscretization::radius_without_cutting() const {
 
 namespace {
 
-double radius(const FdDiscretization& fd, double depth, RadiusSolver solver) {
-  return solver == RadiusSolver::kArnoldi ? fd.spectral_radius_arnoldi(depth).value
-                                          : fd.spectral_radius(depth);
+// The coarse scan and Brent's method on ρ − 1, ρ the dominant multiplier's modulus (the
+// unrestarted Arnoldi for kArnoldi, with its fallbacks); the mode from the dominant multiplier
+// just above the boundary, where it is the critical one.
+CriticalDepth exhaustive_search(const FdDiscretization& fd, double depth_max, RadiusSolver solver,
+                                double rel_tol, int coarse_steps) {
+  CriticalDepth result = critical_depth_by_bracketing(
+      [&](double w) { return fd.dominant_multiplier(w, solver).radius - 1.0; }, depth_max,
+      coarse_steps, rel_tol);
+  if (!result.found) return result;
+  std::tie(result.bifurcation, result.chatter_hz) =
+      fd.mode_of(fd.dominant_multiplier(result.depth_m * (1.0 + 0.5 * rel_tol), solver));
+  return result;
 }
 
 }  // namespace
 
 CriticalDepth fd_critical_depth_by_radius(const DelayedSystem& s, const FdOptions& o,
                                           RadiusSolver solver, double rel_tol, int coarse_steps) {
-  const FdDiscretization fd(s, o);
-  CriticalDepth result = critical_depth_by_bracketing(
-      [&](double w) { return radius(fd, w, solver) - 1.0; }, o.depth_max_m, coarse_steps, rel_tol);
-  if (!result.found) return result;
-  // Just above the boundary the dominant multiplier is the critical one.
-  std::tie(result.bifurcation, result.chatter_hz) =
-      fd.dominant_mode(result.depth_m * (1.0 + 0.5 * rel_tol), solver);
-  return result;
+  return exhaustive_search(FdDiscretization(s, o), o.depth_max_m, solver, rel_tol, coarse_steps);
 }
 
 CriticalDepth fd_critical_depth_by_radius(const std::function<DelayedSystem(double)>& system_at,
                                           const FdOptions& o, RadiusSolver solver, double rel_tol,
                                           int coarse_steps) {
   const FdGrid grid = fd_grid(system_at(o.depth_max_m), o);
-  CriticalDepth result = critical_depth_by_bracketing(
-      [&](double w) { return radius(FdDiscretization(system_at(w), grid), w, solver) - 1.0; },
-      o.depth_max_m, coarse_steps, rel_tol);
+  const auto at = [&](double w) {
+    return FdDiscretization(system_at(w), grid).dominant_multiplier(w, solver);
+  };
+  CriticalDepth result = critical_depth_by_bracketing([&](double w) { return at(w).radius - 1.0; },
+                                                      o.depth_max_m, coarse_steps, rel_tol);
   if (!result.found) return result;
   const double above = result.depth_m * (1.0 + 0.5 * rel_tol);
   std::tie(result.bifurcation, result.chatter_hz) =
-      FdDiscretization(system_at(above), grid).dominant_mode(above, solver);
+      FdDiscretization(system_at(above), grid).mode_of(at(above));
   return result;
 }
 
@@ -790,13 +920,8 @@ CriticalDepth fd_critical_depth_from_hint(const DelayedSystem& s, const FdOption
                            fd.radius_without_cutting(), o.depth_max_m, coarse_steps, rel_tol,
                            hint_depth_m, evaluations);
   if (!found) {
-    CriticalDepth result =
-        critical_depth_by_bracketing([&](double w) { return radius(fd, w, solver) - 1.0; },
-                                     o.depth_max_m, coarse_steps, rel_tol);
+    CriticalDepth result = exhaustive_search(fd, o.depth_max_m, solver, rel_tol, coarse_steps);
     result.evaluations += evaluations;
-    if (!result.found) return result;
-    std::tie(result.bifurcation, result.chatter_hz) =
-        fd.dominant_mode(result.depth_m * (1.0 + 0.5 * rel_tol), solver);
     return result;
   }
   CriticalDepth result = found->result;
@@ -964,7 +1089,7 @@ CriticalDepth fd_critical_depth(const DelayedSystem& s, const FdOptions& o) {
     times.push_back(grid.nodes_s[static_cast<std::size_t>(i)]);
     values.push_back(y(r * i));
   }
-  result.chatter_hz = dominant_frequency_hz(best.theta, grid.period_s, times, values, n);
+  result.chatter_hz = detail::dominant_frequency_hz(best.theta, grid.period_s, times, values, n);
   return result;
 }
 
