@@ -1,3 +1,5 @@
+#include <cerrno>
+#include <cstring>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -6,5 +8,11 @@
 
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
-  return cutdyn::cli::run(args, std::cout, std::cerr);
+  const int code = cutdyn::cli::run(args, std::cout, std::cerr);
+  // A report that could not be written (a full disk, a closed file) is a failure too.
+  if (!std::cout.flush()) {
+    std::cerr << "cutdyn: error: cannot write standard output (" << std::strerror(errno) << ")\n";
+    return code == 0 ? 1 : code;
+  }
+  return code;
 }

@@ -1,14 +1,20 @@
 #include "cutdyn/io/output.hpp"
 
 #include <fcntl.h>
+#include <limits.h>
+#include <signal.h>
 #include <sys/stat.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <mutex>
 #include <random>
 #include <stdexcept>
 #include <system_error>
@@ -38,6 +44,94 @@ std::string random_suffix() {
   std::string suffix(12, '0');
   for (char& c : suffix) c = kDigits[pick(engine)];
   return suffix;
+}
+
+// ---- Temporaries removed by a fatal signal ----------------------------------------------
+// SIGTERM, SIGINT or SIGHUP ends the process without unwinding, so no rollback runs. The
+// temporaries that exist are listed here in fixed buffers with atomic states, which is all a
+// signal handler may read; it unlinks the files, removes the (then empty) scratch folders,
+// and lets the signal end the process as it would have. The targets are untouched either way:
+// they are only ever replaced by a rename.
+constexpr int kMaxLive = 128;
+enum LiveState : int { kFree = 0, kFilling = 1, kFile = 2, kFolder = 3 };
+struct LiveTemporary {
+  std::atomic<int> state{kFree};
+  char path[PATH_MAX] = {};
+};
+LiveTemporary live_temporaries[kMaxLive];
+
+// Empties a scratch folder (the files a plotting program wrote there) and removes it, with
+// system calls only: getdents64 into a buffer on the stack, unlinkat, rmdir.
+void remove_folder_in_handler(const char* path) {
+  const int fd = ::open(path, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd >= 0) {
+    alignas(8) char buffer[4096];
+    for (;;) {
+      const long got = ::syscall(SYS_getdents64, fd, buffer, sizeof buffer);
+      if (got <= 0) break;
+      for (long at = 0; at < got;) {
+        // struct linux_dirent64: ino (8), off (8), reclen (2), type (1), name.
+        unsigned short length = 0;
+        std::memcpy(&length, buffer + at + 16, sizeof length);
+        const char* name = buffer + at + 19;
+        if (!(name[0] == '.' && (name[1] == '\0' || (name[1] == '.' && name[2] == '\0'))))
+          ::unlinkat(fd, name, 0);
+        at += length;
+      }
+    }
+    ::close(fd);
+  }
+  ::rmdir(path);
+}
+
+extern "C" void remove_temporaries_and_stop(int signal_number) {
+  for (LiveTemporary& t : live_temporaries)
+    if (t.state.load(std::memory_order_acquire) == kFile) ::unlink(t.path);
+  for (LiveTemporary& t : live_temporaries)
+    if (t.state.load(std::memory_order_acquire) == kFolder) remove_folder_in_handler(t.path);
+  ::signal(signal_number, SIG_DFL);
+  ::raise(signal_number);
+}
+
+// The handler goes only where the signal would end the process anyway (SIG_DFL): a program
+// that handles a signal itself (Python's SIGINT, `cutdyn serve`) keeps its handling.
+void install_signal_cleanup() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    for (int signal_number : {SIGTERM, SIGINT, SIGHUP}) {
+      struct sigaction current {};
+      if (::sigaction(signal_number, nullptr, &current) != 0) continue;
+      if (current.sa_handler != SIG_DFL) continue;
+      struct sigaction cleanup {};
+      cleanup.sa_handler = remove_temporaries_and_stop;
+      sigemptyset(&cleanup.sa_mask);
+      ::sigaction(signal_number, &cleanup, nullptr);
+    }
+  });
+}
+
+void track(const fs::path& path, LiveState kind) {
+  install_signal_cleanup();
+  const std::string& text = path.native();
+  if (text.size() >= PATH_MAX) return;  // not removed if killed: a hidden leftover, no more
+  for (LiveTemporary& t : live_temporaries) {
+    int expected = kFree;
+    if (t.state.compare_exchange_strong(expected, kFilling, std::memory_order_acq_rel)) {
+      std::memcpy(t.path, text.c_str(), text.size() + 1);
+      t.state.store(kind, std::memory_order_release);
+      return;
+    }
+  }
+}
+
+void untrack(const fs::path& path) {
+  for (LiveTemporary& t : live_temporaries) {
+    const int state = t.state.load(std::memory_order_acquire);
+    if ((state == kFile || state == kFolder) && path.native() == t.path) {
+      t.state.store(kFree, std::memory_order_release);
+      return;
+    }
+  }
 }
 
 std::string errno_text(int error) { return std::generic_category().message(error); }
@@ -203,6 +297,7 @@ std::ostream& OutputTransaction::open(const fs::path& requested) {
     const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd >= 0) {
       ::close(fd);
+      track(temporary, kFile);
       break;
     }
     if (errno != EEXIST || attempt + 1 >= kNameAttempts)
@@ -214,6 +309,7 @@ std::ostream& OutputTransaction::open(const fs::path& requested) {
     const int error = errno;
     std::error_code ec;
     fs::remove(temporary, ec);
+    untrack(temporary);
     throw_cannot_write(target, error != 0 ? errno_text(error) : "cannot open a temporary file");
   }
   std::ostream& out = *stream;
@@ -229,6 +325,7 @@ void OutputTransaction::adopt(const fs::path& temporary, const fs::path& target)
       throw std::logic_error("OutputTransaction: " + target.string() + " is opened twice");
     }
   }
+  track(temporary, kFile);
   entries_.push_back(Entry{temporary, id, nullptr, nullptr});
 }
 
@@ -238,6 +335,7 @@ fs::path OutputTransaction::scratch_dir(const fs::path& target) {
   for (int attempt = 0;; ++attempt) {
     fs::path dir = temporary_name(folder, target);
     if (::mkdir(dir.c_str(), 0777) == 0) {
+      track(dir, kFolder);
       scratch_dirs_.push_back(dir);
       return dir;
     }
@@ -295,6 +393,7 @@ void OutputTransaction::commit() {
     std::error_code ec;
     fs::rename(entry.temporary, entry.target, ec);
     if (ec) throw_cannot_write(entry.target, ec.message());
+    untrack(entry.temporary);
     entry.temporary.clear();
   }
 
@@ -302,6 +401,7 @@ void OutputTransaction::commit() {
   for (const fs::path& dir : scratch_dirs_) {
     std::error_code ec;
     fs::remove_all(dir, ec);
+    untrack(dir);
   }
   scratch_dirs_.clear();
   committed_ = true;
@@ -313,12 +413,14 @@ void OutputTransaction::rollback() noexcept {
     if (!entry.temporary.empty()) {
       std::error_code ec;
       fs::remove(entry.temporary, ec);
+      untrack(entry.temporary);
     }
   }
   entries_.clear();
   for (const fs::path& dir : scratch_dirs_) {
     std::error_code ec;
     fs::remove_all(dir, ec);
+    untrack(dir);
   }
   scratch_dirs_.clear();
 }
