@@ -1,6 +1,7 @@
 #include "cutdyn/server/server.hpp"
 
 #include <httplib.h>
+#include <sys/socket.h>
 
 #include <algorithm>
 #include <atomic>
@@ -149,6 +150,7 @@ struct Server::State {
   Latest latest;
   httplib::Server http;
   int port = 0;
+  int listening_socket = -1;  // as httplib made it, to raise its backlog
 
   void answer(const httplib::Request& req, httplib::Response& res) {
     const auto started = std::chrono::steady_clock::now();
@@ -184,9 +186,10 @@ Server::Server(io::Case start, ServerOptions options)
   s.http.set_payload_max_length(s.options.max_body_bytes);
   // SO_REUSEADDR (a restart need not wait for TIME_WAIT) but not SO_REUSEPORT, which would let
   // a second server share a port in use instead of being refused.
-  s.http.set_socket_options([](int sock) {
+  s.http.set_socket_options([&s](int sock) {
     int yes = 1;
     setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
+    s.listening_socket = sock;
   });
   const auto api = [&s](const httplib::Request& req, httplib::Response& res) {
     s.answer(req, res);
@@ -222,6 +225,10 @@ void Server::bind() {
   } else {
     s.port = s.http.bind_to_port(s.options.host, s.options.port) ? s.options.port : -1;
   }
+  // httplib listens with a backlog of 5: a burst of connections (the page's requests, a load
+  // test) would overflow it, and a connection whose handshake is dropped long enough is reset.
+  // Listening again on the bound socket only raises the backlog.
+  if (s.port > 0 && s.listening_socket >= 0) ::listen(s.listening_socket, SOMAXCONN);
   if (s.port <= 0)
     throw InvalidInput(
         {"cannot listen on " + s.options.host + ":" + std::to_string(s.options.port) +
