@@ -1,8 +1,10 @@
 #include "cutdyn/monitor/current_csv.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 #include "cutdyn/core/error.hpp"
@@ -11,6 +13,16 @@ namespace cutdyn {
 namespace {
 
 constexpr int kTime = 0, kAxis = 1, kExtra = 6;
+
+// The powers of ten that are exact doubles.
+constexpr double kPow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                               1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                               1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+
+constexpr char kDigitPairs[] =
+    "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+    "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+    "8081828384858687888990919293949596979899";
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
@@ -21,14 +33,405 @@ std::string_view trim(std::string_view s) {
 
 bool blank(std::string_view s) { return trim(s).empty(); }
 
+bool is_digit(char c) { return static_cast<unsigned char>(c - '0') < 10; }
+
+// A control byte: binary data, not text (a tab is a blank).
+bool is_control(unsigned char c) { return (c < 0x20 && c != '\t') || c == 0x7f; }
+
+// The length of the valid UTF-8 sequence at s[0], or 0.
+std::size_t utf8_sequence(std::string_view s) {
+  const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(s[i]); };
+  const unsigned char c = byte(0);
+  if (c < 0x80) return 1;
+  std::size_t n = 0;
+  unsigned char low = 0x80, high = 0xbf;  // the range of the second byte
+  if (c >= 0xc2 && c <= 0xdf) {
+    n = 2;
+  } else if (c >= 0xe0 && c <= 0xef) {
+    n = 3;
+    if (c == 0xe0) low = 0xa0;
+    if (c == 0xed) high = 0x9f;  // no surrogates
+  } else if (c >= 0xf0 && c <= 0xf4) {
+    n = 4;
+    if (c == 0xf0) low = 0x90;
+    if (c == 0xf4) high = 0x8f;
+  } else {
+    return 0;
+  }
+  if (s.size() < n || byte(1) < low || byte(1) > high) return 0;
+  for (std::size_t i = 2; i < n; ++i)
+    if (byte(i) < 0x80 || byte(i) > 0xbf) return 0;
+  return n;
+}
+
+bool valid_utf8(std::string_view s) {
+  for (std::size_t at = 0; at < s.size();) {
+    const std::size_t n = utf8_sequence(s.substr(at));
+    if (n == 0) return false;
+    at += n;
+  }
+  return true;
+}
+
+// `s` for a message: printable ASCII and valid UTF-8 as they are, any other byte as \xNN (tab,
+// CR and LF as \t, \r, \n), so that a message is text, and valid in JSON, whatever the input.
+std::string printable(std::string_view s) {
+  std::string text;
+  for (std::size_t at = 0; at < s.size();) {
+    const auto c = static_cast<unsigned char>(s[at]);
+    const std::size_t n = c >= 0x80 ? utf8_sequence(s.substr(at)) : 1;
+    if (n > 1) {
+      text.append(s.substr(at, n));
+      at += n;
+      continue;
+    }
+    ++at;
+    if (c == '\t') {
+      text += "\\t";
+    } else if (c == '\r') {
+      text += "\\r";
+    } else if (c == '\n') {
+      text += "\\n";
+    } else if (c < 0x20 || c >= 0x7f) {
+      constexpr char kHex[] = "0123456789abcdef";
+      text += "\\x";
+      text += kHex[c >> 4];
+      text += kHex[c & 15];
+    } else {
+      text += static_cast<char>(c);
+    }
+  }
+  return text;
+}
+
 // Shortens a field for a message.
 std::string quoted(std::string_view s) {
-  std::string text(s.substr(0, 40));
+  std::string text = printable(s.substr(0, 40));
   if (s.size() > 40) text += "...";
   return "\"" + text + "\"";
 }
 
+std::string bytes_text(std::size_t n) { return std::to_string(n) + " bytes"; }
+
+// ---- numbers in -----------------------------------------------------------------------------
+
+// The value of the eight digits 0..9 of a little-endian word, the first digit in the lowest
+// byte (the SWAR step of fast_float, Lemire).
+std::uint64_t value_of_eight(std::uint64_t v) {
+  constexpr std::uint64_t kMask = 0x000000ff000000ff;
+  constexpr std::uint64_t kMul1 = 0x000f424000000064;  // 100 + (1000000 << 32)
+  constexpr std::uint64_t kMul2 = 0x0000271000000001;  // 1 + (10000 << 32)
+  v = (v * 10) + (v >> 8);
+  return (((v & kMask) * kMul1) + (((v >> 16) & kMask) * kMul2)) >> 32;
+}
+
+constexpr std::uint64_t kPow10Int[9] = {1,      10,      100,      1000,     10000,
+                                        100000, 1000000, 10000000, 100000000};
+
+// The digits 0..9 before the first other byte of x (x = a word of text ^ "00000000"), 0..8.
+int leading_digits(std::uint64_t x) {
+  // High nibble of each byte set unless it was a digit; a carry out of a non-digit byte can
+  // only disturb the bytes after the first non-digit, which do not count.
+  const std::uint64_t other = (x | (x + 0x0606060606060606)) & 0xf0f0f0f0f0f0f0f0;
+  return other == 0 ? 8 : std::countr_zero(other) >> 3;
+}
+
+// The value of the first n (0..8) digits of x.
+std::uint64_t value_of_first(std::uint64_t x, int n) {
+  const int shift = 64 - 8 * n;  // 0..64, in two steps (a shift by 64 is undefined)
+  return value_of_eight((x << (shift / 2)) << (shift - shift / 2));
+}
+
+// The digits at p appended to m (which may wrap: the caller counts the digits). Up to 16 of
+// them found and valued from two words without a branch on their number (numbers of every
+// length in turn cost no mispredicted loop exit); more, or near the end, one by one.
+const char* digits(const char* p, const char* end, std::uint64_t& m) {
+  if constexpr (std::endian::native == std::endian::little) {
+    if (end - p >= 16) {
+      std::uint64_t a, b;
+      std::memcpy(&a, p, 8);
+      std::memcpy(&b, p + 8, 8);
+      a ^= 0x3030303030303030;
+      b ^= 0x3030303030303030;
+      const int na = leading_digits(a);
+      const int nb = na == 8 ? leading_digits(b) : 0;  // a conditional move, not a branch
+      m = m * kPow10Int[na] + value_of_first(a, na);
+      m = m * kPow10Int[nb] + value_of_first(b, nb);
+      p += na + nb;
+      if (nb < 8) return p;
+    }
+  }
+  for (; p != end && is_digit(*p); ++p) m = m * 10 + static_cast<unsigned>(*p - '0');
+  return p;
+}
+
+// Clinger's fast path of std::from_chars: [-]digits[.digits][(e|E)[+|-]digits] with at least
+// one digit on each side of a point, at most 19 digits (leading zeros included) making at most
+// 2^53, and a decimal exponent within ±22: the significand and the power of ten are exact
+// doubles, so the one correctly rounded multiplication or division is the correctly rounded
+// value. Returns the end of the number, or nullptr for any other form (std::from_chars
+// decides those).
+const char* fast_number(const char* p, const char* end, double& value) {
+  const bool negative = p != end && *p == '-';
+  p += negative ? 1 : 0;  // no branch: the sign of a noisy current is anyone's guess
+  std::uint64_t m = 0;
+  const char* const first = p;
+  p = digits(p, end, m);
+  std::ptrdiff_t count = p - first;
+  if (count == 0) return nullptr;
+  int scale = 0;
+  if (p != end && *p == '.') {
+    const char* const fraction = ++p;
+    p = digits(p, end, m);
+    if (p == fraction) return nullptr;
+    count += p - fraction;
+    if (count > 19) return nullptr;
+    scale = -static_cast<int>(p - fraction);
+  }
+  if (count > 19) return nullptr;
+  if (p != end && (*p | 0x20) == 'e') {
+    ++p;
+    const bool down = p != end && *p == '-';
+    if (p != end && (*p == '-' || *p == '+')) ++p;
+    const char* const exponent = p;
+    int e = 0;
+    for (; p != end && is_digit(*p); ++p) {
+      if (p - exponent == 4) return nullptr;
+      e = e * 10 + (*p - '0');
+    }
+    if (p == exponent) return nullptr;
+    scale += down ? -e : e;
+  }
+  if (m == 0) {
+    value = negative ? -0.0 : 0.0;
+    return p;
+  }
+  if (m > (std::uint64_t{1} << 53) || scale < -22 || scale > 22) return nullptr;
+  double v = static_cast<double>(m);
+  v = scale < 0 ? v / kPow10[-scale] : v * kPow10[scale];
+  value = negative ? -v : v;
+  return p;
+}
+
+// ---- numbers out ----------------------------------------------------------------------------
+
+// The 8 decimal digits of n < 10^8 as ASCII in a word, the first digit in the lowest byte
+// (SWAR: 4 + 4 digits, then 2 + 2, then 1 + 1, by multiplications instead of divisions).
+std::uint64_t eight_digits_text(std::uint32_t n) {
+  std::uint64_t merged = (n / 10000) | (static_cast<std::uint64_t>(n % 10000) << 32);
+  const std::uint64_t div100 = ((merged * 10486) >> 20) & 0x0000007f0000007f;
+  merged = div100 | ((merged - 100 * div100) << 16);
+  const std::uint64_t div10 = ((merged * 103) >> 10) & 0x000f000f000f000f;
+  merged = div10 | ((merged - 10 * div10) << 8);
+  return merged + 0x3030303030303030;
+}
+
+__extension__ typedef unsigned __int128 u128;
+constexpr u128 kZeros = (static_cast<u128>(0x3030303030303030) << 64) | 0x3030303030303030;
+
+// The digits of a number as text in a 128-bit word, the first (not 0) in the lowest byte and
+// '0' past the last; `count` of them without the trailing zeros; its decimal exponent e10
+// (d0.d1... × 10^e10). Composed and written in registers: no byte is read back from memory.
+struct Digits {
+  u128 text = 0;
+  int count = 0;
+  int e10 = 0;
+};
+
+// The number of digits of `text` up to its last one that is not '0' (text holds one).
+int significant(u128 text) {
+  const u128 x = text ^ kZeros;
+  const auto low = static_cast<std::uint64_t>(x), high = static_cast<std::uint64_t>(x >> 64);
+  const auto last = [](std::uint64_t w) {  // the index of the last byte of w that is not 0
+    const std::uint64_t nonzero =
+        (((w & 0x7f7f7f7f7f7f7f7f) + 0x7f7f7f7f7f7f7f7f) | w) & 0x8080808080808080;
+    return (63 - std::countl_zero(nonzero)) >> 3;
+  };
+  return high != 0 ? 9 + last(high) : 1 + last(low);
+}
+
+// The bytes [0, n) of t, n <= 16.
+u128 first_bytes(u128 t, int n) {
+  return n >= 16 ? t : t & ((static_cast<u128>(1) << (8 * n)) - 1);
+}
+
+// Writes the 16 bytes of t at p.
+void store(char* p, u128 t) { std::memcpy(p, &t, 16); }
+
+// floor(log10(x)) or one less, for a positive normal x.
+int decimal_exponent_estimate(double x) {
+  const int e2 = static_cast<int>((std::bit_cast<std::uint64_t>(x) >> 52) & 0x7ff) - 1023;
+  return (e2 * 78913) >> 18;  // floor(e2·log10 2) for |e2| < 1650
+}
+
+// x·10^k in one correctly rounded operation (false if 10^|k| is not an exact double).
+bool scale_by_pow10(double x, int k, double& y) {
+  if (k > 22 || k < -22) return false;
+  y = k >= 0 ? x * kPow10[k] : x / kPow10[-k];
+  return true;
+}
+
+// y = |x|·10^(digits − 1 − e10) in [10^(digits−1), 10^digits), e10 the decimal exponent of x;
+// false for 0, non-finite and subnormal x or where no exact power of ten does it.
+bool scaled_to_digits(double ax, int digits, double& y, int& e10) {
+  if (!(ax >= 2.2250738585072014e-308) || !(ax <= 1.7976931348623157e308)) return false;
+  const double low = kPow10[digits - 1], high = kPow10[digits];
+  e10 = decimal_exponent_estimate(ax);
+  if (!scale_by_pow10(ax, digits - 1 - e10, y)) return false;
+  if (y >= high) {
+    ++e10;
+    if (!scale_by_pow10(ax, digits - 1 - e10, y)) return false;
+  }
+  return y >= low && y < high;
+}
+
+// The digits in scientific form, as printf's %e writes them (up to 16 bytes beyond the end
+// may be overwritten).
+char* put_scientific(char* p, const Digits& g) {
+  // d0 '.' d1..., the point dropped with nothing after it.
+  store(p, (g.text & 0xff) | (static_cast<u128>('.') << 8) | ((g.text >> 8) << 16));
+  p += g.count > 1 ? g.count + 1 : 1;
+  *p++ = 'e';
+  *p++ = g.e10 < 0 ? '-' : '+';
+  const int a = g.e10 < 0 ? -g.e10 : g.e10;
+  if (a >= 100) *p++ = static_cast<char>('0' + a / 100);
+  std::memcpy(p, kDigitPairs + 2 * (a % 100), 2);
+  return p + 2;
+}
+
+// The same in fixed form, as printf's %f writes it with no trailing zeros after a point, for
+// -4 <= e10 <= 15 (up to 16 bytes beyond the end may be overwritten).
+char* put_fixed(char* p, const Digits& g) {
+  if (g.e10 < 0) {
+    std::memcpy(p, "0.000000", 8);
+    store(p + 1 - g.e10, g.text);
+    return p + 1 - g.e10 + g.count;
+  }
+  const int whole = g.e10 + 1;  // the digits before the point, the zeros past count included
+  if (g.count <= whole) {
+    store(p, g.text);
+    return p + whole;
+  }
+  store(p, first_bytes(g.text, whole) | (static_cast<u128>('.') << (8 * whole)) |
+               ((g.text >> (8 * whole)) << (8 * whole + 8)));
+  return p + g.count + 1;
+}
+
+// std::to_chars(p, ..., x, chars_format::general, 7) (printf's %.7g), or nullptr where this
+// path cannot decide it. |x|·10^k is computed in one rounding (relative error 2^-53, under
+// 1.2e-9 of a unit of the 7th digit), so rounding it to an integer is the correct rounding of
+// x unless it lies within 1e-6 of a half; those, 0, and the far exponents go to to_chars.
+char* general7_any(char* p, double x) {
+  double y = 0.0;
+  Digits g;
+  if (!scaled_to_digits(x < 0 ? -x : x, 7, y, g.e10)) return nullptr;
+  const auto whole = static_cast<std::uint32_t>(y);  // y >= 1e6 > 0: the floor
+  const double fraction = y - whole;                 // exact
+  if (fraction > 0.5 - 1e-6 && fraction < 0.5 + 1e-6) return nullptr;
+  auto n = whole + (fraction > 0.5 ? 1u : 0u);
+  if (n == 10'000'000) {
+    n = 1'000'000;
+    ++g.e10;
+  }
+  g.text = (eight_digits_text(n) >> 8) | (kZeros << 56);
+  g.count = significant(g.text);
+  if (x < 0) *p++ = '-';
+  return g.e10 < -4 || g.e10 >= 7 ? put_scientific(p, g) : put_fixed(p, g);
+}
+
+// The same for 1e-4 <= |x| < 1e7, printf's fixed form (the columns of an estimate), in one
+// word: 7 digits and a point are 8 bytes. Anything else, to general7_any.
+char* general7(char* p, double x) {
+  constexpr double kNear[13] = {1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1e0, 1e1,
+                                1e2,  1e3,  1e4,  1e5,  1e6,  1e7};  // 10^(i − 5)
+  const double ax = x < 0 ? -x : x;
+  if (!(ax >= 1e-4 && ax < 1e7)) return general7_any(p, x);
+  int e10 = decimal_exponent_estimate(ax);                // -14..23 here: -5..6
+  e10 += ax >= kNear[e10 + 6] ? 1 : 0;                    // the decimal exponent (or, near a
+  const double y = ax * kPow10[6 - e10];                  // power of ten, one off: then y is
+  if (!(y >= 1e6 && y < 1e7)) return general7_any(p, x);  // out of range, and so refused)
+  const auto whole = static_cast<std::uint32_t>(y);
+  const double fraction = y - whole;
+  if (fraction > 0.5 - 1e-6 && fraction < 0.5 + 1e-6) return general7_any(p, x);
+  const std::uint32_t n = whole + (fraction > 0.5 ? 1u : 0u);
+  if (n == 10'000'000) return general7_any(p, x);
+  const std::uint64_t text = (eight_digits_text(n) >> 8) | (std::uint64_t{'0'} << 56);
+  const std::uint64_t nonzero_digits = text ^ 0x3030303030303030;
+  const std::uint64_t flags =
+      (((nonzero_digits & 0x7f7f7f7f7f7f7f7f) + 0x7f7f7f7f7f7f7f7f) | nonzero_digits) &
+      0x8080808080808080;
+  const int count = 1 + ((63 - std::countl_zero(flags)) >> 3);
+  *p = '-';
+  p += x < 0 ? 1 : 0;
+  if (e10 < 0) {
+    std::memcpy(p, "0.000000", 8);
+    std::memcpy(p + 1 - e10, &text, 8);
+    return p + 1 - e10 + count;
+  }
+  const int before = e10 + 1;  // digits before the point
+  if (count <= before) {
+    std::memcpy(p, &text, 8);
+    return p + before;
+  }
+  const std::uint64_t low = (std::uint64_t{1} << (8 * before)) - 1;  // before <= 6
+  const std::uint64_t word =
+      (text & low) | (std::uint64_t{'.'} << (8 * before)) | ((text & ~low) << 8);
+  std::memcpy(p, &word, 8);
+  return p + count + 1;
+}
+
+// std::to_chars(p, ..., x) (the shortest form that reads back as x), for an x that has a form
+// of at most 15 significant digits, or nullptr. Two decimals of at most 15 digits never read
+// as the same double (DBL_DIG), so such a form, once it reads back as x, is the shortest and
+// the only one of its length. It is the integer nearest to |x|·10^(14 − e10) (within 0.2 of
+// it), read back in one correctly rounded division or multiplication. Of the fixed and the
+// scientific form the shorter is written, the fixed one on a tie (std::to_chars).
+char* shortest15(char* p, double x) {
+  const double ax = x < 0 ? -x : x;
+  double y = 0.0;
+  Digits g;
+  if (!scaled_to_digits(ax, 15, y, g.e10)) return nullptr;
+  auto n = static_cast<std::uint64_t>(y + 0.5);
+  if (n == 1'000'000'000'000'000) {
+    n = 100'000'000'000'000;
+    ++g.e10;
+  }
+  double back = 0.0;
+  if (!scale_by_pow10(static_cast<double>(n), g.e10 - 14, back) || back != ax) return nullptr;
+  const std::uint64_t low = eight_digits_text(static_cast<std::uint32_t>(n % 100'000'000));
+  g.text = (eight_digits_text(static_cast<std::uint32_t>(n / 100'000'000)) >> 8) |
+           (static_cast<u128>(low) << 56) | (kZeros << 120);
+  g.count = significant(g.text);
+  const int count = g.count, e10 = g.e10;
+  const int fixed = e10 >= count - 1 ? e10 + 1 : e10 >= 0 ? count + 1 : count - e10 + 1;
+  const int scientific = count + (count > 1 ? 1 : 0) + 2 + (e10 >= 100 || e10 <= -100 ? 3 : 2);
+  // The fixed form of an integer of 2^53 or more is its exact value (to_chars writes
+  // 852445877104957952, not the digits padded with zeros): left to to_chars.
+  if (fixed <= scientific && e10 >= count && ax >= 9007199254740992.0) return nullptr;
+  if (fixed <= scientific && e10 > 15) return nullptr;  // past the 16 bytes of Digits
+  if (x < 0) *p++ = '-';
+  return fixed <= scientific ? put_fixed(p, g) : put_scientific(p, g);
+}
+
+// Writes `value` as append_number does, at p: room for 48 characters needed.
+char* put_number(char* p, double value, int digits) {
+  char* end = digits == 0 ? shortest15(p, value) : digits == 7 ? general7(p, value) : nullptr;
+  if (end) return end;
+  const auto r = digits > 0 ? std::to_chars(p, p + 32, value, std::chars_format::general, digits)
+                            : std::to_chars(p, p + 32, value);
+  return r.ptr;
+}
+
 }  // namespace
+
+std::from_chars_result parse_double(const char* first, const char* last, double& value) {
+  double v = 0.0;
+  if (const char* end = fast_number(first, last, v)) {
+    value = v;
+    return {end, std::errc{}};
+  }
+  return std::from_chars(first, last, value);
+}
 
 const std::string* CsvComment::find(std::string_view key) const {
   for (const auto& [k, v] : fields)
@@ -90,7 +493,9 @@ std::optional<std::pair<CurrentMeasure, std::size_t>> CurrentCsvParser::recorded
 std::string CsvLineError::text() const { return "line " + std::to_string(line) + ": " + what; }
 
 CurrentCsvParser::CurrentCsvParser(std::string source, std::string extra_column)
-    : source_(std::move(source)), extra_column_(std::move(extra_column)) {}
+    : source_(std::move(source)), extra_column_(std::move(extra_column)) {
+  one_byte_axis_.fill(-1);
+}
 
 void CurrentCsvParser::parse_header(std::string_view line) {
   std::vector<std::string_view> fields;
@@ -130,7 +535,7 @@ void CurrentCsvParser::parse_header(std::string_view line) {
   for (std::size_t s = 0; s < names.size(); ++s)
     if (index_[s] < 0) missing += (missing.empty() ? "" : ", ") + names[s];
   if (!missing.empty()) {
-    std::string header(trim(line).substr(0, 200));
+    std::string header = printable(trim(line).substr(0, 200));
     v.add("line " + std::to_string(line_) + ": missing column" +
           (missing.find(',') != std::string::npos ? "s " : " ") + missing + " (the header is \"" +
           header + "\"; required: time_s,axis,iu_a,iv_a,iw_a,speed_rad_s" +
@@ -147,6 +552,8 @@ void CurrentCsvParser::parse_header(std::string_view line) {
 int CurrentCsvParser::axis_index(std::string_view name) {
   for (std::size_t i = 0; i < axes_.size(); ++i)
     if (axes_[i] == name) return static_cast<int>(i);
+  if (name.size() == 1)
+    one_byte_axis_[static_cast<unsigned char>(name[0])] = static_cast<int>(axes_.size());
   axes_.emplace_back(name);
   last_time_.push_back(0.0);
   last_line_.push_back(0);
@@ -220,7 +627,7 @@ bool CurrentCsvParser::parse_line(std::string_view line, std::vector<CurrentRow>
     std::string_view digits = text;
     if (digits.front() == '+') digits.remove_prefix(1);
     double value = 0.0;
-    const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+    const auto [ptr, ec] = parse_double(digits.data(), digits.data() + digits.size(), value);
     if (ec != std::errc{} || ptr != digits.data() + digits.size()) {
       if (ec == std::errc::result_out_of_range)
         return bad(name + " = " + quoted(text) + ": out of the range of a double");
@@ -234,6 +641,7 @@ bool CurrentCsvParser::parse_line(std::string_view line, std::vector<CurrentRow>
   if (axis.empty()) return bad("axis is empty");
   if (axis.find('"') != std::string_view::npos)
     return bad("axis = " + quoted(axis) + ": quotes are not allowed");
+  if (!valid_utf8(axis)) return bad("axis = " + quoted(axis) + ": not UTF-8 text");
   row.axis = axis_index(axis);
   const auto a = static_cast<std::size_t>(row.axis);
   if (last_line_[a] != 0 && !(row.time_s > last_time_[a]))
@@ -248,36 +656,207 @@ bool CurrentCsvParser::parse_line(std::string_view line, std::vector<CurrentRow>
   return true;
 }
 
+const char* CurrentCsvParser::fast_line(const char* p, const char* const end,
+                                        std::vector<CurrentRow>& rows) {
+  const char* const begin = p;
+  double value[8] = {};
+  const char* axis = p;
+  std::size_t axis_size = 0;
+  for (int f = 0;; ++f) {
+    const int slot = slot_of_field_[static_cast<std::size_t>(f)];
+    if (slot == kAxis) {
+      axis = p;
+      for (; p != end; ++p) {
+        const auto c = static_cast<unsigned char>(*p);
+        if (c <= ' ' || c >= 0x7f || c == ',' || c == '"') break;
+      }
+      axis_size = static_cast<std::size_t>(p - axis);
+      if (axis_size == 0) return nullptr;
+    } else if (slot >= 0) {
+      if (p != end && *p == '+') ++p;  // as the general path allows
+      p = fast_number(p, end, value[slot]);
+      if (!p) return nullptr;
+    } else {
+      for (; p != end && *p != ',' && *p != '\n' && *p != '\r'; ++p)
+        if (is_control(static_cast<unsigned char>(*p))) return nullptr;
+    }
+    if (f + 1 == needed_fields_) break;
+    if (p == end || *p != ',') return nullptr;
+    ++p;
+  }
+  const std::string_view name(axis, axis_size);
+  if (p != end && *p == ',') {  // the fields no column needs
+    int fields = needed_fields_;
+    for (; p != end && *p != '\n' && *p != '\r'; ++p) {
+      if (*p == ',') ++fields;
+      if (is_control(static_cast<unsigned char>(*p))) return nullptr;
+    }
+    if (fields > header_fields_) return nullptr;
+  }
+  // The line end: LF or CR LF (a lone CR, and a line the chunk does not end, to the general
+  // path).
+  const char* const stop = p;
+  if (p != end && *p == '\r') ++p;
+  if (p == end || *p != '\n') return nullptr;
+  if (static_cast<std::size_t>(stop - begin) > kMaxCurrentLineBytes) return nullptr;
+  int a = -1;
+  if (name.size() == 1) {
+    a = one_byte_axis_[static_cast<unsigned char>(name[0])];
+  } else {
+    const auto it = std::find(axes_.begin(), axes_.end(), name);
+    if (it != axes_.end()) a = static_cast<int>(it - axes_.begin());
+  }
+  if (a < 0) return nullptr;  // a new axis: the general path makes it
+  const auto i = static_cast<std::size_t>(a);
+  const double t = value[kTime];
+  if (last_line_[i] != 0 && !(t > last_time_[i])) return nullptr;
+  ++line_;
+  last_time_[i] = t;
+  last_line_[i] = line_;
+  CurrentRow& row = rows.emplace_back();
+  row.line = line_;
+  row.axis = a;
+  row.time_s = t;
+  row.iu_a = value[2];
+  row.iv_a = value[3];
+  row.iw_a = value[4];
+  row.speed_rad_s = value[5];
+  row.extra = value[kExtra];
+  row.rotor_angle_rad = value[kAngleSlot];
+  ++data_lines_;
+  ++good_;
+  return p + 1;
+}
+
+bool CurrentCsvParser::too_long(std::size_t number, std::size_t bytes, bool ended,
+                                std::vector<CsvLineError>& errors) {
+  const std::string limit = "the limit of " + bytes_text(kMaxCurrentLineBytes) + " (1 MiB)";
+  std::string what = ended ? "the line is " + bytes_text(bytes) + " long, longer than " + limit
+                           : "the line is longer than " + limit + ": " + bytes_text(bytes) +
+                                 " without a line end so far";
+  if (!header_done_)
+    throw InvalidInput({"line " + std::to_string(number) + ": " + what + " (before the header)"},
+                       source_);
+  ++data_lines_;
+  errors.push_back({number, std::move(what)});
+  return false;
+}
+
+bool CurrentCsvParser::take_line(std::string_view line, std::vector<CurrentRow>& rows,
+                                 std::vector<CsvLineError>& errors) {
+  if (line_ == 1 && line.substr(0, 3) == "\xef\xbb\xbf") line.remove_prefix(3);  // UTF-8 BOM
+  if (line.size() > kMaxCurrentLineBytes) return too_long(line_, line.size(), true, errors);
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const auto c = static_cast<unsigned char>(line[i]);
+    if (!is_control(c)) continue;
+    constexpr char kHex[] = "0123456789abcdef";
+    std::string what = c == 0 ? std::string("a NUL byte")
+                              : std::string("a control byte 0x") + kHex[c >> 4] + kHex[c & 15];
+    what += " at byte " + std::to_string(i + 1) + " of the line: binary data, not text";
+    if (!header_done_)
+      throw InvalidInput({"line " + std::to_string(line_) + ": " + what + " (before the header)"},
+                         source_);
+    ++data_lines_;
+    errors.push_back({line_, std::move(what)});
+    return false;
+  }
+  return parse_line(line, rows, errors);
+}
+
+bool CurrentCsvParser::lines_with_cr(const char* begin, const char* end, bool stop_at_error,
+                                     std::vector<CurrentRow>& rows,
+                                     std::vector<CsvLineError>& errors) {
+  bool ok = true;
+  for (;;) {
+    const char* cr =
+        static_cast<const char*>(std::memchr(begin, '\r', static_cast<std::size_t>(end - begin)));
+    const char* stop = cr ? cr : end;
+    if (!take_line(std::string_view(begin, static_cast<std::size_t>(stop - begin)), rows, errors)) {
+      ok = false;
+      if (stop_at_error) return false;
+    }
+    if (!cr) return ok;
+    begin = cr + 1;
+    ++line_;
+  }
+}
+
+bool CurrentCsvParser::hold(const char* begin, const char* end, bool stop_at_error,
+                            std::vector<CsvLineError>& errors) {
+  const auto n = static_cast<std::size_t>(end - begin);
+  held_bytes_ += n;
+  if (long_line_) return true;
+  if (held_bytes_ <= kMaxCurrentLineBytes) {
+    pending_.append(begin, n);
+    return true;
+  }
+  // Too long: from here on only its length is kept.
+  long_line_ = true;
+  pending_.clear();
+  if (!header_done_ || stop_at_error) return too_long(line_ + 1, held_bytes_, false, errors);
+  return true;
+}
+
 bool CurrentCsvParser::feed(std::string_view chunk, std::vector<CurrentRow>& rows,
                             std::vector<CsvLineError>& errors, bool stop_at_error) {
-  // Complete the unfinished line of the previous chunk first.
-  if (!pending_.empty()) {
-    const std::size_t nl = chunk.find('\n');
-    if (nl == std::string_view::npos) {
-      pending_.append(chunk);
-      return true;
-    }
-    pending_.append(chunk.substr(0, nl));
-    chunk.remove_prefix(nl + 1);
-    ++line_;
-    const std::string line = std::move(pending_);
-    pending_.clear();
-    if (!parse_line(line, rows, errors) && stop_at_error) return false;
-  }
   const char* p = chunk.data();
-  const char* end = p + chunk.size();
-  while (p < end) {
-    const char* nl =
+  const char* const end = p + chunk.size();
+  if (p == end) return true;
+  if (after_cr_) {  // the last chunk ended with a CR: an LF here is the rest of its line end
+    after_cr_ = false;
+    if (*p == '\n') ++p;
+  }
+  if (held_bytes_ > 0 && p != end) {
+    // The end of the unfinished line of the previous chunks: its first LF or CR.
+    const char* lf =
         static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
-    if (!nl) {
-      pending_.assign(p, static_cast<std::size_t>(end - p));
-      break;
+    const char* stop = lf ? lf : end;
+    if (const void* cr = std::memchr(p, '\r', static_cast<std::size_t>(stop - p)))
+      stop = static_cast<const char*>(cr);
+    if (!hold(p, stop, stop_at_error, errors)) return false;
+    if (stop == end) return true;
+    ++line_;
+    const bool ok =
+        long_line_ ? too_long(line_, held_bytes_, true, errors) : take_line(pending_, rows, errors);
+    pending_.clear();
+    held_bytes_ = 0;
+    long_line_ = false;
+    p = stop + 1;
+    if (*stop == '\r') {
+      if (p == end)
+        after_cr_ = true;
+      else if (*p == '\n')
+        ++p;
+    }
+    if (!ok && stop_at_error) return false;
+  }
+  while (p < end) {
+    if (header_done_) {
+      if (const char* next = fast_line(p, end, rows)) {
+        p = next;
+        continue;
+      }
+    }
+    const char* lf =
+        static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
+    if (!lf) {
+      // No LF: the lines ended by lone CRs, then the start of the next line.
+      if (const char* cr =
+              static_cast<const char*>(memrchr(p, '\r', static_cast<std::size_t>(end - p)))) {
+        ++line_;
+        if (!lines_with_cr(p, cr, stop_at_error, rows, errors) && stop_at_error) return false;
+        p = cr + 1;
+        if (p == end) {
+          after_cr_ = true;
+          return true;
+        }
+      }
+      return hold(p, end, stop_at_error, errors);
     }
     ++line_;
-    if (!parse_line(std::string_view(p, static_cast<std::size_t>(nl - p)), rows, errors) &&
-        stop_at_error)
-      return false;
-    p = nl + 1;
+    const char* stop = lf > p && lf[-1] == '\r' ? lf - 1 : lf;
+    if (!lines_with_cr(p, stop, stop_at_error, rows, errors) && stop_at_error) return false;
+    p = lf + 1;
   }
   return true;
 }
@@ -285,11 +864,15 @@ bool CurrentCsvParser::feed(std::string_view chunk, std::vector<CurrentRow>& row
 bool CurrentCsvParser::finish(std::vector<CurrentRow>& rows, std::vector<CsvLineError>& errors,
                               bool stop_at_error) {
   bool ok = true;
-  if (!pending_.empty()) {
+  after_cr_ = false;
+  if (held_bytes_ > 0) {
     ++line_;
-    const std::string line = std::move(pending_);
+    ok = (long_line_ ? too_long(line_, held_bytes_, true, errors)
+                     : take_line(pending_, rows, errors)) ||
+         !stop_at_error;
     pending_.clear();
-    ok = parse_line(line, rows, errors) || !stop_at_error;
+    held_bytes_ = 0;
+    long_line_ = false;
   }
   if (!header_done_)
     throw InvalidInput({"line 1: empty input: expected a header line with the columns "
@@ -305,26 +888,34 @@ bool CurrentCsvParser::finish(std::vector<CurrentRow>& rows, std::vector<CsvLine
 }
 
 void append_number(std::string& out, double value, int digits) {
-  char buffer[40];
-  const auto r = digits > 0 ? std::to_chars(buffer, buffer + sizeof buffer, value,
-                                            std::chars_format::general, digits)
-                            : std::to_chars(buffer, buffer + sizeof buffer, value);
-  out.append(buffer, r.ptr);
+  char buffer[64];
+  out.append(buffer, put_number(buffer, value, digits));
 }
 
 void append_estimate_row(std::string& out, double time_s, std::string_view axis,
                          const ForceEstimate& e) {
-  append_number(out, time_s);
-  out += ',';
-  out += axis;
-  out += ',';
-  append_number(out, e.force_n, 7);
-  out += ',';
-  if (e.sigma_known) append_number(out, e.force_sigma_n, 7);  // else empty: unknown
-  out += ',';
-  append_number(out, e.speed_rad_s, 7);
-  out += ',';
-  append_number(out, e.accel_rad_s2, 7);
+  // One append per row: the five numbers (at most 5 × 25 characters, and the 16 bytes the
+  // digit copies may overwrite) and a short axis name in one buffer.
+  char buffer[256];
+  char* p = put_number(buffer, time_s, 0);
+  *p++ = ',';
+  if (axis.size() <= 64) {
+    std::memcpy(p, axis.data(), axis.size());
+    p += axis.size();
+  } else {
+    out.append(buffer, p);
+    out += axis;
+    p = buffer;
+  }
+  *p++ = ',';
+  p = put_number(p, e.force_n, 7);
+  *p++ = ',';
+  if (e.sigma_known) p = put_number(p, e.force_sigma_n, 7);  // else empty: unknown
+  *p++ = ',';
+  p = put_number(p, e.speed_rad_s, 7);
+  *p++ = ',';
+  p = put_number(p, e.accel_rad_s2, 7);
+  out.append(buffer, p);
 }
 
 }  // namespace cutdyn

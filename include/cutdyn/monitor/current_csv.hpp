@@ -5,9 +5,14 @@
 // Input: a header line naming the columns, then one sample per line. Required columns, in
 // any order, more allowed: time_s,axis,iu_a,iv_a,iw_a,speed_rad_s (and a reference force
 // column for calibration step 2). Fields are separated by commas, surrounding blanks are
-// ignored, no quoting; blank lines are ignored; CRLF line ends are accepted.
+// ignored, no quoting; blank lines are ignored. A line ends at LF, CR LF or a lone CR (any
+// mix); a UTF-8 byte order mark before the first line is skipped. A line longer than
+// kMaxCurrentLineBytes, or with a control byte (NUL, ...; a tab is a blank), is a bad line,
+// and the parser holds at most that many bytes of a line, however long it is.
 #pragma once
 
+#include <array>
+#include <charconv>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -38,6 +43,16 @@ struct CsvComment {
   const std::string* find(std::string_view key) const;
 };
 
+/// The longest line the reader takes, in bytes without its line end (1 MiB): a longer one is a
+/// bad line (before the header: an error), read past without being held in memory.
+inline constexpr std::size_t kMaxCurrentLineBytes = std::size_t{1} << 20;
+
+/// std::from_chars(first, last, value) (chars_format::general), the same result and the same
+/// end for every input, faster for plain decimals of at most 19 digits and a small exponent
+/// (Clinger's exact fast path: the significand and the power of ten are exact doubles, so one
+/// correctly rounded multiplication or division gives the correctly rounded value).
+std::from_chars_result parse_double(const char* first, const char* last, double& value);
+
 /// One good data line.
 struct CurrentRow {
   std::size_t line = 0;  // 1-based line number in the input
@@ -55,10 +70,14 @@ struct CsvLineError {
 };
 
 /// Push parser: feed it chunks of any size (as they arrive from a pipe), then finish().
-/// Errors of the input as a whole (no header, a missing column, no data line) throw
-/// InvalidInput naming the line and `source`; errors of one data line are returned.
-/// A data line is bad if a required field is missing or empty, is not a number, is NaN or
-/// infinite, or if its time does not increase over the previous good line of the same axis.
+/// Errors of the input as a whole (no header, a missing column, no data line; a line before
+/// the header that is too long or not text) throw InvalidInput naming the line and `source`;
+/// errors of one data line are returned. A data line is bad if a required field is missing or
+/// empty, is not a number, is NaN or infinite, if its time does not increase over the previous
+/// good line of the same axis, if it has more fields than the header, if it is longer than
+/// kMaxCurrentLineBytes, if it has a control byte (binary data), or if its axis is not UTF-8.
+/// No allocation per line: good lines take a fast path (plain numbers, no blanks), the rest
+/// the general one, which gives the same rows.
 class CurrentCsvParser {
  public:
   /// `extra_column`: one more required numeric column (e.g. "force_n"), or empty.
@@ -67,6 +86,8 @@ class CurrentCsvParser {
   /// Parses the complete lines in `chunk` (joined to the unfinished line of the previous
   /// chunk), appending good rows to `rows` and bad lines to `errors`. With `stop_at_error`
   /// it stops at the first bad line and returns false; the parser must not be fed again.
+  /// A line that grows past kMaxCurrentLineBytes is reported as soon as it does with
+  /// `stop_at_error`, else at its end with its length.
   bool feed(std::string_view chunk, std::vector<CurrentRow>& rows,
             std::vector<CsvLineError>& errors, bool stop_at_error);
   /// End of input: parses a last line without a line end; throws for an empty input or one
@@ -88,14 +109,35 @@ class CurrentCsvParser {
   std::size_t good_rows() const { return good_; }
 
  private:
+  // The lines in [begin, end), ended by lone CRs and by `end`; line_ is the first's number.
+  bool lines_with_cr(const char* begin, const char* end, bool stop_at_error,
+                     std::vector<CurrentRow>& rows, std::vector<CsvLineError>& errors);
+  // The line at `begin` if it is a good data line of plain fields ended by LF or CR LF before
+  // `end`: appended to `rows` (line_ counts it), and the position after its line end; else
+  // nullptr, nothing changed.
+  const char* fast_line(const char* begin, const char* end, std::vector<CurrentRow>& rows);
+  // The general path: every check and message.
+  bool take_line(std::string_view line, std::vector<CurrentRow>& rows,
+                 std::vector<CsvLineError>& errors);
   bool parse_line(std::string_view line, std::vector<CurrentRow>& rows,
                   std::vector<CsvLineError>& errors);
+  // Line `number` is past kMaxCurrentLineBytes: `bytes` long, or more if not `ended`.
+  bool too_long(std::size_t number, std::size_t bytes, bool ended,
+                std::vector<CsvLineError>& errors);
+  // The unfinished line grows by [begin, end).
+  bool hold(const char* begin, const char* end, bool stop_at_error,
+            std::vector<CsvLineError>& errors);
   void parse_header(std::string_view line);
   void parse_comment(std::string_view line);
   int axis_index(std::string_view name);
 
   std::string source_, extra_column_;
+  // The unfinished line (no line end seen yet), at most kMaxCurrentLineBytes; once it is
+  // longer only its length is kept (held_bytes_, long_line_).
   std::string pending_;
+  std::size_t held_bytes_ = 0;
+  bool long_line_ = false;
+  bool after_cr_ = false;  // the last chunk ended with a CR: an LF first in the next is its end
   std::size_t line_ = 0;
   bool header_done_ = false;
   std::size_t data_lines_ = 0, good_ = 0;
@@ -110,10 +152,13 @@ class CurrentCsvParser {
   std::vector<CsvComment> comments_;
   std::vector<double> last_time_;
   std::vector<std::size_t> last_line_;
+  std::array<int, 256> one_byte_axis_;  // the index of the axis named by one byte, or -1
 };
 
 /// Appends a number in the form the monitor writes: shortest round-trip (`digits` = 0) or
-/// `digits` significant digits.
+/// `digits` significant digits; the same text as std::to_chars(value) and std::to_chars(value,
+/// chars_format::general, digits), with fast paths for the shortest form of at most 15 digits
+/// and for 7 digits.
 void append_number(std::string& out, double value, int digits = 0);
 
 /// The estimate's columns: time_s,axis,force_n,force_sigma_n,speed_rad_s,accel_rad_s2.

@@ -1,0 +1,530 @@
+// The monitor's CSV reader on hostile streams (docs/models/monitor.md §6): line ends of every
+// kind, NUL bytes and binary data, lines far beyond the length limit, and its fast number
+// parsing and formatting against std::from_chars and std::to_chars, value for value.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "cutdyn/core/error.hpp"
+#include "cutdyn/monitor/current_csv.hpp"
+
+namespace cutdyn {
+namespace {
+
+struct Parsed {
+  std::vector<CurrentRow> rows;
+  std::vector<CsvLineError> errors;
+  bool stopped = false;  // feed or finish returned false
+};
+
+// Whole text at once (piece 0), or `piece` bytes at a time.
+Parsed parse(std::string_view text, bool stop, std::size_t piece = 0) {
+  CurrentCsvParser p("log.csv");
+  Parsed r;
+  if (piece == 0) piece = text.size() + 1;
+  bool ok = true;
+  for (std::size_t at = 0; ok && at < text.size(); at += piece)
+    ok = p.feed(text.substr(at, piece), r.rows, r.errors, stop);
+  if (ok) ok = p.finish(r.rows, r.errors, stop);
+  r.stopped = !ok;
+  return r;
+}
+
+// Rows equal to the bit, and on the same lines.
+void expect_same_rows(const std::vector<CurrentRow>& a, const std::vector<CurrentRow>& b,
+                      const std::string& what) {
+  ASSERT_EQ(a.size(), b.size()) << what;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].line, b[i].line) << what << " row " << i;
+    EXPECT_EQ(a[i].axis, b[i].axis) << what << " row " << i;
+    for (const auto field : {&CurrentRow::time_s, &CurrentRow::iu_a, &CurrentRow::iv_a,
+                             &CurrentRow::iw_a, &CurrentRow::speed_rad_s})
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(a[i].*field),
+                std::bit_cast<std::uint64_t>(b[i].*field))
+          << what << " row " << i;
+  }
+}
+
+std::vector<std::string> texts(const std::vector<CsvLineError>& errors) {
+  std::vector<std::string> t;
+  for (const CsvLineError& e : errors) t.push_back(e.text());
+  return t;
+}
+
+const std::string kHeader = "time_s,axis,iu_a,iv_a,iw_a,speed_rad_s";
+
+// ---- line ends ------------------------------------------------------------------------------
+
+// Lines 1..6 joined by `ends` in turn: header, 3 good lines, a bad one (line 5), a good one.
+std::string log_with_ends(const std::vector<std::string>& ends, bool last_end = true) {
+  const std::vector<std::string> lines = {kHeader,
+                                          "0,x,1,-0.5,-0.5,10",
+                                          "0.001,x,2,-1,-1,11",
+                                          "0,y,3,-1.5,-1.5,-12",
+                                          "0.002,x,ten,1,1,13",
+                                          "0.003,x,4,-2,-2,14"};
+  std::string text;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    text += lines[i];
+    if (i + 1 < lines.size() || last_end) text += ends[i % ends.size()];
+  }
+  return text;
+}
+
+TEST(MonitorCsvStream, EveryKindOfLineEndGivesTheSameRowsAndLineNumbers) {
+  const Parsed lf = parse(log_with_ends({"\n"}), false);
+  ASSERT_EQ(lf.rows.size(), 4u);
+  EXPECT_EQ(lf.rows[3].line, 6u);
+  EXPECT_EQ(lf.rows[2].speed_rad_s, -12.0);
+  ASSERT_EQ(texts(lf.errors), std::vector<std::string>{"line 5: iu_a = \"ten\": not a number"});
+  const std::vector<std::vector<std::string>> kinds = {
+      {"\r\n"}, {"\r"}, {"\n", "\r\n", "\r"}, {"\r", "\r\n"}, {"\r\n", "\r", "\n"}};
+  for (const auto& ends : kinds) {
+    for (const bool last_end : {true, false}) {
+      const std::string text = log_with_ends(ends, last_end);
+      for (const std::size_t piece : {0, 1, 2, 3, 5, 7, 64}) {
+        const std::string what = "ends " + std::to_string(ends.size()) + " first \"" +
+                                 (ends[0] == "\r"   ? "CR"
+                                  : ends[0] == "\n" ? "LF"
+                                                    : "CRLF") +
+                                 "\" piece " + std::to_string(piece);
+        const Parsed r = parse(text, false, piece);
+        expect_same_rows(r.rows, lf.rows, what);
+        EXPECT_EQ(texts(r.errors), texts(lf.errors)) << what;
+      }
+    }
+  }
+}
+
+TEST(MonitorCsvStream, ACarriageReturnSplitFromItsLineFeedIsOneLineEnd) {
+  // "\r" ends one piece, "\n" begins the next: one line end, not a blank line between (the
+  // line numbers after it would be off by one).
+  const std::string text = kHeader + "\r\n0,x,1,1,1,5\r\n0.001,x,1,1,1,5\r\n0.002,x,1,1,1,5";
+  const std::size_t cut = text.find("\r\n0.001") + 1;
+  CurrentCsvParser p("log.csv");
+  std::vector<CurrentRow> rows;
+  std::vector<CsvLineError> errors;
+  ASSERT_TRUE(p.feed(std::string_view(text).substr(0, cut), rows, errors, true));
+  ASSERT_TRUE(p.feed(std::string_view(text).substr(cut), rows, errors, true));
+  ASSERT_TRUE(p.finish(rows, errors, true));
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[1].line, 3u);
+  EXPECT_EQ(rows[2].line, 4u);
+  // Two CRs are two line ends (a blank line between), as are CR and CR LF.
+  const Parsed r = parse(kHeader + "\r\r0,x,1,1,1,5\r\r\n0.001,x,1,1,1,5\r", true);
+  ASSERT_EQ(r.rows.size(), 2u);
+  EXPECT_EQ(r.rows[0].line, 3u);
+  EXPECT_EQ(r.rows[1].line, 5u);
+}
+
+TEST(MonitorCsvStream, AByteOrderMarkBeforeTheHeaderIsSkipped) {
+  const Parsed r = parse("\xef\xbb\xbf" + kHeader + "\r\n0,x,1,1,1,5\r\n", true, 1);
+  ASSERT_EQ(r.rows.size(), 1u);
+  EXPECT_TRUE(r.errors.empty());
+}
+
+// ---- NUL bytes and binary data ----------------------------------------------------------
+
+TEST(MonitorCsvStream, NulAndControlBytesMakeABadLineNamingTheByte) {
+  using namespace std::string_literals;
+  const std::string text = kHeader + "\n0,x,1,1,1,5\n" +
+                           "0.001,x,1\0,1,1,5\n"s +     // line 3: in a number
+                           "0.002,x\0,1,1,1,5\n"s +     // line 4: in the axis
+                           "0.003,x,1,1,1,5,\0\n"s +    // line 5: in a column nobody reads
+                           "\0\0\0\0\n"s +              // line 6: nothing else
+                           "0.004,x,1,1,1,\x1b[0m\n" +  // line 7: an escape sequence
+                           "0.005,x,1,1,1,5\x7f\n" +    // line 8: DEL
+                           "0.006,x,1,1,1,5\n";         // line 9: good
+  for (const std::size_t piece : {0, 1, 4, 9}) {
+    const Parsed r = parse(text, false, piece);
+    ASSERT_EQ(r.rows.size(), 2u) << piece;
+    EXPECT_EQ(r.rows[1].line, 9u);
+    EXPECT_EQ(r.rows[1].time_s, 0.006);
+    EXPECT_EQ(texts(r.errors),
+              (std::vector<std::string>{
+                  "line 3: a NUL byte at byte 10 of the line: binary data, not text",
+                  "line 4: a NUL byte at byte 8 of the line: binary data, not text",
+                  "line 5: a NUL byte at byte 17 of the line: binary data, not text",
+                  "line 6: a NUL byte at byte 1 of the line: binary data, not text",
+                  "line 7: a control byte 0x1b at byte 15 of the line: binary data, not text",
+                  "line 8: a control byte 0x7f at byte 16 of the line: binary data, not text"}))
+        << piece;
+  }
+  // stop: the first one ends the run.
+  const Parsed s = parse(text, true, 4);
+  EXPECT_TRUE(s.stopped);
+  ASSERT_EQ(s.errors.size(), 1u);
+  EXPECT_EQ(s.errors[0].line, 3u);
+  EXPECT_EQ(s.rows.size(), 1u);
+  // A tab is a blank, not binary.
+  EXPECT_TRUE(parse(kHeader + "\n0,\tx\t,1,1,1,5\t\n", true).errors.empty());
+  // Before the header it is an error of the input.
+  try {
+    parse("time_s,axis\0,iu_a\n"s, false);
+    ADD_FAILURE() << "no error";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.problems().at(0),
+              "line 1: a NUL byte at byte 12 of the line: binary data, not text (before the "
+              "header)");
+  }
+}
+
+// Universal line ends, the reference: the numbers of the non-blank lines of `text`.
+std::vector<std::size_t> non_blank_lines(const std::string& text) {
+  std::vector<std::size_t> numbers;
+  std::string line;
+  std::size_t number = 0;
+  const auto end_line = [&] {
+    ++number;
+    if (line.find_first_not_of(" \t") != std::string::npos) numbers.push_back(number);
+    line.clear();
+  };
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      end_line();
+    } else if (text[i] == '\r') {
+      end_line();
+      if (i + 1 < text.size() && text[i + 1] == '\n') ++i;
+    } else {
+      line += text[i];
+    }
+  }
+  if (!line.empty()) end_line();
+  return numbers;
+}
+
+TEST(MonitorCsvStream, ABinaryBlobIsSkippedLineByLineAndTheStreamGoesOn) {
+  std::mt19937 rng(7);
+  std::string blob(64 * 1024, '\0');
+  for (char& c : blob) c = static_cast<char>(rng() & 0xff);
+  std::string before = kHeader + "\n", after;
+  for (int k = 0; k < 50; ++k) {
+    before += std::to_string(k) + "e-3,x," + std::to_string(k) + ",-1,-1,50\n";
+    after += std::to_string(100 + k) + "e-3,x," + std::to_string(k) + ",-1,-1,50\n";
+  }
+  const std::string text = before + blob + "\n" + after;
+  const std::vector<std::size_t> lines = non_blank_lines(text);
+  const std::size_t blob_lines = lines.size() - 101;  // all but the header and the good lines
+  ASSERT_GT(blob_lines, 300u);  // 64 KiB of random bytes: about 1 line end in 128 bytes
+  for (const std::size_t piece : {0, 4096, 65536}) {
+    const Parsed r = parse(text, false, piece);
+    ASSERT_EQ(r.rows.size(), 100u) << piece;
+    EXPECT_EQ(r.rows[50].time_s, 0.1);
+    EXPECT_EQ(r.rows[99].iu_a, 49.0);
+    EXPECT_EQ(r.errors.size(), blob_lines) << piece;
+    // Every message is text: valid UTF-8, so that it can go into JSON.
+    for (const CsvLineError& e : r.errors) EXPECT_NO_THROW((void)nlohmann::json(e.text()).dump());
+  }
+  const Parsed s = parse(text, true, 4096);
+  EXPECT_TRUE(s.stopped);
+  ASSERT_EQ(s.errors.size(), 1u);
+  EXPECT_EQ(s.errors[0].line, lines.at(51));  // the blob's first (non-blank) line
+  EXPECT_EQ(s.rows.size(), 50u);
+}
+
+TEST(MonitorCsvStream, MessagesShowOtherBytesEscaped) {
+  const Parsed r =
+      parse(kHeader + "\n0,x,1,\xff\xfe,1,5\n0,\xc3\xa9,1,1,1,5\n0,\xff,1,1,1,5\n", false);
+  ASSERT_EQ(r.errors.size(), 2u);
+  EXPECT_EQ(r.errors[0].text(), "line 2: iv_a = \"\\xff\\xfe\": not a number");
+  EXPECT_EQ(r.errors[1].text(), "line 4: axis = \"\\xff\": not UTF-8 text");
+  ASSERT_EQ(r.rows.size(), 1u);  // "é" is an axis name like any other
+  EXPECT_EQ(r.rows[0].line, 3u);
+}
+
+// ---- long lines ---------------------------------------------------------------------------
+
+TEST(MonitorCsvStream, ALineOfTenMegabytesIsSkippedWithItsLength) {
+  const std::string head = kHeader + "\n0,x,1,1,1,5\n";
+  const std::string tail = "0.001,x,1,1,1,5\n0.002,x,1,1,1,5\n";
+  const std::string huge = "0.0005,x,1,1,1," + std::string(10'000'000, '7');  // 10 000 015 bytes
+  for (const std::size_t piece : {0, 65536, 1000003}) {
+    const Parsed r = parse(head + huge + "\n" + tail, false, piece);
+    ASSERT_EQ(r.rows.size(), 3u) << piece;
+    EXPECT_EQ(r.rows[2].line, 5u);
+    EXPECT_EQ(texts(r.errors),
+              std::vector<std::string>{"line 3: the line is 10000015 bytes long, longer than the "
+                                       "limit of 1048576 bytes (1 MiB)"})
+        << piece;
+  }
+  // With CR LF, and as the last line without a line end.
+  EXPECT_EQ(texts(parse(head + huge + "\r\n" + tail, false, 65536).errors),
+            texts(parse(head + huge + "\n" + tail, false, 65536).errors));
+  EXPECT_EQ(texts(parse(head + huge, false, 65536).errors),
+            std::vector<std::string>{"line 3: the line is 10000015 bytes long, longer than the "
+                                     "limit of 1048576 bytes (1 MiB)"});
+  // stop: refused as soon as it passes the limit, not at its end (which may never come).
+  CurrentCsvParser p("log.csv");
+  std::vector<CurrentRow> rows;
+  std::vector<CsvLineError> errors;
+  const std::string text = head + huge;
+  std::size_t fed = 0;
+  bool ok = true;
+  while (ok && fed < text.size()) {
+    ok = p.feed(std::string_view(text).substr(fed, 65536), rows, errors, true);
+    fed += 65536;
+  }
+  EXPECT_FALSE(ok);
+  EXPECT_EQ(fed, 17u * 65536);  // the piece in which the line passed 1 MiB
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].text(),
+            "line 3: the line is longer than the limit of 1048576 bytes (1 MiB): " +
+                std::to_string(17 * 65536 - head.size()) + " bytes without a line end so far");
+}
+
+TEST(MonitorCsvStream, TheLimitIsOneMebibyteExactly) {
+  // A good line padded with blanks to the limit is read; one byte more is a bad line.
+  const std::string line = "0.001,x,1,1,1,5";
+  const std::string at_limit = line + std::string(kMaxCurrentLineBytes - line.size(), ' ');
+  for (const std::size_t piece : {0, 65536}) {
+    const Parsed r = parse(kHeader + "\n" + at_limit + "\n" + at_limit + " \n", false, piece);
+    ASSERT_EQ(r.rows.size(), 1u);
+    EXPECT_EQ(r.rows[0].speed_rad_s, 5.0);
+    EXPECT_EQ(texts(r.errors), std::vector<std::string>{"line 3: the line is 1048577 bytes long, "
+                                                        "longer than the limit of 1048576 bytes "
+                                                        "(1 MiB)"});
+  }
+  // A header beyond the limit is an error of the input.
+  try {
+    parse(kHeader + std::string(kMaxCurrentLineBytes, ',') + "\n0,x,1,1,1,5\n", false, 65536);
+    ADD_FAILURE() << "no error";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.problems().at(0).rfind("line 1: the line is longer than the limit", 0), 0u)
+        << e.problems().at(0);
+  }
+}
+
+// ---- the fast path and the general one give the same rows -------------------------------------
+
+TEST(MonitorCsvStream, FastAndGeneralPathsReadTheSameNumbers) {
+  // The same values written plainly (the fast path) and with blanks around each field (the
+  // general path): the same rows to the bit. Numbers of every form the logs use.
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int> digits(1, 17), exponent(-30, 30);
+  std::string plain = kHeader + "\n", blanks = kHeader + "\n";
+  char buffer[64];
+  for (int k = 0; k < 20000; ++k) {
+    std::string fields[4];
+    for (std::string& f : fields) {
+      const double v = u(rng) * std::pow(10.0, exponent(rng));
+      const char* form = k % 3 == 0 ? "%.*g" : k % 3 == 1 ? "%.*e" : "%.*f";
+      std::snprintf(buffer, sizeof buffer, form, digits(rng), v);
+      f = buffer;
+    }
+    const std::string t = std::to_string(k) + "e-4";
+    plain += t + ",x," + fields[0] + "," + fields[1] + "," + fields[2] + "," + fields[3] + "\n";
+    blanks += " " + t + " , x ,\t" + fields[0] + " ," + fields[1] + " , " + fields[2] + "\t, " +
+              fields[3] + " \n";
+  }
+  const Parsed a = parse(plain, true, 65536), b = parse(blanks, true, 65536);
+  ASSERT_TRUE(a.errors.empty());
+  ASSERT_TRUE(b.errors.empty());
+  expect_same_rows(a.rows, b.rows, "plain against blanks");
+  // And each is what std::from_chars gives.
+  std::size_t at = plain.find('\n') + 1;
+  for (const CurrentRow& row : a.rows) {
+    const std::size_t end = plain.find('\n', at);
+    std::vector<double> expect;
+    for (std::size_t p = at; p <= end;) {
+      const std::size_t stop = std::min(plain.find(',', p), end);
+      double v = 0.0;
+      if (plain.compare(p, stop - p, "x") != 0) {
+        std::from_chars(plain.data() + p, plain.data() + stop, v);
+        expect.push_back(v);
+      }
+      p = stop + 1;
+    }
+    ASSERT_EQ(expect.size(), 5u);
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(row.time_s), std::bit_cast<std::uint64_t>(expect[0]));
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(row.iu_a), std::bit_cast<std::uint64_t>(expect[1]));
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(row.iv_a), std::bit_cast<std::uint64_t>(expect[2]));
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(row.iw_a), std::bit_cast<std::uint64_t>(expect[3]));
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(row.speed_rad_s),
+              std::bit_cast<std::uint64_t>(expect[4]));
+    at = end + 1;
+  }
+}
+
+// ---- numbers: the same as std::from_chars and std::to_chars -----------------------------------
+
+void expect_parse_like_from_chars(const std::string& s) {
+  double mine = -7.0, theirs = -7.0;
+  const auto a = parse_double(s.data(), s.data() + s.size(), mine);
+  const auto b = std::from_chars(s.data(), s.data() + s.size(), theirs);
+  ASSERT_EQ(a.ec, b.ec) << '"' << s << '"';
+  ASSERT_EQ(a.ptr - s.data(), b.ptr - s.data()) << '"' << s << '"';
+  ASSERT_EQ(std::bit_cast<std::uint64_t>(mine), std::bit_cast<std::uint64_t>(theirs))
+      << '"' << s << '"';
+}
+
+TEST(MonitorCsvNumbers, ParseDoubleIsFromChars) {
+  // Known answers first.
+  double v = 0.0;
+  const std::string tenth = "0.1";
+  parse_double(tenth.data(), tenth.data() + 3, v);
+  EXPECT_EQ(v, 0.1);
+  for (const char* s : {"0",
+                        "-0",
+                        "0.0",
+                        "-0.000",
+                        "00012",
+                        "12.",
+                        ".5",
+                        "-.5",
+                        "5.e3",
+                        "1e22",
+                        "1e23",
+                        "1e-22",
+                        "1e-23",
+                        "9007199254740992",
+                        "9007199254740993",
+                        "9007199254740993e-5",
+                        "1234567890123456789",
+                        "12345678901234567890",
+                        "0.1234567890123456789",
+                        "1e",
+                        "1e+",
+                        "1e-",
+                        "1ex",
+                        "1e400",
+                        "-1e400",
+                        "1e-400",
+                        "4.9e-324",
+                        "2.2250738585072011e-308",
+                        "inf",
+                        "-inf",
+                        "nan",
+                        "NaN",
+                        "infinity",
+                        "-",
+                        "",
+                        ".",
+                        "0x10",
+                        "1.5x",
+                        "1e5x",
+                        "1,2",
+                        "1 ",
+                        " 1",
+                        "+1",
+                        "--1",
+                        "1e00000000000000000005",
+                        "000000000000000000000000001.5",
+                        "0.00000000000000000000000000015",
+                        "123456.7890e-3",
+                        "1E5",
+                        "1e+05",
+                        "8.5e-2"})
+    expect_parse_like_from_chars(s);
+  // Random values in every form the logs write.
+  std::mt19937_64 rng(11);
+  std::uniform_int_distribution<int> digits(1, 20), exponent(-40, 40), form(0, 4);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  char buffer[96];
+  for (int k = 0; k < 300000; ++k) {
+    const double x = u(rng) * std::pow(10.0, exponent(rng));
+    const int d = digits(rng);
+    switch (form(rng)) {
+      case 0:
+        std::snprintf(buffer, sizeof buffer, "%.*g", d, x);
+        break;
+      case 1:
+        std::snprintf(buffer, sizeof buffer, "%.*e", d, x);
+        break;
+      case 2:
+        std::snprintf(buffer, sizeof buffer, "%.*f", d % 12, x);
+        break;
+      case 3:
+        std::snprintf(buffer, sizeof buffer, "%.*E", d, x);
+        break;
+      default:
+        std::snprintf(buffer, sizeof buffer, "%lld", static_cast<long long>(rng() >> d));
+    }
+    expect_parse_like_from_chars(buffer);
+  }
+}
+
+void expect_format_like_to_chars(double x) {
+  std::string shortest, seven;
+  append_number(shortest, x);
+  append_number(seven, x, 7);
+  char buffer[64];
+  auto r = std::to_chars(buffer, buffer + sizeof buffer, x);
+  ASSERT_EQ(shortest, std::string(buffer, r.ptr)) << std::hexfloat << x;
+  r = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::general, 7);
+  ASSERT_EQ(seven, std::string(buffer, r.ptr)) << std::hexfloat << x;
+}
+
+TEST(MonitorCsvNumbers, AppendNumberIsToChars) {
+  // Known answers first.
+  std::string s;
+  append_number(s, 1234.56789012, 7);
+  append_number(s += ' ', 0.001);
+  append_number(s += ' ', 1e-5);
+  append_number(s += ' ', 123456789.0, 7);
+  append_number(s += ' ', -0.000123456789, 7);
+  append_number(s += ' ', 1e22);
+  append_number(s += ' ', 9999999.5, 7);
+  EXPECT_EQ(s, "1234.568 0.001 1e-05 1.234568e+08 -0.0001234568 1e+22 1e+07");
+  for (const double x : {0.0,
+                         -0.0,
+                         1.0,
+                         -1.0,
+                         0.5,
+                         1e-5,
+                         1e-4,
+                         1e15,
+                         1e16,
+                         1e17,
+                         1e21,
+                         1e22,
+                         1e23,
+                         123456789012345.0,
+                         1234567890123456.0,
+                         0.1,
+                         0.2,
+                         0.3,
+                         1.0 / 3.0,
+                         5e-324,
+                         2.2250738585072014e-308,
+                         1.7976931348623157e308,
+                         1234567.5,
+                         1234568.5,
+                         0.00012345675,
+                         9999999.5,
+                         999999.95,
+                         99999995.0})
+    expect_format_like_to_chars(x);
+  std::mt19937_64 rng(5);
+  std::uniform_int_distribution<int> exponent(-30, 40), digits(1, 17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int k = 0; k < 400000; ++k) {
+    // Noisy values of every magnitude, and short decimals (times) of every length.
+    expect_format_like_to_chars(u(rng) * std::pow(10.0, exponent(rng)));
+    const int d = digits(rng);
+    const double m = std::floor(std::fabs(u(rng)) * std::pow(10.0, d));
+    expect_format_like_to_chars(m * std::pow(10.0, exponent(rng) - d));
+    expect_format_like_to_chars(std::stod(std::to_string(k) + "e-" + std::to_string(k % 9)));
+    // Ties and near ties of the 7th digit.
+    const double tie =
+        (std::floor(std::fabs(u(rng)) * 9e6) + 1e6 + 0.5) * std::pow(10.0, k % 7 - 6);
+    expect_format_like_to_chars(tie);
+    expect_format_like_to_chars(std::nextafter(tie, 0.0));
+    expect_format_like_to_chars(std::nextafter(tie, 1e300));
+    // Random bit patterns (every exponent).
+    const double bits = std::bit_cast<double>(rng());
+    if (std::isfinite(bits)) expect_format_like_to_chars(bits);
+  }
+}
+
+}  // namespace
+}  // namespace cutdyn
