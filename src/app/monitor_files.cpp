@@ -1,6 +1,7 @@
 #include "cutdyn/app/monitor_files.hpp"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -298,6 +299,13 @@ std::string_view LogInput::read() {
   for (;;) {
     const ssize_t n = ::read(fd_, buffer_.get(), kChunk);
     if (n >= 0) return {buffer_.get(), static_cast<std::size_t>(n)};
+    if (errno == EAGAIN || errno == EWOULDBLOCK) {
+      // A non-blocking input (a pipe its writer made so) that has nothing yet: a pause of the
+      // stream, not its end; wait for more.
+      pollfd ready{fd_, POLLIN, 0};
+      ::poll(&ready, 1, -1);
+      continue;
+    }
     if (errno != EINTR)
       throw std::runtime_error(name_ + ": read error: " + std::generic_category().message(errno));
   }

@@ -1,5 +1,7 @@
 #include "monitor_stream.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <optional>
 
 namespace cutdyn::app::detail {
@@ -113,7 +115,7 @@ EstimateStream::Axis* EstimateStream::axis(int index) {
   return by_index_[i].get();
 }
 
-void EstimateStream::estimate(const CurrentRow& r, Axis& a) {
+bool EstimateStream::estimate(const CurrentRow& r, Axis& a) {
   AxisForceEstimator& e = *a.estimator;
   if (!a.seen) {
     a.seen = true;
@@ -135,6 +137,14 @@ void EstimateStream::estimate(const CurrentRow& r, Axis& a) {
                          std::to_string(r.line));
     throw InvalidInput(problems, source_);
   }
+  // Finite values so large (a current of 1e200 A) or steps so short (1e-300 s) that the
+  // estimate overflows: a bad line, never a NaN or an infinity in the output; the axis starts
+  // afresh at its next line (its filter state holds the overflow).
+  if (!std::isfinite(estimate.force_n) || !std::isfinite(estimate.force_sigma_n) ||
+      !std::isfinite(estimate.speed_rad_s) || !std::isfinite(estimate.accel_rad_s2)) {
+    e.reset();
+    return false;
+  }
   if (estimate.torque_sign_doubtful && a.sign_doubts++ == 0) {
     a.first_doubt_line = r.line;
     a.first_doubt_time_s = r.time_s;
@@ -149,24 +159,41 @@ void EstimateStream::estimate(const CurrentRow& r, Axis& a) {
   }
   each_(r, a.name, estimate);
   ++good_;
+  return true;
 }
 
 void EstimateStream::process() {
+  std::vector<CsvLineError> own;  // the lines the parser passed and the estimate refuses
   for (const CurrentRow& r : rows_) {
-    Axis* a = axis(r.axis);
-    if (!a) {
-      const std::string& name = parser_.axes()[static_cast<std::size_t>(r.axis)];
+    const std::string& name = parser_.axes()[static_cast<std::size_t>(r.axis)];
+    std::string problem;
+    if (Axis* a = axis(r.axis); !a) {
       std::string have;
       for (const auto& [axis, c] : calibration_) have += (have.empty() ? "" : ", ") + axis;
-      errors_.push_back({r.line, "axis \"" + name + "\" is not in the calibration " +
-                                     calibration_name_ + " (it has " + have + ")"});
-      bad_.take(errors_);
-      continue;
+      problem = "axis \"" + name + "\" is not in the calibration " + calibration_name_ +
+                " (it has " + have + ")";
+    } else if (!estimate(r, *a)) {
+      problem = "the estimate of axis " + name +
+                " is not finite: a value of the line is beyond what the estimator can take (a "
+                "current or speed near the range of a double, or a time step near 0); the axis "
+                "starts afresh at its next line";
     }
-    estimate(r, *a);
+    if (problem.empty()) continue;
+    own.push_back({r.line, std::move(problem)});
+    if (stop_) {
+      // The first bad line (the parser stopped after these rows): the estimates before it are
+      // out first.
+      if (flush_) flush_();
+      bad_.take(own);
+    }
   }
   rows_.clear();
   if (flush_) flush_();
+  if (!own.empty()) {  // in line order with the parser's
+    errors_.insert(errors_.end(), own.begin(), own.end());
+    std::stable_sort(errors_.begin(), errors_.end(),
+                     [](const CsvLineError& x, const CsvLineError& y) { return x.line < y.line; });
+  }
   bad_.take(errors_);  // after the good lines before it are out
 }
 

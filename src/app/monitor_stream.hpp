@@ -84,7 +84,8 @@ class EstimateStream {
  private:
   Axis* axis(int index);
   void process();
-  void estimate(const CurrentRow& r, Axis& a);
+  // False (nothing written) if the estimate is not finite.
+  bool estimate(const CurrentRow& r, Axis& a);
 
   RequestNames names_;
   const Calibration& calibration_;

@@ -3,10 +3,15 @@
 // parses the flags into their options and renders their Reports.
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <csignal>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <system_error>
 
+#include "cli/app.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cutdyn/app/monitor.hpp"
@@ -142,9 +147,14 @@ void print_estimate(const EstimateArgs& args, const app::EstimateReport& r, std:
   std::ostream& report = args.out.empty() ? err : out;
   report << (args.out.empty() ? "cutdyn: " : "");
   app::write_text(report, r);
+  // With the estimate on standard output the report goes to stderr, the lines that name the
+  // files written too: standard output holds the CSV and nothing else.
   for (const std::string* f : {&args.out, &args.alarms, &args.json})
-    if (!f->empty()) out << "  wrote " << *f << "\n";
+    if (!f->empty()) report << "  wrote " << *f << "\n";
 }
+
+// The reader of the estimate on standard output has closed it (`... | head -1`).
+struct OutputClosed {};
 
 int run_estimate(const EstimateArgs& args, std::ostream& out, std::ostream& err) {
   const app::EstimateOptions options = estimate_options(args);
@@ -153,15 +163,35 @@ int run_estimate(const EstimateArgs& args, std::ostream& out, std::ostream& err)
   if (!args.band.empty()) band = app::read_band(args.band);
 
   io::OutputTransaction outputs;
-  std::ostream& sink = args.out.empty() ? out : outputs.open(args.out);
+  const bool streaming = args.out.empty();
+  std::ostream& sink = streaming ? out : outputs.open(args.out);
+  if (streaming) {
+    // A closed reader shows as a failed write (EPIPE), not as a signal, whatever SIGPIPE's
+    // disposition was inherited: the run then ends quietly with kExitOutputClosed. Not
+    // restored: the exit flushes standard output once more.
+    struct sigaction ignore = {};
+    ignore.sa_handler = SIG_IGN;
+    sigemptyset(&ignore.sa_mask);
+    sigaction(SIGPIPE, &ignore, nullptr);
+  }
   app::LogInput in(args.input);
   const auto write = [&](std::string_view rows) {
+    errno = 0;
     sink.write(rows.data(), static_cast<std::streamsize>(rows.size()));
-    if (args.out.empty()) sink.flush();  // a live stream is answered line by line
+    if (!streaming) return;
+    sink.flush();  // a live stream is answered line by line
+    if (sink) return;
+    if (errno == EPIPE) throw OutputClosed{};
+    throw std::runtime_error("standard output: write error" +
+                             (errno ? ": " + std::generic_category().message(errno) : ""));
   };
   app::EstimateJob job(std::move(calibration), args.calib, options, std::move(band), args.band,
                        in.name(), {write, {}}, listener(err));
-  for (std::string_view chunk = in.read(); !chunk.empty(); chunk = in.read()) job.feed(chunk);
+  try {
+    for (std::string_view chunk = in.read(); !chunk.empty(); chunk = in.read()) job.feed(chunk);
+  } catch (const OutputClosed&) {
+    return kExitOutputClosed;  // no summary, no files: the run did not reach the input's end
+  }
   const app::EstimateReport report = job.finish();
 
   if (!args.json.empty()) io::write_json(outputs.open(args.json), app::to_json(report));
