@@ -1,7 +1,9 @@
 // Monitor estimation: cutting force from servo-motor currents, in samples per second
 // per core, from memory and from CSV text, and the ratio against the straightforward way
-// (ε from a raw difference; iostream parsing and writing), measured in the same run.
-// docs/benchmarks.md.
+// (ε from a raw difference; iostream parsing and writing), measured in the same run. The CSV
+// reader and writer also against the previous ones (monitor_csv_baseline.hpp: std::from_chars
+// and std::to_chars per field), and the whole of `cutdyn monitor estimate` short of the file
+// descriptors (app::EstimateJob). docs/benchmarks.md.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -13,10 +15,12 @@
 #include <vector>
 
 #include "bench_support.hpp"
+#include "cutdyn/app/monitor.hpp"
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/drive/equivalent_current.hpp"
 #include "cutdyn/monitor/current_csv.hpp"
 #include "cutdyn/monitor/force_estimator.hpp"
+#include "monitor_csv_baseline.hpp"
 
 namespace cutdyn {
 namespace {
@@ -115,12 +119,27 @@ void BM_RawDifferenceFromMemory(benchmark::State& state) {
   state.counters["samples_per_s"] = kSamples / r.seconds;
 }
 
-// CSV text in, CSV text out, as `cutdyn monitor estimate` does it (64 KiB pieces).
-void BM_EstimateFromCsv(benchmark::State& state) {
+// CSV text in, CSV text out, as `cutdyn monitor estimate` does it (64 KiB pieces), with the
+// reader and writer of `Csv` (the current ones, or the previous ones of baseline::).
+struct CurrentCsv {
+  using Parser = CurrentCsvParser;
+  static void row(std::string& out, double t, std::string_view axis, const ForceEstimate& e) {
+    append_estimate_row(out, t, axis, e);
+  }
+};
+struct BaselineCsv {
+  using Parser = baseline::BaselineCsvParser;
+  static void row(std::string& out, double t, std::string_view axis, const ForceEstimate& e) {
+    baseline::append_estimate_row(out, t, axis, e);
+  }
+};
+
+template <typename Csv>
+void estimate_from_csv(benchmark::State& state, const std::string& key) {
   const Log& l = log_data();
   std::size_t bytes = 0;
-  Result& r = timed(state, "csv", [&] {
-    CurrentCsvParser parser("bench");
+  Result& r = timed(state, key, [&] {
+    typename Csv::Parser parser("bench");
     std::map<std::string, AxisCalibration> cal{
         {"x", calibration('x')}, {"y", calibration('y')}, {"z", calibration('z')}};
     std::vector<AxisForceEstimator> est;
@@ -133,9 +152,9 @@ void BM_EstimateFromCsv(benchmark::State& state) {
       for (const CurrentRow& row : rows) {
         while (est.size() <= static_cast<std::size_t>(row.axis))
           est.emplace_back(cal.at(parser.axes()[est.size()]));
-        append_estimate_row(out, row.time_s, parser.axes()[static_cast<std::size_t>(row.axis)],
-                            est[static_cast<std::size_t>(row.axis)].update(
-                                row.time_s, row.iu_a, row.iv_a, row.iw_a, row.speed_rad_s));
+        Csv::row(out, row.time_s, parser.axes()[static_cast<std::size_t>(row.axis)],
+                 est[static_cast<std::size_t>(row.axis)].update(row.time_s, row.iu_a, row.iv_a,
+                                                                row.iw_a, row.speed_rad_s));
         out += '\n';
       }
       rows.clear();
@@ -148,6 +167,102 @@ void BM_EstimateFromCsv(benchmark::State& state) {
     }
     parser.finish(rows, errors, true);
     process();
+    benchmark::DoNotOptimize(bytes);
+  });
+  r.figures["per_s"] = kSamples / r.seconds;
+  r.figures["mb_per_s"] = static_cast<double>(l.csv.size()) / r.seconds / 1e6;
+  state.counters["samples_per_s"] = kSamples / r.seconds;
+}
+
+void BM_EstimateFromCsv(benchmark::State& state) { estimate_from_csv<CurrentCsv>(state, "csv"); }
+
+void BM_EstimateFromCsvBaseline(benchmark::State& state) {
+  estimate_from_csv<BaselineCsv>(state, "csv_baseline");
+}
+
+// The reading alone (rows in memory), current and previous.
+template <typename Parser>
+void read_csv(benchmark::State& state, const std::string& key) {
+  const Log& l = log_data();
+  std::size_t good = 0;
+  Result& r = timed(state, key, [&] {
+    Parser parser("bench");
+    std::vector<CurrentRow> rows;
+    std::vector<CsvLineError> errors;
+    good = 0;
+    const std::string_view text = l.csv;
+    for (std::size_t at = 0; at < text.size(); at += 1 << 16) {
+      parser.feed(text.substr(at, 1 << 16), rows, errors, true);
+      good += rows.size();
+      rows.clear();
+    }
+    parser.finish(rows, errors, true);
+    good += rows.size();
+    benchmark::DoNotOptimize(good);
+  });
+  r.figures["per_s"] = kSamples / r.seconds;
+  state.counters["samples_per_s"] = kSamples / r.seconds;
+}
+
+void BM_ReadCsv(benchmark::State& state) { read_csv<CurrentCsvParser>(state, "read"); }
+void BM_ReadCsvBaseline(benchmark::State& state) {
+  read_csv<baseline::BaselineCsvParser>(state, "read_baseline");
+}
+
+// The writing alone (the estimates of the log, computed once), current and previous.
+template <typename Csv>
+void write_csv(benchmark::State& state, const std::string& key) {
+  const Log& l = log_data();
+  static const std::vector<ForceEstimate> estimates = [&] {
+    std::vector<AxisForceEstimator> est{AxisForceEstimator(calibration('x')),
+                                        AxisForceEstimator(calibration('y')),
+                                        AxisForceEstimator(calibration('z'))};
+    std::vector<ForceEstimate> e;
+    for (int k = 0; k < kSamples; ++k)
+      e.push_back(est[static_cast<std::size_t>(l.axis[k])].update(l.t[k], l.iu[k], l.iv[k], l.iw[k],
+                                                                  l.w[k]));
+    return e;
+  }();
+  const char* const names[3] = {"x", "y", "z"};
+  std::size_t bytes = 0;
+  Result& r = timed(state, key, [&] {
+    std::string out;
+    bytes = 0;
+    for (int k = 0; k < kSamples; ++k) {
+      Csv::row(out, l.t[k], names[l.axis[k]], estimates[static_cast<std::size_t>(k)]);
+      out += '\n';
+      if (out.size() > (1 << 16)) {
+        bytes += out.size();
+        out.clear();
+      }
+    }
+    bytes += out.size();
+    benchmark::DoNotOptimize(bytes);
+  });
+  r.figures["per_s"] = kSamples / r.seconds;
+  state.counters["samples_per_s"] = kSamples / r.seconds;
+}
+
+void BM_WriteCsv(benchmark::State& state) { write_csv<CurrentCsv>(state, "write"); }
+void BM_WriteCsvBaseline(benchmark::State& state) {
+  write_csv<BaselineCsv>(state, "write_baseline");
+}
+
+// What `cutdyn monitor estimate` runs between its read() and write() calls: app::EstimateJob
+// (the bad-line policy, the estimators made as the axes appear, the warnings, the rows
+// gathered per piece and handed to the sink), 64 KiB pieces.
+void BM_EstimateJobFromCsv(benchmark::State& state) {
+  const Log& l = log_data();
+  std::size_t bytes = 0;
+  Result& r = timed(state, "job", [&] {
+    app::Calibration cal{{"x", calibration('x')}, {"y", calibration('y')}, {"z", calibration('z')}};
+    app::EstimateOptions options;
+    bytes = 0;
+    app::EstimateJob job(std::move(cal), "bench", options, std::nullopt, {}, "bench",
+                         {[&](std::string_view rows) { bytes += rows.size(); }, {}});
+    const std::string_view text = l.csv;
+    for (std::size_t at = 0; at < text.size(); at += 1 << 16) job.feed(text.substr(at, 1 << 16));
+    benchmark::DoNotOptimize(job.finish().samples);
     benchmark::DoNotOptimize(bytes);
   });
   r.figures["per_s"] = kSamples / r.seconds;
@@ -197,6 +312,12 @@ constexpr auto kMs = benchmark::kMillisecond;
 BENCHMARK(BM_EstimateFromMemory)->Unit(kMs)->UseRealTime();
 BENCHMARK(BM_RawDifferenceFromMemory)->Unit(kMs)->UseRealTime();
 BENCHMARK(BM_EstimateFromCsv)->Unit(kMs)->UseRealTime();
+BENCHMARK(BM_EstimateFromCsvBaseline)->Unit(kMs)->UseRealTime();
+BENCHMARK(BM_EstimateJobFromCsv)->Unit(kMs)->UseRealTime();
+BENCHMARK(BM_ReadCsv)->Unit(kMs)->UseRealTime();
+BENCHMARK(BM_ReadCsvBaseline)->Unit(kMs)->UseRealTime();
+BENCHMARK(BM_WriteCsv)->Unit(kMs)->UseRealTime();
+BENCHMARK(BM_WriteCsvBaseline)->Unit(kMs)->UseRealTime();
 BENCHMARK(BM_StraightforwardCsv)->Unit(kMs)->UseRealTime();
 
 void per_second(const char* what, const std::optional<Result>& r) {
@@ -211,14 +332,30 @@ void print_summary() {
   std::printf("\n==== cutdyn monitor estimation: summary (wall clock, one thread) ====\n\n");
   std::printf("  %d samples, 3 axes interleaved, noisy currents and speed\n", kSamples);
   const auto mem = result("memory"), mem_raw = result("memory_raw"), csv = result("csv"),
-             csv_raw = result("csv_raw");
+             csv_base = result("csv_baseline"), job = result("job"), csv_raw = result("csv_raw");
   per_second("from memory: observer + uncertainty (cutdyn)", mem);
   per_second("from memory: raw difference, no uncertainty", mem_raw);
   per_second("from CSV text to CSV text (cutdyn)", csv);
+  per_second("from CSV text to CSV text, the previous reader and writer", csv_base);
+  per_second("from CSV text to CSV text through app::EstimateJob", job);
+  per_second("reading CSV text alone (cutdyn)", result("read"));
+  per_second("reading CSV text alone, the previous reader", result("read_baseline"));
+  per_second("writing CSV text alone (cutdyn)", result("write"));
+  per_second("writing CSV text alone, the previous writer", result("write_baseline"));
   per_second("from CSV text: getline/stringstream/stod/<< + raw difference", csv_raw);
   if (csv)
     std::printf("  %-58s %10.1f MB/s\n", "CSV input read (cutdyn)", csv->figures.at("mb_per_s"));
-  ratio("ratio straightforward / cutdyn, CSV text (time)", csv_raw, 1.0, csv, 1.0);
+  if (csv_base)
+    std::printf("  %-58s %10.1f MB/s\n", "CSV input read, the previous reader and writer",
+                csv_base->figures.at("mb_per_s"));
+  const auto times = [](const char* what, const std::optional<Result>& slow,
+                        const std::optional<Result>& fast) {
+    if (slow && fast) std::printf("  %-58s %11.2fx\n", what, slow->seconds / fast->seconds);
+  };
+  times("ratio previous / cutdyn, CSV text (time)", csv_base, csv);
+  times("ratio previous / cutdyn, reading alone (time)", result("read_baseline"), result("read"));
+  times("ratio previous / cutdyn, writing alone (time)", result("write_baseline"), result("write"));
+  times("ratio straightforward / cutdyn, CSV text (time)", csv_raw, csv);
   if (mem && mem_raw)
     std::printf("  %-58s %11.2fx\n", "ratio raw difference / cutdyn, from memory (time)",
                 mem_raw->seconds / mem->seconds);
