@@ -14,6 +14,9 @@ namespace {
 
 constexpr int kTime = 0, kAxis = 1, kExtra = 6;
 
+__extension__ typedef unsigned __int128 u128;
+constexpr u128 kZeros = (static_cast<u128>(0x3030303030303030) << 64) | 0x3030303030303030;
+
 // The powers of ten that are exact doubles.
 constexpr double kPow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
                                1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
@@ -213,6 +216,57 @@ const char* fast_number(const char* p, const char* end, double& value) {
   return p;
 }
 
+// Bit i set where byte i of x (text ^ "00000000") is not a digit: exact up to and including
+// the first byte that is neither a digit nor a point after digits (a carry out of a byte can
+// only come from one that is neither).
+unsigned other_bytes(std::uint64_t x) {
+  const std::uint64_t other = (x | (x + 0x0606060606060606)) & 0xf0f0f0f0f0f0f0f0;
+  const std::uint64_t high =
+      (((other & 0x7f7f7f7f7f7f7f7f) + 0x7f7f7f7f7f7f7f7f) | other) & 0x8080808080808080;
+  return static_cast<unsigned>((high * 0x0002040810204081) >> 56);  // the 8 high bits
+}
+
+// fast_number for [-]digits[.digits] with at most 8 digits on each side of the point, from
+// two words (24 bytes must be readable at p): the point and the end found at once, the digits
+// valued without a loop, the sign without a branch; nullptr for any other form (an exponent,
+// more digits), which fast_number or std::from_chars take.
+const char* window_number(const char* p, double& value) {
+  const std::uint64_t negative = *p == '-' ? 1 : 0;
+  p += negative;
+  std::uint64_t a, b;
+  std::memcpy(&a, p, 8);
+  std::memcpy(&b, p + 8, 8);
+  a ^= 0x3030303030303030;
+  b ^= 0x3030303030303030;
+  const unsigned other = other_bytes(a) | (other_bytes(b) << 8) | (1u << 16);
+  const int point = std::countr_zero(other);  // the first non-digit: a point, or the end
+  if (point == 0 || point > 8) return nullptr;
+  std::uint64_t m = value_of_first(a, point);
+  int end = point, fraction = 0;
+  if (p[point] == '.') {
+    end = std::countr_zero(other & ~((2u << point) - 1));  // 16: not within the window
+    fraction = end - point - 1;
+    if (fraction == 0 || fraction > 8 || end >= 16) return nullptr;
+    std::uint64_t f;
+    std::memcpy(&f, p + point + 1, 8);
+    m = m * kPow10Int[fraction] + value_of_first(f ^ 0x3030303030303030, fraction);
+    if (m > (std::uint64_t{1} << 53)) return nullptr;
+  }
+  if ((p[end] | 0x20) == 'e') return nullptr;  // an exponent follows
+  double v = static_cast<double>(m);
+  if (fraction > 0) v /= kPow10[fraction];
+  value = std::bit_cast<double>(std::bit_cast<std::uint64_t>(v) | (negative << 63));
+  return p + end;
+}
+
+// A number as std::from_chars reads it, by the fastest path that takes its form; nullptr
+// where none does.
+const char* plain_number(const char* p, const char* end, double& value) {
+  if (end - p >= 24)
+    if (const char* q = window_number(p, value)) return q;
+  return fast_number(p, end, value);
+}
+
 // ---- numbers out ----------------------------------------------------------------------------
 
 // The 8 decimal digits of n < 10^8 as ASCII in a word, the first digit in the lowest byte
@@ -225,9 +279,6 @@ std::uint64_t eight_digits_text(std::uint32_t n) {
   merged = div10 | ((merged - 10 * div10) << 8);
   return merged + 0x3030303030303030;
 }
-
-__extension__ typedef unsigned __int128 u128;
-constexpr u128 kZeros = (static_cast<u128>(0x3030303030303030) << 64) | 0x3030303030303030;
 
 // The digits of a number as text in a 128-bit word, the first (not 0) in the lowest byte and
 // '0' past the last; `count` of them without the trailing zeros; its decimal exponent e10
@@ -426,7 +477,7 @@ char* put_number(char* p, double value, int digits) {
 
 std::from_chars_result parse_double(const char* first, const char* last, double& value) {
   double v = 0.0;
-  if (const char* end = fast_number(first, last, v)) {
+  if (const char* end = plain_number(first, last, v)) {
     value = v;
     return {end, std::errc{}};
   }
@@ -546,6 +597,12 @@ void CurrentCsvParser::parse_header(std::string_view line) {
   for (std::size_t s = 0; s < names.size(); ++s)
     needed_fields_ = std::max(needed_fields_, index_[s] + 1);
   needed_fields_ = std::max(needed_fields_, index_[kAngleSlot] + 1);
+  // The column order that cutdyn drive --currents and most loggers write: read straight on.
+  standard_layout_ = needed_fields_ >= 6;
+  for (int f = 0; f < needed_fields_; ++f)
+    standard_layout_ =
+        standard_layout_ && slot_of_field_[static_cast<std::size_t>(f)] == (f < 6 ? f : kAngleSlot);
+  standard_layout_ = standard_layout_ && needed_fields_ <= 7 && index_[kExtra] < 0;
   header_done_ = true;
 }
 
@@ -662,27 +719,46 @@ const char* CurrentCsvParser::fast_line(const char* p, const char* const end,
   double value[8] = {};
   const char* axis = p;
   std::size_t axis_size = 0;
-  for (int f = 0;; ++f) {
-    const int slot = slot_of_field_[static_cast<std::size_t>(f)];
-    if (slot == kAxis) {
-      axis = p;
-      for (; p != end; ++p) {
-        const auto c = static_cast<unsigned char>(*p);
-        if (c <= ' ' || c >= 0x7f || c == ',' || c == '"') break;
-      }
-      axis_size = static_cast<std::size_t>(p - axis);
-      if (axis_size == 0) return nullptr;
-    } else if (slot >= 0) {
-      if (p != end && *p == '+') ++p;  // as the general path allows
-      p = fast_number(p, end, value[slot]);
-      if (!p) return nullptr;
-    } else {
-      for (; p != end && *p != ',' && *p != '\n' && *p != '\r'; ++p)
-        if (is_control(static_cast<unsigned char>(*p))) return nullptr;
+  const auto read_axis = [&] {
+    axis = p;
+    for (; p != end; ++p) {
+      const auto c = static_cast<unsigned char>(*p);
+      if (c <= ' ' || c >= 0x7f || c == ',' || c == '"') break;
     }
-    if (f + 1 == needed_fields_) break;
-    if (p == end || *p != ',') return nullptr;
+    axis_size = static_cast<std::size_t>(p - axis);
+    return axis_size > 0;
+  };
+  const auto read_number = [&](int slot) {
+    if (p != end && *p == '+') ++p;  // as the general path allows
+    p = plain_number(p, end, value[slot]);
+    return p != nullptr;
+  };
+  const auto comma = [&] {
+    if (p == end || *p != ',') return false;
     ++p;
+    return true;
+  };
+  if (standard_layout_) {
+    // time_s,axis,iu_a,iv_a,iw_a,speed_rad_s[,rotor_angle_rad]: straight on, no branch on
+    // which column comes next.
+    if (!read_number(kTime) || !comma() || !read_axis() || !comma() || !read_number(2) ||
+        !comma() || !read_number(3) || !comma() || !read_number(4) || !comma() || !read_number(5))
+      return nullptr;
+    if (needed_fields_ == 7 && (!comma() || !read_number(kAngleSlot))) return nullptr;
+  } else {
+    for (int f = 0;; ++f) {
+      const int slot = slot_of_field_[static_cast<std::size_t>(f)];
+      if (slot == kAxis) {
+        if (!read_axis()) return nullptr;
+      } else if (slot >= 0) {
+        if (!read_number(slot)) return nullptr;
+      } else {
+        for (; p != end && *p != ',' && *p != '\n' && *p != '\r'; ++p)
+          if (is_control(static_cast<unsigned char>(*p))) return nullptr;
+      }
+      if (f + 1 == needed_fields_) break;
+      if (!comma()) return nullptr;
+    }
   }
   const std::string_view name(axis, axis_size);
   if (p != end && *p == ',') {  // the fields no column needs
@@ -897,7 +973,21 @@ void append_estimate_row(std::string& out, double time_s, std::string_view axis,
   // One append per row: the five numbers (at most 5 × 25 characters, and the 16 bytes the
   // digit copies may overwrite) and a short axis name in one buffer.
   char buffer[256];
-  char* p = put_number(buffer, time_s, 0);
+  // Axes logged side by side share their times: a time equal to the last one written (to the
+  // bit) is copied rather than formatted again.
+  thread_local std::uint64_t last_time = ~std::uint64_t{0};
+  thread_local int last_size = 0;
+  thread_local char last_text[48];
+  char* p = buffer;
+  if (const auto bits = std::bit_cast<std::uint64_t>(time_s); bits == last_time) {
+    std::memcpy(buffer, last_text, 32);
+    p += last_size;
+  } else {
+    p = put_number(buffer, time_s, 0);
+    last_size = static_cast<int>(p - buffer);
+    std::memcpy(last_text, buffer, 32);
+    last_time = bits;
+  }
   *p++ = ',';
   if (axis.size() <= 64) {
     std::memcpy(p, axis.data(), axis.size());

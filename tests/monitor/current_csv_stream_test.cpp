@@ -357,14 +357,17 @@ TEST(MonitorCsvStream, FastAndGeneralPathsReadTheSameNumbers) {
 
 // ---- numbers: the same as std::from_chars and std::to_chars -----------------------------------
 
-void expect_parse_like_from_chars(const std::string& s) {
-  double mine = -7.0, theirs = -7.0;
-  const auto a = parse_double(s.data(), s.data() + s.size(), mine);
-  const auto b = std::from_chars(s.data(), s.data() + s.size(), theirs);
-  ASSERT_EQ(a.ec, b.ec) << '"' << s << '"';
-  ASSERT_EQ(a.ptr - s.data(), b.ptr - s.data()) << '"' << s << '"';
-  ASSERT_EQ(std::bit_cast<std::uint64_t>(mine), std::bit_cast<std::uint64_t>(theirs))
-      << '"' << s << '"';
+// Alone, and followed by more of a line (the reader then looks at whole words of it).
+void expect_parse_like_from_chars(const std::string& number) {
+  for (const std::string& s : {number, number + ",x,12.5,-3,4.25e1,0.5,7\n0.001,x,1,2"}) {
+    double mine = -7.0, theirs = -7.0;
+    const auto a = parse_double(s.data(), s.data() + s.size(), mine);
+    const auto b = std::from_chars(s.data(), s.data() + s.size(), theirs);
+    ASSERT_EQ(a.ec, b.ec) << '"' << s << '"';
+    ASSERT_EQ(a.ptr - s.data(), b.ptr - s.data()) << '"' << s << '"';
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(mine), std::bit_cast<std::uint64_t>(theirs))
+        << '"' << s << '"';
+  }
 }
 
 TEST(MonitorCsvNumbers, ParseDoubleIsFromChars) {
@@ -523,6 +526,22 @@ TEST(MonitorCsvNumbers, AppendNumberIsToChars) {
     // Random bit patterns (every exponent).
     const double bits = std::bit_cast<double>(rng());
     if (std::isfinite(bits)) expect_format_like_to_chars(bits);
+  }
+}
+
+TEST(MonitorCsvNumbers, RowsWithTheSameTimeWriteTheSameText) {
+  // Interleaved axes share their times; the writer copies a repeated time instead of
+  // formatting it again: the text must be the time's own every time, also when the bits change
+  // only a little (the next double, the other zero).
+  const double times[] = {0.001, 0.001, 0.001, std::nextafter(0.001, 1.0),
+                          0.001, -0.0,  0.0,   0.0,
+                          1e300, 1e300, 0.125, 0.125};
+  for (const double t : times) {
+    std::string row;
+    append_estimate_row(row, t, "x", ForceEstimate{1.0, 2.0, 3.0, 4.0, false});
+    char buffer[64];
+    const auto r = std::to_chars(buffer, buffer + sizeof buffer, t);
+    EXPECT_EQ(row, std::string(buffer, r.ptr) + ",x,1,2,3,4") << t;
   }
 }
 

@@ -147,6 +147,7 @@ class CurrentCsvParser {
   int index_[8] = {-1, -1, -1, -1, -1, -1, -1, -1};
   std::vector<int> slot_of_field_;  // per field of a line: its slot in index_, or -1
   int needed_fields_ = 0, header_fields_ = 0;
+  bool standard_layout_ = false;  // time_s,axis,iu_a,iv_a,iw_a,speed_rad_s[,rotor_angle_rad] first
   std::vector<std::string> header_names_;
   std::vector<std::string> axes_;
   std::vector<CsvComment> comments_;
