@@ -9,6 +9,9 @@
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   const int code = cutdyn::cli::run(args, std::cout, std::cerr);
+  // The reader of the standard output closed it (`monitor estimate ... | head -1`): the run
+  // ended quietly on purpose, with its own status.
+  if (code == cutdyn::cli::kExitOutputClosed) return code;
   // A report that could not be written (a full disk, a closed file) is a failure too.
   if (!std::cout.flush()) {
     std::cerr << "cutdyn: error: cannot write standard output (" << std::strerror(errno) << ")\n";

@@ -262,8 +262,9 @@ const char* window_number(const char* p, double& value) {
 // A number as std::from_chars reads it, by the fastest path that takes its form; nullptr
 // where none does.
 const char* plain_number(const char* p, const char* end, double& value) {
-  if (end - p >= 24)
-    if (const char* q = window_number(p, value)) return q;
+  if constexpr (std::endian::native == std::endian::little)  // words read as text order
+    if (end - p >= 24)
+      if (const char* q = window_number(p, value)) return q;
   return fast_number(p, end, value);
 }
 
@@ -466,8 +467,10 @@ char* shortest15(char* p, double x) {
 
 // Writes `value` as append_number does, at p: room for 48 characters needed.
 char* put_number(char* p, double value, int digits) {
-  char* end = digits == 0 ? shortest15(p, value) : digits == 7 ? general7(p, value) : nullptr;
-  if (end) return end;
+  if constexpr (std::endian::native == std::endian::little) {  // words written as text order
+    char* end = digits == 0 ? shortest15(p, value) : digits == 7 ? general7(p, value) : nullptr;
+    if (end) return end;
+  }
   const auto r = digits > 0 ? std::to_chars(p, p + 32, value, std::chars_format::general, digits)
                             : std::to_chars(p, p + 32, value);
   return r.ptr;
