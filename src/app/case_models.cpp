@@ -115,8 +115,11 @@ std::optional<MeasuredStructure> measured_structure(const io::Case& c) {
     rethrow_as(c.source, "frf[" + std::to_string(i) + "] (" + t.path.string() + ")",
                [&] { slot = slot ? add_frf(*slot, t.data) : t.data; });
   }
-  for (const auto& [direction, table] :
-       {std::pair{Direction::kX, &s.xx}, std::pair{Direction::kY, &s.yy}}) {
+  for (const auto& entry : {std::pair{Direction::kX, &s.xx}, std::pair{Direction::kY, &s.yy}}) {
+    // Named, not a structured binding: the lambda below captures them (clang 14, the fuzz
+    // build's compiler, cannot capture a structured binding).
+    const Direction direction = entry.first;
+    const std::optional<MeasuredFrf>* table = entry.second;
     if (!*table) continue;
     FrfFit fit;
     rethrow_as(c.source, std::string("the fit of the measured FRF in ") + to_string(direction),

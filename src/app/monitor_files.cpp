@@ -32,6 +32,15 @@ double number_at(const json& j, const std::string& key, const std::string& where
   return it->get<double>();
 }
 
+// The text of `key`: a string as it is, any other value as JSON ("" when absent), for a key
+// whose value must be one of a few strings (a number there is refused by name, not thrown as
+// json::type_error).
+std::string text_at(const json& j, const char* key) {
+  const auto it = j.find(key);
+  if (it == j.end()) return "";
+  return it->is_string() ? it->get<std::string>() : it->dump();
+}
+
 void reject_unknown(const json& j, std::initializer_list<const char*> known,
                     const std::string& where, const std::string& path) {
   for (auto it = j.begin(); it != j.end(); ++it) {
@@ -46,7 +55,7 @@ json read_json_file(const std::string& path) {
   if (!in) throw InvalidInput({"cannot read the file"}, path);
   try {
     return json::parse(in);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for a number like 1e999
     throw InvalidInput({std::string("not valid JSON: ") + e.what()}, path);
   }
 }
@@ -74,7 +83,7 @@ AxisCalibration axis_of_json(const json& a, const std::string& source, const std
                   "uncertainty_known", "idle_fit", "load_fit"},
                  source, at);
   AxisCalibration c;
-  const std::string measure = a.value("measure", "");
+  const std::string measure = text_at(a, "measure");
   const auto m = parse_current_measure(measure);
   if (!m)
     throw InvalidInput({at + "measure = \"" + measure + "\": must be rms or space-vector"}, source);
@@ -134,7 +143,11 @@ ForceBand band_of_json(const json& a, const json& doc, const std::string& path,
   b.options.smoothing_s = number_at(doc, "smoothing_s", path, "", true);
   b.options.average_s = number_at(doc, "average_s", path, "", false, 0.0);
   b.cycle_s = number_at(a, "cycle_s", path, at, true);
-  b.runs = static_cast<int>(number_at(a, "runs", path, at, false, 0.0));
+  const double runs = number_at(a, "runs", path, at, false, 0.0);
+  if (!(runs >= 0.0 && runs <= 1e9 && runs == std::floor(runs)))  // else no int holds it
+    throw InvalidInput({at + "runs = " + format_value(runs) + ": must be a whole number >= 0"},
+                       path);
+  b.runs = static_cast<int>(runs);
   const auto vec = [&](const char* key, std::vector<double>& v) {
     if (!a.contains(key) || !a[key].is_array())
       throw InvalidInput({at + key + ": missing (an array of numbers)"}, path);
@@ -170,7 +183,7 @@ Calibration read_calibration(const std::string& path) {
 }
 
 Calibration calibration_from_json(const json& doc, const std::string& source) {
-  if (!doc.is_object() || doc.value("format", "") != kCalibrationFormat)
+  if (!doc.is_object() || text_at(doc, "format") != kCalibrationFormat)
     throw InvalidInput({std::string("format: must be \"") + kCalibrationFormat + "\""}, source);
   if (!doc.contains("axes") || !doc["axes"].is_object() || doc["axes"].empty())
     throw InvalidInput({"axes: missing or empty"}, source);
@@ -214,7 +227,7 @@ json calibration_json(const Calibration& calibration) {
 BandFile read_band(const std::string& path) { return band_from_json(read_json_file(path), path); }
 
 BandFile band_from_json(const json& doc, const std::string& source) {
-  if (!doc.is_object() || doc.value("format", "") != kBandFormat)
+  if (!doc.is_object() || text_at(doc, "format") != kBandFormat)
     throw InvalidInput({std::string("format: must be \"") + kBandFormat + "\""}, source);
   if (!doc.contains("axes") || !doc["axes"].is_object())
     throw InvalidInput({"axes: missing"}, source);

@@ -62,9 +62,10 @@ TeachReport teach(const TeachOptions& options, const MonitorListener& listener) 
   band.options = options.effective_band();
   band.bandwidth_hz = options.estimator.bandwidth_hz;
   band.calibration = options.calibration;
-  for (const auto& [axis, r] : runs)
-    rethrow_as("teach-in", "axis " + axis,
-                       [&] { band.axes[axis] = teach_band(r, band.options); });
+  // The lambda captures the pair, not a structured binding (clang 14 cannot; the fuzz build).
+  for (const auto& entry : runs)
+    rethrow_as("teach-in", "axis " + entry.first,
+               [&] { band.axes[entry.first] = teach_band(entry.second, band.options); });
   // Without the tooth period the level keeps the tooth pattern: a wide band, a slow alarm.
   if (!options.rpm && !options.average_s) {
     MonitorWarning w;

@@ -58,11 +58,16 @@ struct Units164 {
   std::size_t position = 0;  // index of the dataset 58 it precedes
 };
 
+// A number that is an int: whole and at most 1e9 in size (NaN, infinity and 1e300 are not;
+// converting them to int would be undefined).
+std::optional<int> as_int(std::optional<double> x) {
+  if (!x || !(std::abs(*x) <= 1e9) || *x != std::floor(*x)) return std::nullopt;
+  return static_cast<int>(*x);
+}
+
 std::optional<int> int_field(std::string_view line, std::size_t at, std::size_t width) {
   if (at >= line.size()) return std::nullopt;
-  const auto x = parse_number(trim(line.substr(at, width)));
-  if (!x || *x != std::floor(*x) || std::abs(*x) > 1e9) return std::nullopt;
-  return static_cast<int>(*x);
+  return as_int(parse_number(trim(line.substr(at, width))));
 }
 
 std::string_view text_field(std::string_view line, std::size_t at, std::size_t width) {
@@ -107,7 +112,7 @@ AxisRecord axis_record(const TextLine& line) {
     return r;
   }
   const auto tokens = split_blanks(line.text);
-  if (!tokens.empty()) r.type = static_cast<int>(parse_number(tokens[0]).value_or(0.0));
+  if (!tokens.empty()) r.type = as_int(parse_number(tokens[0])).value_or(0);
   if (tokens.size() > 4) r.label = std::string(tokens[4]);
   if (tokens.size() > 5) r.units = std::string(tokens[5]);
   return r;
@@ -248,9 +253,7 @@ UffDatasetInfo dataset_info(const std::vector<TextLine>& r, const std::string& s
   auto type = int_field(rec6, 0, 5);
   if (!type) {
     const auto tokens = split_blanks(rec6);
-    if (!tokens.empty())
-      if (const auto x = parse_number(tokens[0]); x && *x == std::floor(*x))
-        type = static_cast<int>(*x);
+    if (!tokens.empty()) type = as_int(parse_number(tokens[0]));
   }
   if (!type) fail_at(source, r[5].number, "record 6 does not start with a function type");
   info.function_type = *type;
@@ -335,7 +338,12 @@ DataForm data_form(const TextLine& rec7, const std::string& source) {
                 excerpt(trim(rec7.text)));
   DataForm f;
   f.line = rec7.number;
-  f.type = static_cast<int>((*v)[0]);
+  const std::optional<int> type = as_int((*v)[0]);
+  if (!type)
+    fail_at(source, rec7.number,
+            "record 7: ordinate data type " + format_value((*v)[0]) +
+                " must be 5 (complex single) or 6 (complex double)");
+  f.type = *type;
   const double n = (*v)[1];
   if (!(n >= 0.0 && n < 1e9 && n == std::floor(n)))
     fail_at(source, rec7.number,

@@ -38,8 +38,11 @@ BandOptions BandOptions::for_milling(double rpm, int teeth) {
 
 std::size_t ForceBand::bin(double cycle_time_s) const {
   if (!(cycle_time_s > 0.0)) return 0;
-  const auto b = static_cast<std::size_t>(cycle_time_s / options.bin_s);
-  return std::min(b, mean_n.size() - 1);
+  const double b = cycle_time_s / options.bin_s;
+  const std::size_t last = mean_n.size() - 1;
+  // Clamped before the conversion: a quotient beyond size_t (a cycle time far past the band)
+  // would make it undefined.
+  return b < static_cast<double>(last) ? static_cast<std::size_t>(b) : last;
 }
 
 std::vector<std::string> ForceBand::validate() const {

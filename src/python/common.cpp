@@ -110,7 +110,11 @@ nlohmann::json to_json(const py::handle& object, const std::string& where,
   } catch (const py::error_already_set& e) {
     throw InvalidInput({"not " + what + ": " + py::str(e.value()).cast<std::string>()}, where);
   }
-  return nlohmann::json::parse(text);
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {  // an int too large for a double: 10**400
+    throw InvalidInput({"not " + what + ": " + e.what()}, where);
+  }
 }
 
 py::array_t<double> array_of(const std::vector<double>& values) {

@@ -91,6 +91,73 @@ TEST_F(MonitorJobs, CalibrationFileReadsBackAsTheCalibrationInMemory) {
               zheng2012_preset());
 }
 
+// Found by fuzz_calibration and fuzz_band (docs/fuzzing.md): a number that no double holds
+// made the JSON reader throw out_of_range, which escaped the readers' InvalidInput.
+TEST_F(MonitorJobs, FuzzANumberNoDoubleHoldsIsNotJson) {
+  std::ofstream(dir_ / "calib.json")
+      << R"({"format": "cutdyn monitor calibration", "axes": {"x": {"friction_nm": 1e400}}})";
+  std::ofstream(dir_ / "band.json") << R"({"format": "cutdyn monitor band", "bin_s": 1e400})";
+  for (const char* name : {"calib.json", "band.json"}) {
+    const std::string path = (dir_ / name).string();
+    try {
+      if (std::string(name) == "calib.json")
+        read_calibration(path);
+      else
+        read_band(path);
+      ADD_FAILURE() << name << " was read";
+    } catch (const InvalidInput& e) {
+      EXPECT_EQ(e.where(), path);
+      ASSERT_EQ(e.problems().size(), 1u);
+      EXPECT_EQ(e.problems()[0].rfind("not valid JSON: ", 0), 0u) << e.problems()[0];
+    }
+  }
+}
+
+// Found by fuzz_calibration and fuzz_band: a value of the wrong type where the files have a
+// string (format, measure) threw json::type_error past the readers; a band's run count that no
+// int holds was converted to int regardless (undefined; -2147483648 on x86-64).
+TEST_F(MonitorJobs, FuzzWrongTypesAndHugeCountsAreRefusedByName) {
+  const auto problem = [&](const std::string& text, bool band) -> std::string {
+    std::ofstream(dir_ / "file.json") << text;
+    try {
+      if (band)
+        read_band((dir_ / "file.json").string());
+      else
+        read_calibration((dir_ / "file.json").string());
+    } catch (const InvalidInput& e) {
+      return e.problems().at(0);
+    }
+    return "(read)";
+  };
+  const std::string axis =
+      R"("inertia_kg_m2": 0.001, "torque_constant_nm_per_a": 1.2, "viscous_nm_s_per_rad": 0.01,
+         "friction_nm": 1.5, "force_gain_m": 0.0006)";
+  EXPECT_EQ(problem(R"({"format": 7, "axes": {}})", false),
+            "format: must be \"cutdyn monitor calibration\"");
+  EXPECT_EQ(problem(R"({"format": "cutdyn monitor calibration", "axes": {"x": {"measure": 0, )" +
+                        axis + "}}}",
+                    false),
+            "axes.x.measure = \"0\": must be rms or space-vector");
+  EXPECT_EQ(
+      problem(R"({"format": "cutdyn monitor calibration", "axes": {"x": {"measure": "rms", )" +
+                  axis + "}}}",
+              false),
+      "(read)");
+  EXPECT_EQ(problem(R"({"format": ["cutdyn monitor band"], "axes": {}})", true),
+            "format: must be \"cutdyn monitor band\"");
+  const std::string band = R"({"format": "cutdyn monitor band", "bin_s": 0.01, "smoothing_s": 0.01,
+      "axes": {"x": {"cycle_s": 0.02, "mean_n": [1, 2], "sigma_n": [0, 0], "upper_n": [2, 3],
+                     "lower_n": [0, 1], "cutting": [1, 1], "runs": RUNS}}})";
+  const auto with_runs = [&](const std::string& runs) {
+    std::string text = band;
+    return text.replace(text.find("RUNS"), 4, runs);
+  };
+  EXPECT_EQ(problem(with_runs("3"), true), "(read)");
+  EXPECT_EQ(problem(with_runs("1e300"), true), "axes.x.runs = 1e+300: must be a whole number >= 0");
+  EXPECT_EQ(problem(with_runs("-1"), true), "axes.x.runs = -1: must be a whole number >= 0");
+  EXPECT_EQ(problem(with_runs("2.5"), true), "axes.x.runs = 2.5: must be a whole number >= 0");
+}
+
 // Logs held in memory (LogTexts) are read as the same logs in files: the same calibration and
 // band to the last bit, and messages name them by their names.
 TEST_F(MonitorJobs, LogsInMemoryAreReadAsFiles) {

@@ -553,6 +553,21 @@ TEST(FrfFileRefusal, UffDatasetsThatAreNotAnFrf) {
   EXPECT_HAS(refusal_of("100 1 2\n", ".uff"), "line 1: a universal file starts with a -1 line");
 }
 
+// Found by fuzz_frf (docs/fuzzing.md): a number where UFF has an integer field that no int
+// holds (infinity, 1e300) was converted to int, which is undefined behaviour (x86 made it
+// -2147483648, and the messages said so); such a field is now refused as the file writes it.
+TEST(FrfFileRefusal, FuzzIntegerFieldsNoIntHoldsAreRefusedAsWritten) {
+  const std::string good = good_uff();
+  ASSERT_TRUE(refusal_of(good).empty());
+  std::string type = good;  // record 7's first field: the ordinate data type
+  type.replace(type.find("\n         6         3"), 21, "\n       inf         3");
+  EXPECT_HAS(refusal_of(type),
+             "line 9: record 7: ordinate data type inf must be 5 (complex single) or 6");
+  std::string function = good;  // record 6's first field: the function type
+  function.replace(function.find("\n    4         1"), 6, "\n1e300");
+  EXPECT_HAS(refusal_of(function), "line 8: record 6 does not start with a function type");
+}
+
 class FrfFileRefusalOfFiles : public testing::TempDirTest {};
 
 TEST_F(FrfFileRefusalOfFiles, MissingEmptyBinaryAndDirectoriesAreClear) {

@@ -58,6 +58,22 @@ double crossing(double f0, double f1, double t0, double tau, double limit) {
   return t0 - tau * std::log(1.0 - (limit - f0) / (f1 - f0));
 }
 
+// Found by fuzz_band (docs/fuzzing.md): a band file's cycle_s is not tied to its bins, so the
+// cycle time can lie far beyond them; its bin was the quotient converted to size_t first,
+// undefined beyond size_t (x86-64: bin 0, where the clamp to the last bin was meant).
+TEST(MonitorBand, FuzzACycleTimeFarBeyondTheBandIsItsLastBin) {
+  ForceBand band;
+  band.options.bin_s = 1e-3;
+  band.mean_n = band.sigma_n = band.upper_n = band.lower_n = {1.0, 2.0, 3.0, 4.0, 5.0};
+  band.cutting = {1, 1, 1, 1, 1};
+  ASSERT_TRUE(band.validate().empty());
+  EXPECT_EQ(band.bin(0.0025), 2u);
+  EXPECT_EQ(band.bin(0.5), 4u);
+  EXPECT_EQ(band.bin(1e300), 4u);
+  EXPECT_EQ(band.bin(HUGE_VAL), 4u);
+  EXPECT_EQ(band.bin(std::nan("")), 0u);
+}
+
 TEST(MonitorBand, NoAlarmOnAnotherRunLikeTheReference) {
   std::mt19937_64 rng(5);
   std::normal_distribution<double> g(0.0, 20.0);

@@ -78,6 +78,9 @@ def test_bad_values_raise_naming_the_key():
     expect_case_error(lambda: cutdyn.Case(unknown), "tool.colour")
     expect_case_error(lambda: cutdyn.Case({"process": "milling", "modes": [{"x": float("nan")}]}),
                       "not a case")
+    # An int no double holds (JSON's reader overflows): a CaseError, not another exception.
+    expect_case_error(lambda: cutdyn.Case({"process": "milling", "lobes": {"rpm_max": 10**400}}),
+                      "not a case")
 
 
 def test_file_errors_are_the_command_lines(tmp):

@@ -35,6 +35,19 @@ TEST(ServerApi, LobesAreTheJobsReportOfTheSameCase) {
   EXPECT_EQ(got, expected);
 }
 
+// Found by fuzz_api (docs/fuzzing.md): a number in the body that no double holds made the
+// JSON reader throw out_of_range, not parse_error, and the API answered 500 ("server").
+TEST(ServerApi, FuzzANumberNoDoubleHoldsIsABadBody) {
+  for (const char* path : {"/api/case", "/api/lobes", "/api/check", "/api/simulate"}) {
+    const Response r = api().handle(
+        {"POST", path, {}, R"({"process": "milling", "lobes": {"rpm_max": 1e99999}})"});
+    EXPECT_EQ(r.status, 400) << path << ": " << r.body;
+    const json body = json::parse(r.body);
+    EXPECT_EQ(body.at("where"), "body") << r.body;
+    EXPECT_NE(body.at("error").get<std::string>().find("not JSON"), std::string::npos) << r.body;
+  }
+}
+
 TEST(ServerApi, EveryBadRequestIsAnsweredNeverThrown) {
   const Api a = api();
   const std::vector<std::pair<Request, int>> cases = {
