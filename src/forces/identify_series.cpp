@@ -50,6 +50,12 @@ std::vector<std::string> series_problems(const ForceSeries& s) {
     if (span < period * (1.0 - 1e-9))
       v.add("time_s spans " + format_value(span) + " s, less than one revolution (" +
             format_value(period) + " s at " + format_value(s.rpm) + " rpm)");
+    // The count of whole revolutions is an int (MeanForce::revolutions); no record of a cut
+    // comes near 1e9 of them (a week at 100000 rpm): the speed or the time unit is wrong.
+    if (!(span <= 1e9 * period))
+      v.add("time_s spans " + format_value(span) + " s, more than 1e9 revolutions (" +
+            format_value(period) + " s at " + format_value(s.rpm) +
+            " rpm): is the speed or the time unit wrong?");
   }
   return v.problems();
 }

@@ -709,6 +709,20 @@ TEST(MeanOverRevolutions, RefusesShortOrBrokenRecords) {
   }
 }
 
+// Found by fuzz_force_file (docs/fuzzing.md): a speed of 1e32 rpm (a force file's
+// `# rpm = ...`) made the count of whole revolutions 1e28, converted to int regardless
+// (undefined; -2147483648 on x86-64, a negative averaging length).
+TEST(MeanOverRevolutions, FuzzMoreRevolutionsThanAnIntHoldsAreRefused) {
+  using ::testing::ElementsAre;
+  ForceSeries s = synthetic_series(2.0, 10, 3000.0);
+  s.rpm = 1e32;
+  EXPECT_THAT(series_problems(s), ElementsAre(HasSubstr("s, more than 1e9 revolutions")));
+  s.rpm = 3000.0;
+  s.time_s.back() = 1e10;
+  EXPECT_THAT(series_problems(s), ElementsAre(HasSubstr("more than 1e9 revolutions (0.02 s at "
+                                                        "3000 rpm): is the speed or the time")));
+}
+
 TEST(StudentT, QuantilesMatchTheTables) {
   // Exact: ν = 1 is Cauchy (t = tan(π(p − ½))), ν = 2 has t = A·√2/√(1 − A²), A = 2p − 1.
   EXPECT_NEAR(student_t_quantile(0.75, 1), 1.0, 1e-12);
