@@ -230,7 +230,7 @@ unsigned other_bytes(std::uint64_t x) {
 // two words (24 bytes must be readable at p): the point and the end found at once, the digits
 // valued without a loop, the sign without a branch; nullptr for any other form (an exponent,
 // more digits), which fast_number or std::from_chars take.
-const char* window_number(const char* p, double& value) {
+[[gnu::always_inline]] inline const char* window_number(const char* p, double& value) {
   const std::uint64_t negative = *p == '-' ? 1 : 0;
   p += negative;
   std::uint64_t a, b;
@@ -261,7 +261,8 @@ const char* window_number(const char* p, double& value) {
 
 // A number as std::from_chars reads it, by the fastest path that takes its form; nullptr
 // where none does.
-const char* plain_number(const char* p, const char* end, double& value) {
+[[gnu::always_inline]] inline const char* plain_number(const char* p, const char* end,
+                                                       double& value) {
   if constexpr (std::endian::native == std::endian::little)  // words read as text order
     if (end - p >= 24)
       if (const char* q = window_number(p, value)) return q;
@@ -393,7 +394,7 @@ char* general7_any(char* p, double x) {
 
 // The same for 1e-4 <= |x| < 1e7, printf's fixed form (the columns of an estimate), in one
 // word: 7 digits and a point are 8 bytes. Anything else, to general7_any.
-char* general7(char* p, double x) {
+[[gnu::always_inline]] inline char* general7(char* p, double x) {
   constexpr double kNear[13] = {1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1e0, 1e1,
                                 1e2,  1e3,  1e4,  1e5,  1e6,  1e7};  // 10^(i − 5)
   const double ax = x < 0 ? -x : x;
@@ -466,7 +467,7 @@ char* shortest15(char* p, double x) {
 }
 
 // Writes `value` as append_number does, at p: room for 48 characters needed.
-char* put_number(char* p, double value, int digits) {
+[[gnu::always_inline]] inline char* put_number(char* p, double value, int digits) {
   if constexpr (std::endian::native == std::endian::little) {  // words written as text order
     char* end = digits == 0 ? shortest15(p, value) : digits == 7 ? general7(p, value) : nullptr;
     if (end) return end;
