@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 #include <tuple>
 // GCC 12 reports a false -Wuse-after-free inside Spectra's inlined Eigen code.
 #if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12
@@ -133,24 +135,14 @@ using units::kTwoPi;
 // Exact integrals of one step [Ding2010, eqs. 8–12]: Φ0 = e^(Ah), and the weights W0, W1
 // of the step's start and end values of a linearly interpolated forcing, from one matrix
 // exponential of the block matrix [[A, I, 0], [0, 0, I], [0, 0, 0]]·h [VanLoan1978].
-struct StepMatrices {
+struct StepIntegrals {
   Eigen::MatrixXd phi0;  // d×d
   Eigen::MatrixXd w0E;   // W0·E, d×r
   Eigen::MatrixXd w1E;   // W1·E, d×r
-  Eigen::MatrixXd H;     // H̄ of the first delay term over the step, r×r
-  bool active = false;   // some H̄k ≠ 0
-  struct Term {          // one per delay term with H̄k ≠ 0 on this step
-    int term = 0;
-    Eigen::MatrixXd w0EH;   // W0·E·H̄k, d×r
-    Eigen::MatrixXd w1EH;   // W1·E·H̄k, d×r
-    Eigen::MatrixXd w0EHC;  // W0·E·H̄k·C, d×d (depth-independent part of the step matrix)
-    Eigen::MatrixXd w1EHC;  // W1·E·H̄k·C, d×d
-  };
-  std::vector<Term> terms;
 };
 
 // Φ0, W0·E and W1·E for a step of length h (they depend on h only).
-StepMatrices step_integrals(const DelayedSystem& s, double h) {
+StepIntegrals step_integrals(const DelayedSystem& s, double h) {
   const auto d = s.A0.rows();
   Eigen::MatrixXd m = Eigen::MatrixXd::Zero(3 * d, 3 * d);
   m.topLeftCorner(d, d) = s.A0 * h;
@@ -162,12 +154,33 @@ StepMatrices step_integrals(const DelayedSystem& s, double h) {
   // With the scaling above, f12 = Φ1 = ∫0^h e^(A(h−s)) ds and f13 = ∫0^h e^(A(h−s)) s ds.
   const Eigen::MatrixXd phi1 = f.block(0, d, d, d);
   const Eigen::MatrixXd w1 = f.block(0, 2 * d, d, d) / h;
-  StepMatrices out;
+  StepIntegrals out;
   out.phi0 = f.topLeftCorner(d, d);
   out.w1E = w1 * s.E;
   out.w0E = (phi1 - w1) * s.E;
   return out;
 }
+
+// One step of the discretization: its integrals (shared by every step of the same length),
+// H̄ of the first delay term, and the delay terms with H̄k ≠ 0 on it.
+struct StepMatrices {
+  const StepIntegrals* integrals = nullptr;
+  Eigen::Index h_col = 0;            // H̄ = Discretization's h block at this column, r×r
+  int first_term = 0, last_term = 0;  // its terms: [first_term, last_term)
+  bool active() const { return last_term > first_term; }  // some H̄k ≠ 0
+  const Eigen::MatrixXd& phi0() const { return integrals->phi0; }
+  const Eigen::MatrixXd& w0E() const { return integrals->w0E; }
+  const Eigen::MatrixXd& w1E() const { return integrals->w1E; }
+};
+
+// A delay term on one step: the depth-independent products, kept side by side in one
+// d × (2r + 2d) block of the discretization's term storage (so that a period map can view
+// them as fixed-size matrices): W0·E·H̄k (d×r), W1·E·H̄k (d×r), W0·E·H̄k·C and W1·E·H̄k·C
+// (d×d, the depth-independent parts of the step matrix).
+struct StepTerm {
+  int term = 0;
+  Eigen::Index col = 0;  // first column of its block
+};
 
 // y(t_j − τ) = (1 − α)·y(g) + α·y(g + 1), g a global node index (node g + n is node g one
 // period later).
@@ -187,32 +200,58 @@ class Discretization {
   Discretization(const DelayedSystem& s, const FdGrid& grid)
       : terms_(s.delay_terms()), grid_(grid) {
     const int n = grid.steps();
-    steps_.reserve(static_cast<std::size_t>(n));
+    const auto d = s.A0.rows(), r = s.C.rows();
+    const auto kinds = static_cast<Eigen::Index>(terms_.size());
     // Grids are uniform within each window segment: one matrix exponential per distinct
     // step length (to rounding) serves every step of that length.
-    std::vector<std::pair<double, StepMatrices>> by_length;
+    std::vector<double> lengths;
+    steps_.resize(static_cast<std::size_t>(n));
+    // H̄k of every step and term, side by side (r × r each): the mean's own result is the
+    // only allocation per step.
+    Eigen::MatrixXd means(r, r * n * kinds);
+    Eigen::Index active_terms = 0;
     for (int j = 0; j < n; ++j) {
       const double t0 = grid.nodes_s[static_cast<std::size_t>(j)];
       const double t1 = grid.nodes_s[static_cast<std::size_t>(j + 1)];
       const double h = t1 - t0;
-      auto it = std::find_if(by_length.begin(), by_length.end(),
-                             [&](const auto& e) { return std::abs(e.first - h) <= 1e-12 * h; });
-      if (it == by_length.end()) {
-        by_length.emplace_back(h, step_integrals(s, h));
-        it = by_length.end() - 1;
+      auto it = std::find_if(lengths.begin(), lengths.end(),
+                             [&](double e) { return std::abs(e - h) <= 1e-12 * h; });
+      if (it == lengths.end()) {
+        lengths.push_back(h);
+        integrals_.push_back(step_integrals(s, h));
+        it = lengths.end() - 1;
       }
-      StepMatrices st = it->second;
-      for (std::size_t k = 0; k < terms_.size(); ++k) {
-        const Eigen::MatrixXd h_mean = terms_[k].H.mean(t0, t1);
-        if (k == 0) st.H = h_mean;
-        if (h_mean.norm() == 0.0) continue;
-        StepMatrices::Term term{static_cast<int>(k), st.w0E * h_mean, st.w1E * h_mean, {}, {}};
-        term.w0EHC = term.w0EH * s.C;
-        term.w1EHC = term.w1EH * s.C;
-        st.terms.push_back(std::move(term));
+      StepMatrices& st = steps_[static_cast<std::size_t>(j)];
+      st.integrals = &integrals_[static_cast<std::size_t>(it - lengths.begin())];
+      st.h_col = r * (static_cast<Eigen::Index>(j) * kinds);
+      for (Eigen::Index k = 0; k < kinds; ++k) {
+        auto mean = means.middleCols(st.h_col + r * k, r);
+        mean = terms_[static_cast<std::size_t>(k)].H.mean(t0, t1);
+        if (mean.norm() != 0.0) ++active_terms;
       }
-      st.active = !st.terms.empty();
-      steps_.push_back(std::move(st));
+    }
+    h_ = std::move(means);
+    const Eigen::Index width = 2 * r + 2 * d;
+    term_data_.resize(d, width * active_terms);
+    step_terms_.reserve(static_cast<std::size_t>(active_terms));
+    for (int j = 0; j < n; ++j) {
+      StepMatrices& st = steps_[static_cast<std::size_t>(j)];
+      st.first_term = static_cast<int>(step_terms_.size());
+      for (Eigen::Index k = 0; k < kinds; ++k) {
+        const auto mean = h_.middleCols(st.h_col + r * k, r);
+        if (mean.norm() == 0.0) continue;
+        const auto index = static_cast<Eigen::Index>(step_terms_.size());
+        const StepTerm t{static_cast<int>(k), width * index};
+        // Products of a few rows and columns: coefficient by coefficient (lazyProduct), not
+        // through the blocked matrix product's dispatch.
+        auto w0EH = term_data_.middleCols(t.col, r), w1EH = term_data_.middleCols(t.col + r, r);
+        w0EH.noalias() = st.w0E().lazyProduct(mean);
+        w1EH.noalias() = st.w1E().lazyProduct(mean);
+        term_data_.middleCols(t.col + 2 * r, d).noalias() = w0EH.lazyProduct(s.C);
+        term_data_.middleCols(t.col + 2 * r + d, d).noalias() = w1EH.lazyProduct(s.C);
+        step_terms_.push_back(t);
+      }
+      st.last_term = static_cast<int>(step_terms_.size());
     }
     refs_.resize(terms_.size());
     for (std::size_t k = 0; k < terms_.size(); ++k) {
@@ -222,6 +261,14 @@ class Discretization {
 
   int n() const { return grid_.steps(); }
   const StepMatrices& step(int j) const { return steps_[static_cast<std::size_t>(j)]; }
+  /// H̄ of the first delay term over step j (r×r).
+  auto H(int j) const { return h_.middleCols(step(j).h_col, h_.rows()); }
+  const StepTerm& step_term(int i) const { return step_terms_[static_cast<std::size_t>(i)]; }
+  int step_terms() const { return static_cast<int>(step_terms_.size()); }
+  /// First entry of term i's block: W0·E·H̄k, W1·E·H̄k, W0·E·H̄k·C, W1·E·H̄k·C, d rows each.
+  const double* term_data(int i) const {
+    return term_data_.data() + term_data_.rows() * step_term(i).col;
+  }
   int terms() const { return static_cast<int>(terms_.size()); }
   /// Where y(t_j − τk) is, for node j and delay term k.
   const DelayRef& ref(int j, int k = 0) const {
@@ -257,7 +304,12 @@ class Discretization {
 
   std::vector<DelayTerm> terms_;
   const FdGrid& grid_;
+  std::deque<StepIntegrals> integrals_;  // one per distinct step length (a deque: steps point
+                                         // into it while it grows)
   std::vector<StepMatrices> steps_;
+  Eigen::MatrixXd h_;                    // H̄k of every step and term, r × r each
+  std::vector<StepTerm> step_terms_;
+  Eigen::MatrixXd term_data_;            // d × (2r + 2d) per step term
   std::vector<std::vector<DelayRef>> refs_;
 };
 
@@ -353,40 +405,43 @@ class PeriodMapT final : public PeriodMap {
       for (int j = 0; j < n; ++j)
         for (int e : {j, j + 1}) L_ = std::max(L_, j - disc_.ref(e, k).g);
     steps_.resize(static_cast<std::size_t>(n));
+    gains_.reserve(static_cast<std::size_t>(disc_.step_terms()));
     for (int j = 0; j < n; ++j) {
       const StepMatrices& st = disc_.step(j);
       Step& out = steps_[static_cast<std::size_t>(j)];
       out.first = static_cast<int>(gains_.size());
       out.last = out.first;
-      if (!st.active || depth <= 0.0) {
-        out.mx = st.phi0;
+      if (!st.active() || depth <= 0.0) {
+        out.mx = st.phi0();
         continue;
       }
       // (I + Σk whk1·C)·x(j+1) = (Φ0 − Σk whk0·C)·x(j) + Σk [whk0·ŷk(j) + whk1·ŷk(j+1)]
       // [Ding2010, eq. 13, with one delayed term per delay]. I + Σ wh1·C is I plus a term of
-      // the order of the step: well conditioned.
+      // the order of the step: well conditioned. W·E·H̄·C is kept from the discretization:
+      // only the scaling by the depth is new.
       MatDD lhs = MatDD::Identity(d_, d_);
-      MatDD rhs = st.phi0;
-      // W·E·H̄·C is kept from the discretization: only the scaling by the depth is new.
-      for (const StepMatrices::Term& t : st.terms) {
+      MatDD rhs = st.phi0();
+      for (int i = st.first_term; i < st.last_term; ++i) {
+        const TermBlocks t(disc_.term_data(i), d_, r_);
         lhs += depth * t.w1EHC;
         rhs -= depth * t.w0EHC;
       }
       const MatDD inv = lhs.inverse();
       out.mx.noalias() = inv * rhs;
-      for (const StepMatrices::Term& t : st.terms) {
-        Gain g;
-        g.term = t.term;
-        g.k0.noalias() = depth * inv * t.w0EH;
-        g.k1.noalias() = depth * inv * t.w1EH;
+      for (int i = st.first_term; i < st.last_term; ++i) {
+        const TermBlocks t(disc_.term_data(i), d_, r_);
+        const int term = disc_.step_term(i).term;
+        Gain& g = gains_.emplace_back();
+        g.term = term;
+        g.k0.noalias() = (depth * inv) * t.w0EH;
+        g.k1.noalias() = (depth * inv) * t.w1EH;
         // Where the delayed values of nodes j and j + 1 are, counted back from node j.
-        const DelayRef& r0 = disc_.ref(j, t.term);
-        const DelayRef& r1 = disc_.ref(j + 1, t.term);
+        const DelayRef& r0 = disc_.ref(j, term);
+        const DelayRef& r1 = disc_.ref(j + 1, term);
         g.back0 = j - r0.g;
         g.alpha0 = r0.alpha;
         g.back1 = j - r1.g;
         g.alpha1 = r1.alpha;
-        gains_.push_back(g);
       }
       out.last = static_cast<int>(gains_.size());
     }
@@ -415,8 +470,17 @@ class PeriodMapT final : public PeriodMap {
     double alpha0 = 0.0, alpha1 = 0.0;
   };
   struct Step {
+    Step() {}  // user-provided: a vector of them is not zero-filled first
     MatDD mx;
     int first = 0, last = 0;  // its gains: gains_[first, last)
+  };
+  // A step term's products (Discretization::term_data) seen as matrices of this map's sizes.
+  struct TermBlocks {
+    TermBlocks(const double* p, Eigen::Index d, Eigen::Index r)
+        : w0EH(p, d, r), w1EH(p + d * r, d, r), w0EHC(p + 2 * d * r, d, d),
+          w1EHC(p + 2 * d * r + d * d, d, d) {}
+    Eigen::Map<const MatDR> w0EH, w1EH;
+    Eigen::Map<const MatDD> w0EHC, w1EHC;
   };
 
   // One column (the Arnoldi product): the same operations as run<Cols>, on maps of fixed
@@ -531,6 +595,20 @@ std::unique_ptr<PeriodMap> make_period_map(const Discretization& disc, const Del
   return std::make_unique<PeriodMapT<Eigen::Dynamic, Eigen::Dynamic>>(disc, s, depth);
 }
 
+// A product with the period map left the range of double: a unit vector grew beyond 1e308 in
+// one period. The process is then unstable beyond doubt at that depth (whatever the transient
+// growth of a stable map, it is not 1e308 in one period), and the radius is reported as
+// infinite: the searches treat it as unstable, and no NaN reaches an eigenvalue solver.
+struct MapOverflow {};
+constexpr double kOverflowRadius = std::numeric_limits<double>::infinity();
+
+// The largest |eigenvalue| of a dense map; infinite if the map or its eigenvalues overflow.
+double dense_radius(const Eigen::MatrixXd& phi) {
+  if (!phi.allFinite()) return kOverflowRadius;
+  const Eigen::VectorXd moduli = phi.eigenvalues().cwiseAbs();
+  return moduli.allFinite() ? moduli.maxCoeff() : kOverflowRadius;
+}
+
 // Spectra's operator interface over the matrix-free map.
 class PeriodMapOp {
  public:
@@ -541,6 +619,7 @@ class PeriodMapOp {
   void perform_op(const double* in, double* out) const {
     z_ = Eigen::Map<const Eigen::VectorXd>(in, map_.dim());
     map_.apply(z_, next_);
+    if (!z_.allFinite()) throw MapOverflow{};
     Eigen::Map<Eigen::VectorXd>(out, map_.dim()) = z_;
   }
 
@@ -577,7 +656,7 @@ Eigen::MatrixXd FdDiscretization::transition_matrix(double depth_m) const {
 }
 
 double FdDiscretization::spectral_radius(double depth_m) const {
-  return transition_matrix(depth_m).eigenvalues().cwiseAbs().maxCoeff();
+  return dense_radius(transition_matrix(depth_m));
 }
 
 SpectralRadius FdDiscretization::spectral_radius_arnoldi(double depth_m) const {
@@ -589,18 +668,24 @@ SpectralRadius FdDiscretization::spectral_radius_arnoldi(double depth_m) const {
     PeriodMapOp op(map);
     Spectra::GenEigsSolver<PeriodMapOp> eigs(op, kNev, kNcv);
     eigs.init();
-    const Eigen::Index converged = eigs.compute(Spectra::SortRule::LargestMagn, 200, 1e-10);
-    out.operations = eigs.num_operations();
-    if (converged == kNev && eigs.info() == Spectra::CompInfo::Successful) {
-      out.value = eigs.eigenvalues().cwiseAbs().maxCoeff();
-      out.arnoldi = true;
+    try {
+      const Eigen::Index converged = eigs.compute(Spectra::SortRule::LargestMagn, 200, 1e-10);
+      out.operations = eigs.num_operations();
+      if (converged == kNev && eigs.info() == Spectra::CompInfo::Successful) {
+        out.value = eigs.eigenvalues().cwiseAbs().maxCoeff();
+        out.arnoldi = true;
+        return out;
+      }
+    } catch (const MapOverflow&) {
+      out.value = kOverflowRadius;
       return out;
+    } catch (const std::exception&) {  // Spectra's QR failed (values near overflow): dense
     }
   }
   // Small maps, or Arnoldi did not converge (multipliers crowding the circle): dense.
   Eigen::MatrixXd phi = Eigen::MatrixXd::Identity(map.dim(), map.dim()), scratch;
   map.apply(phi, scratch);
-  out.value = phi.eigenvalues().cwiseAbs().maxCoeff();
+  out.value = dense_radius(phi);
   return out;
 }
 
@@ -620,30 +705,40 @@ SpectralRadius fd_spectral_radius_arnoldi(const DelayedSystem& s, const FdGrid& 
 namespace {
 
 // The multiplier of largest modulus and its eigenvector (dense or Arnoldi).
+// An infinite multiplier (no eigenvector) when the map overflows.
 std::pair<cplx, Eigen::VectorXcd> dominant_eigenpair(const PeriodMap& map, RadiusSolver solver) {
+  const std::pair<cplx, Eigen::VectorXcd> overflow{cplx(kOverflowRadius, 0.0), {}};
   if (solver == RadiusSolver::kArnoldi && map.dim() > 60) {
     PeriodMapOp op(map);
     Spectra::GenEigsSolver<PeriodMapOp> eigs(op, 3, 10);
     eigs.init();
-    if (eigs.compute(Spectra::SortRule::LargestMagn, 200, 1e-10) == 3)
-      return {eigs.eigenvalues()(0), eigs.eigenvectors().col(0)};
+    try {
+      if (eigs.compute(Spectra::SortRule::LargestMagn, 200, 1e-10) == 3)
+        return {eigs.eigenvalues()(0), eigs.eigenvectors().col(0)};
+    } catch (const MapOverflow&) {
+      return overflow;
+    } catch (const std::exception&) {  // Spectra's QR failed (values near overflow): dense
+    }
   }
   Eigen::MatrixXd phi = Eigen::MatrixXd::Identity(map.dim(), map.dim()), scratch;
   map.apply(phi, scratch);
+  if (!phi.allFinite()) return overflow;
   Eigen::EigenSolver<Eigen::MatrixXd> eig(phi, true);
+  if (!eig.eigenvalues().allFinite() || !eig.eigenvectors().allFinite()) return overflow;
   Eigen::Index k = 0;
   eig.eigenvalues().cwiseAbs().maxCoeff(&k);
   return {eig.eigenvalues()(k), eig.eigenvectors().col(k)};
 }
 
 // The dominant multiplier by an unrestarted Arnoldi iteration: Krylov vectors from a fixed
-// pseudo-random start (as Spectra's default), classical Gram–Schmidt applied twice, and after
-// each product from the kFirstTest-th on the Ritz values of the Hessenberg matrix; accepted
-// once the kNev of largest modulus pass Spectra's residual test (|h(m+1,m)·y(m)| <
-// tol·max(|θ|, eps^(2/3)), y the unit eigenvector of H). nullopt when kMaxVectors are not
+// pseudo-random start (as Spectra's default), classical Gram–Schmidt applied twice, and from
+// the kFirstTest-th product on the Ritz values of the Hessenberg matrix, tested after the
+// products where the residuals' geometric fall says they may pass; accepted once the kNev of
+// largest modulus pass Spectra's residual test (|h(m+1,m)·y(m)| < tol·max(|θ|, eps^(2/3)),
+// y the unit eigenvector of H), so only where they do. nullopt when kMaxVectors are not
 // enough or the map is small (the caller then uses Spectra or the dense matrix).
 std::optional<DominantMultiplier> krylov_dominant(const PeriodMap& map) {
-  constexpr int kNev = 3, kMaxVectors = 30, kFirstTest = 7;
+  constexpr int kNev = 3, kMaxVectors = 30, kFirstTest = 8;
   constexpr double kTol = 1e-10;
   const Eigen::Index n = map.dim();
   if (n <= 2 * kMaxVectors) return std::nullopt;
@@ -657,10 +752,17 @@ std::optional<DominantMultiplier> krylov_dominant(const PeriodMap& map) {
   Eigen::VectorXd h, h2;
   DominantMultiplier out;
   out.krylov = true;
+  int next_test = kFirstTest, last_test = 0;
+  double last_worst = 0.0;
   for (int k = 0; k < kMaxVectors; ++k) {
     z.col(0) = V.col(k);
     map.apply(z, next);
     ++out.operations;
+    if (!z.allFinite()) {  // the map overflows (MapOverflow)
+      out.radius = kOverflowRadius;
+      out.mu = cplx(kOverflowRadius, 0.0);
+      return out;
+    }
     const auto basis = V.leftCols(k + 1);
     h.noalias() = basis.transpose() * z.col(0);
     z.col(0).noalias() -= basis * h;
@@ -668,26 +770,51 @@ std::optional<DominantMultiplier> krylov_dominant(const PeriodMap& map) {
     z.col(0).noalias() -= basis * h2;
     H.col(k).head(k + 1) = h + h2;
     const double beta = z.col(0).norm();
+    if (!std::isfinite(beta)) {  // |z| beyond the range of double: an overflow too
+      out.radius = kOverflowRadius;
+      out.mu = cplx(kOverflowRadius, 0.0);
+      return out;
+    }
     H(k + 1, k) = beta;
     const int m = k + 1;
     const bool invariant = beta <= std::numeric_limits<double>::epsilon() * H.col(k).norm();
     if (!invariant) V.col(k + 1) = z.col(0) / beta;
-    if (m < kFirstTest && !invariant) continue;
+    if (m < next_test && !invariant && m < kMaxVectors) continue;
     if (m < kNev) return std::nullopt;
-    Spectra::UpperHessenbergEigen<double> eig(H.topLeftCorner(m, m));
-    const Eigen::VectorXcd values = eig.eigenvalues();
-    const Eigen::MatrixXcd vectors = eig.eigenvectors();  // unit columns
+    Eigen::VectorXcd values;
+    Eigen::MatrixXcd vectors;  // unit columns
+    try {
+      Spectra::UpperHessenbergEigen<double> eig(H.topLeftCorner(m, m));
+      values = eig.eigenvalues();
+      vectors = eig.eigenvectors();
+    } catch (const std::exception&) {  // its QR iteration did not converge: Spectra, dense
+      return std::nullopt;
+    }
     std::vector<int> order(static_cast<std::size_t>(m));
     for (int i = 0; i < m; ++i) order[static_cast<std::size_t>(i)] = i;
     std::stable_sort(order.begin(), order.end(),
                      [&](int a, int b) { return std::abs(values(a)) > std::abs(values(b)); });
-    bool converged = true;
-    for (int q = 0; q < kNev && converged; ++q) {
+    // The worst of the kNev residuals against its bound (< 1: all pass).
+    double worst = 0.0;
+    for (int q = 0; q < kNev; ++q) {
       const int i = order[static_cast<std::size_t>(q)];
       const double residual = invariant ? 0.0 : std::abs(vectors(m - 1, i)) * beta;
-      converged = residual < kTol * std::max(eps23, std::abs(values(i)));
+      worst = std::max(worst, residual / (kTol * std::max(eps23, std::abs(values(i)))));
     }
-    if (!converged) continue;
+    if (!(worst < 1.0)) {
+      // Not yet. The residuals fall geometrically with each product (by 15–40× in milling
+      // maps): from the last two tests, the products still needed; the next test comes one
+      // product before that estimate (each test is a Schur decomposition of the Hessenberg
+      // matrix, about as costly as a product).
+      next_test = m + 1;
+      if (last_worst > 0.0 && last_test == m - 1 && worst < 0.5 * last_worst) {
+        const double needed = std::log(worst) / std::log(last_worst / worst);
+        if (needed > 2.0) next_test = m + static_cast<int>(std::ceil(needed)) - 1;
+      }
+      last_worst = worst;
+      last_test = m;
+      continue;
+    }
     const int top = order.front();
     out.mu = values(top);
     out.radius = std::abs(out.mu);
@@ -731,6 +858,12 @@ DominantMultiplier FdDiscretization::dominant_multiplier(double depth_m,
 }
 
 std::pair<Bifurcation, double> FdDiscretization::mode_of(const DominantMultiplier& dm) const {
+  if (!std::isfinite(dm.radius) || dm.vector.size() == 0) {
+    throw InvalidInput({"the period map overflows at the boundary (a growth beyond 1e308 in one "
+                        "period): the structure is far too flexible for the cutting "
+                        "coefficients; check the modes' stiffness and the depth limit"},
+                       "full discretization");
+  }
   const DelayedSystem& s = impl_->system;
   const double theta = std::arg(dm.mu);
   const Eigen::VectorXcd& v = dm.vector;
@@ -822,7 +955,8 @@ struct WarmFound {
 
 std::optional<WarmFound> warm_search(const std::function<DominantMultiplier(double)>& at,
                                      double rho0, double depth_max, int coarse_steps,
-                                     double rel_tol, double hint, long long& evaluations) {
+                                     double rel_tol, double hint, bool close,
+                                     long long& evaluations) {
   if (!(hint > 0.0 && hint <= depth_max) || !(rho0 < 1.0)) return std::nullopt;
   const auto evaluate = [&](double w) {
     ++evaluations;
@@ -849,6 +983,17 @@ std::optional<WarmFound> warm_search(const std::function<DominantMultiplier(doub
       g_lo = g;
     }
   };
+  // The exhaustive search's absolute tolerance (rel_tol times the grid point at or above the
+  // boundary; in the first cell's lowest eighth, relative to the boundary).
+  const auto tolerance_at = [&](double depth) {
+    return boundary_tolerance(depth, depth_max, coarse_steps, rel_tol);
+  };
+  // A close hint (extrapolated along a smooth lobe, usually within a fraction of the
+  // tolerance): the first two depths straddle it, 0.45 tolerance below and above, and when
+  // the boundary lies between them the bracket is already narrow enough.
+  const double straddle = 0.45 * tolerance_at(hint);
+  if (close && hint - straddle > 0.0 && hint + straddle <= depth_max) x = hint - straddle;
+  else close = false;
   // 1. Bracket: from the hint, secant steps (the first through (0, ρ(0) − 1)) pushed half a
   //    tolerance past the estimated root, so that the next point tends to land on its far side.
   constexpr int kMaxBracketSteps = 40;
@@ -858,6 +1003,12 @@ std::optional<WarmFound> warm_search(const std::function<DominantMultiplier(doub
     if (hi > 0.0 && lo > 0.0) break;
     if (hi > 0.0 && lo == 0.0 && x <= depth_max / 1e6) return std::nullopt;  // unstable near 0
     double next = secant(xa, ga, x, g);
+    if (step == 0 && close && g < 0.0) {  // stable below the close hint: just above it
+      xa = x;
+      ga = g;
+      x = hint + straddle;
+      continue;
+    }
     if (g < 0.0) {                              // stable so far: go up
       if (x >= depth_max) return std::nullopt;  // stable to the limit above the hint
       next = std::isfinite(next) && next > x ? next * (1.0 + 0.5 * rel_tol) : 2.0 * x;
@@ -875,10 +1026,7 @@ std::optional<WarmFound> warm_search(const std::function<DominantMultiplier(doub
   //    bracket is already narrow enough; a bisection whenever a probe did not halve it.
   double prev_width = hi - lo;
   bool bisect = false;
-  // The exhaustive search stops Brent's method at rel_tol times the upper end of its grid
-  // cell; the same absolute tolerance here: rel_tol times the grid point at or above hi.
-  const double cell = depth_max / coarse_steps;
-  const auto tolerance = [&] { return rel_tol * cell * std::ceil(hi / cell - 1e-9); };
+  const auto tolerance = [&] { return tolerance_at(hi); };
   for (int step = 0; hi - lo > tolerance(); ++step) {
     if (step == 200) return std::nullopt;
     double r = secant(xa, ga, x, g);
@@ -913,12 +1061,12 @@ std::optional<WarmFound> warm_search(const std::function<DominantMultiplier(doub
 
 CriticalDepth fd_critical_depth_from_hint(const DelayedSystem& s, const FdOptions& o,
                                           RadiusSolver solver, double rel_tol, int coarse_steps,
-                                          double hint_depth_m) {
+                                          double hint_depth_m, bool hint_is_close) {
   const FdDiscretization fd(s, o);
   long long evaluations = 0;
   auto found = warm_search([&](double w) { return fd.dominant_multiplier(w, solver); },
                            fd.radius_without_cutting(), o.depth_max_m, coarse_steps, rel_tol,
-                           hint_depth_m, evaluations);
+                           hint_depth_m, hint_is_close, evaluations);
   if (!found) {
     CriticalDepth result = exhaustive_search(fd, o.depth_max_m, solver, rel_tol, coarse_steps);
     result.evaluations += evaluations;
@@ -932,14 +1080,15 @@ CriticalDepth fd_critical_depth_from_hint(const DelayedSystem& s, const FdOption
 
 CriticalDepth fd_critical_depth_from_hint(const std::function<DelayedSystem(double)>& system_at,
                                           const FdOptions& o, RadiusSolver solver, double rel_tol,
-                                          int coarse_steps, double hint_depth_m) {
+                                          int coarse_steps, double hint_depth_m,
+                                          bool hint_is_close) {
   const DelayedSystem at_limit = system_at(o.depth_max_m);
   const FdGrid grid = fd_grid(at_limit, o);
   long long evaluations = 0;
   auto found = warm_search(
       [&](double w) { return FdDiscretization(system_at(w), grid).dominant_multiplier(w, solver); },
       radius_at_zero(at_limit, grid.period_s), o.depth_max_m, coarse_steps, rel_tol, hint_depth_m,
-      evaluations);
+      hint_is_close, evaluations);
   if (!found) {
     CriticalDepth result = fd_critical_depth_by_radius(system_at, o, solver, rel_tol, coarse_steps);
     result.evaluations += evaluations;
@@ -971,7 +1120,7 @@ CriticalDepth fd_critical_depth(const DelayedSystem& s, const FdOptions& o) {
 
   std::vector<int> active;
   for (int j = 0; j < n; ++j)
-    if (disc.step(j).active) active.push_back(j);
+    if (disc.step(j).active()) active.push_back(j);
   if (active.empty()) return CriticalDepth{o.depth_max_m};  // never in contact: never unstable
   const auto m = static_cast<Eigen::Index>(2 * r * static_cast<Eigen::Index>(active.size()));
 
@@ -983,17 +1132,17 @@ CriticalDepth fd_critical_depth(const DelayedSystem& s, const FdOptions& o) {
   Eigen::MatrixXd prefix = Eigen::MatrixXd::Identity(d, d);
   for (int i = 0; i < n; ++i) {
     Cp.middleRows(r * i, r) = s.C * prefix;
-    prefix = disc.step(i).phi0 * prefix;
+    prefix = disc.step(i).phi0() * prefix;
   }
   const Eigen::MatrixXd psi = prefix;  // e^(A0·T)
   for (std::size_t jj = 0; jj < active.size(); ++jj) {
     const int j = active[jj];
     for (int which = 0; which < 2; ++which) {
       const Eigen::Index col = (2 * static_cast<Eigen::Index>(jj) + which) * r;
-      Eigen::MatrixXd v = which == 0 ? disc.step(j).w0E : disc.step(j).w1E;  // into x(j+1)
+      Eigen::MatrixXd v = which == 0 ? disc.step(j).w0E() : disc.step(j).w1E();  // into x(j+1)
       for (int i = j + 1; i < n; ++i) {
         Tc.block(r * i, col, r, r) = s.C * v;
-        v = disc.step(i).phi0 * v;
+        v = disc.step(i).phi0() * v;
       }
       V.middleCols(col, r) = v;
     }
@@ -1049,7 +1198,7 @@ CriticalDepth fd_critical_depth(const DelayedSystem& s, const FdOptions& o) {
                 T.middleRows(r * t.node, r);
       }
       const int j = active[static_cast<std::size_t>(rb / 2)];
-      K.middleRows(r * rb, r) = disc.step(j).H.cast<cplx>() * trow;
+      K.middleRows(r * rb, r) = disc.H(j).cast<cplx>() * trow;
     }
     return K.norm() >= 0.5 * min_eigenvalue;  // as the scan's own margin
   };
@@ -1062,7 +1211,7 @@ CriticalDepth fd_critical_depth(const DelayedSystem& s, const FdOptions& o) {
   // respond enough to reach depth_max), only θ/T itself can matter: stop the scan there
   // instead of sampling the whole half circle.
   double h_norm = 0.0;
-  for (int j : active) h_norm = std::max(h_norm, disc.step(j).H.norm());
+  for (int j : active) h_norm = std::max(h_norm, disc.H(j).norm());
   const double w_limit = 1.5 * response_limit_rad_s(s, h_norm, o.depth_max_m);
   const double omega = kTwoPi / grid.period_s;
   bool partial = false;

@@ -219,6 +219,7 @@ LobesReport trace_lobes_warm(const WarmSpeedFunction& at_speed, const LobesOptio
       near.clear();
       if (i - 1 >= first) near.push_back(&report.points[static_cast<std::size_t>(i - 1)]);
       if (i - 2 >= first) near.push_back(&report.points[static_cast<std::size_t>(i - 2)]);
+      if (i - 3 >= first) near.push_back(&report.points[static_cast<std::size_t>(i - 3)]);
       report.points[static_cast<std::size_t>(i)] =
           at_speed(speeds[static_cast<std::size_t>(i)], near);
       if (progress) {
@@ -267,11 +268,42 @@ CriticalDepth critical_depth_by_bracketing(const std::function<double(double)>& 
     }
   }
   // g_lo < 0 <= g_hi: the bracket changes sign, so Brent's method returns a root.
-  const auto root = brent_root(margin, lo, g_lo, hi, g_hi, rel_tol * hi);
+  auto root = brent_root(margin, lo, g_lo, hi, g_hi, rel_tol * hi);
   result.found = true;
   result.depth_m = root ? root->x : hi;
   if (root) result.evaluations += root->evaluations;
+  // A boundary far below the first grid point gets only the cell's absolute tolerance,
+  // rel_tol·hi: a structure of 20 N/m, whose boundary is at 1e-9 m in a first cell of 6e-5 m,
+  // came back as 0. Below hi/8 the bracket is narrowed by factors of 8 from the top until its
+  // lower end is stable, and searched again to rel_tol of that lower end (so to rel_tol of
+  // the boundary); boundary_tolerance() states the same rule for the warm-started search.
+  if (lo == 0.0 && result.depth_m < hi / 8.0) {
+    double top = hi, g_top = g_hi;
+    while (top > std::numeric_limits<double>::min()) {
+      const double w = top / 8.0;
+      const double g = margin(w);
+      ++result.evaluations;
+      if (g >= 0.0) {
+        top = w;
+        g_top = g;
+        continue;
+      }
+      root = brent_root(margin, w, g, top, g_top, rel_tol * w);
+      result.depth_m = root ? root->x : top;
+      if (root) result.evaluations += root->evaluations;
+      return result;
+    }
+    result.depth_m = 0.0;  // unstable down to the smallest double: as unstable without cutting
+  }
   return result;
+}
+
+double boundary_tolerance(double depth_m, double depth_max_m, int coarse_steps, double rel_tol) {
+  const double cell = depth_max_m / coarse_steps;
+  if (depth_m >= cell / 8.0) return rel_tol * cell * std::ceil(depth_m / cell - 1e-9);
+  double top = cell / 8.0;
+  while (top / 8.0 >= depth_m && top > std::numeric_limits<double>::min()) top /= 8.0;
+  return rel_tol * top / 8.0;
 }
 
 }  // namespace cutdyn

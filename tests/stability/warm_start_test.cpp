@@ -274,6 +274,110 @@ TEST(WarmStart, HintFromTheNeighbours) {
   EXPECT_EQ(milling_depth_hint(10200.0, {&b, &a}), 0.0);
 }
 
+TEST(WarmStart, ParabolaThroughThreeSpeedsOfOneLobeIsACloseHint) {
+  // ln(depth) quadratic in the speed: the prediction from three speeds before is exact, and
+  // close; with the third on another lobe (or bifurcation) it is the line through two, not close.
+  const auto ln_depth = [](double rpm) {
+    const double x = (rpm - 10000.0) / 100.0;
+    return std::log(1e-4) + 0.3 * x - 0.05 * x * x;
+  };
+  LobePoint p[3];
+  for (int i = 0; i < 3; ++i) {
+    p[i] = LobePoint{10000.0 + 100.0 * i, {}, 1.0, 2};
+    p[i].boundary.found = true;
+    p[i].boundary.depth_m = std::exp(ln_depth(p[i].rpm));
+    p[i].boundary.bifurcation = Bifurcation::kHopf;
+  }
+  const std::vector<const LobePoint*> near{&p[2], &p[1], &p[0]};  // nearest first
+  const MillingDepthHint h = milling_depth_prediction(10300.0, near);
+  EXPECT_TRUE(h.close);
+  EXPECT_NEAR(h.depth_m, std::exp(ln_depth(10300.0)), 1e-12 * h.depth_m);
+  EXPECT_EQ(milling_depth_hint(10300.0, near), h.depth_m);
+  const double line = std::exp(2.0 * ln_depth(10200.0) - ln_depth(10100.0));
+  p[0].boundary.bifurcation = Bifurcation::kFlip;
+  EXPECT_FALSE(milling_depth_prediction(10300.0, near).close);
+  EXPECT_NEAR(milling_depth_prediction(10300.0, near).depth_m, line, 1e-12 * line);
+  p[0].boundary.bifurcation = Bifurcation::kHopf;
+  p[0].lobe = 3;
+  EXPECT_FALSE(milling_depth_prediction(10300.0, near).close);
+  EXPECT_FALSE(milling_depth_prediction(10300.0, {&p[2], &p[1]}).close);  // two: the line
+}
+
+TEST(WarmStart, CloseHintsGiveTheSameBoundaryAndTwoRadiiWhenRight) {
+  // A close hint is straddled first (0.45 tolerance on either side). Right (the boundary to
+  // 1e-7): the search takes two radii, then the guard's grid points below. Wrong by a little or
+  // by a lot, above or below: the same boundary as the exhaustive search, as for any hint.
+  struct Point {
+    MillingProcess model;
+    double rpm, depth_max_m;
+  };
+  const std::vector<Point> points = {
+      {insperger_benchmark(1.0), 5000.0, 1e-3},
+      {insperger_benchmark(1.0), 13800.0, 1e-3},
+      {insperger_benchmark(1.0), 21000.0, 1e-3},
+      {insperger_benchmark(0.5, false), 9000.0, 5e-3},
+      {insperger_benchmark(0.05, false), 10900.0, 10e-3},  // the island below the upper boundary
+      {four_mode_milling(), 8000.0, 30e-3}};
+  constexpr double kRelTol = 1e-3;
+  constexpr int kCoarse = 16;
+  for (const Point& p : points) {
+    const DelayedSystem s = milling_system(p.model, p.rpm);
+    FdOptions fd;
+    fd.depth_max_m = p.depth_max_m;
+    const CriticalDepth exact =
+        fd_critical_depth_by_radius(s, fd, RadiusSolver::kArnoldi, 1e-7, kCoarse);
+    const CriticalDepth old =
+        fd_critical_depth_by_radius(s, fd, RadiusSolver::kArnoldi, kRelTol, kCoarse);
+    ASSERT_TRUE(exact.found && old.found) << p.rpm;
+    for (double off : {0.0, 2e-4, -2e-4, 3e-3, -3e-3, 0.05, -0.05, 0.5, -0.5}) {
+      const double hint = exact.depth_m * (1.0 + off);
+      const CriticalDepth warm = fd_critical_depth_from_hint(s, fd, RadiusSolver::kArnoldi,
+                                                             kRelTol, kCoarse, hint, true);
+      EXPECT_NEAR(warm.depth_m, old.depth_m, kSameBoundary * old.depth_m)
+          << p.rpm << " rpm, hint off by " << off;
+      EXPECT_EQ(warm.bifurcation, old.bifurcation) << p.rpm << " rpm, hint off by " << off;
+      EXPECT_NEAR(warm.chatter_hz, old.chatter_hz, 5e-3 * old.chatter_hz) << p.rpm;
+      if (off != 0.0) continue;
+      const double cell = p.depth_max_m / kCoarse;
+      const double straddle = 0.45 * kRelTol * cell * std::ceil(hint / cell - 1e-9);
+      const long long guard = static_cast<long long>(std::ceil((hint - straddle) / cell)) - 1;
+      EXPECT_EQ(warm.evaluations, 2 + guard) << p.rpm << " rpm";
+    }
+  }
+}
+
+TEST(WarmStart, AMapThatOverflowsIsUnstableNotAnError) {
+  // A y mode of 20.7 N/m (6.2e-7 kg at 922 Hz): at 5000 rpm and 0.1 mm a unit vector grows
+  // beyond 1e308 in one period. The radius is then infinite (never NaN, never an exception from
+  // the eigenvalue solvers). The boundary lies near 1e-9 m, five orders below the first grid
+  // point (6.25e-5 m), where it came back as 0 before the first cell was narrowed: now a true
+  // crossing, to the tolerance, on both searches.
+  MillingProcess m = insperger_benchmark(1.0);
+  const double wn = units::hz_to_rad_per_s(testing::kInspergerHz);
+  m.modal.modes[1] = mode_from_mass(Direction::kY, wn, testing::kInspergerDamping, 6.2e-7);
+  const FdDiscretization fd(milling_system(m, 5000.0), FdOptions{});
+  const DominantMultiplier d = fd.dominant_multiplier(1e-4, RadiusSolver::kArnoldi);
+  EXPECT_TRUE(std::isinf(d.radius));
+  // The other solvers: infinite too, or a huge finite radius where the dense eigenvalues of a
+  // map of entries near 1e300 still come out finite; never NaN.
+  EXPECT_GT(fd.spectral_radius_arnoldi(1e-4).value, 1e100);
+  EXPECT_GT(fd.spectral_radius(1e-4), 1e100);
+  for (bool warm : {false, true}) {
+    LobesOptions g;
+    g.rpm_min = 5000.0;
+    g.rpm_max = 25000.0;
+    g.rpm_steps = 12;
+    g.refine = false;
+    const LobesReport r = trace_milling_lobes(m, fd_options(1e-3, warm), g);
+    for (const LobePoint& p : r.points) {
+      ASSERT_TRUE(p.boundary.found) << p.rpm;
+      EXPECT_TRUE(std::isfinite(p.boundary.depth_m) && p.boundary.depth_m > 0.0) << p.rpm;
+      EXPECT_TRUE(std::isfinite(p.boundary.chatter_hz)) << p.rpm;
+      EXPECT_TRUE(is_crossing(m, p.rpm, p.boundary.depth_m)) << p.rpm << " rpm, warm " << warm;
+    }
+  }
+}
+
 // The runs are cut from the speeds alone, so the lobes are the same, bit for bit, on any number
 // of threads (a sweep under MPI gives each rank a share of the cores and must write the file of
 // a single process).

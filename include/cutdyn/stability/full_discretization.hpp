@@ -114,9 +114,10 @@ class FdDiscretization {
   /// unrestarted Arnoldi iteration (up to 30 Krylov vectors, orthogonalized twice) from the
   /// same fixed pseudo-random start at every call, stopped once the three Ritz values of
   /// largest modulus satisfy the residual test Spectra applies in spectral_radius_arnoldi
-  /// (|residual| < 1e-10·|Ritz value|) — the same acceptance, without the restarts and
-  /// with the test made after each product from the 6th on, so typically 8–10 products
-  /// instead of 11–17; if it does not converge, Spectra, then the dense eigenvalues.
+  /// (|residual| < 1e-10·|Ritz value|) — the same acceptance, without the restarts, tested
+  /// from the 8th product on where the residuals' geometric fall says it may pass, so
+  /// typically 9–14 products instead of Spectra's 11–17; if it does not converge, Spectra,
+  /// then the dense eigenvalues.
   /// kDense: the dense matrix's eigenvalues and eigenvectors.
   DominantMultiplier dominant_multiplier(double depth_m, RadiusSolver solver) const;
   /// How stability is lost with that multiplier (as dominant_mode) and the chatter frequency.
@@ -162,15 +163,20 @@ CriticalDepth fd_critical_depth_by_radius(
 /// the guard finds an unstable grid point, or the bracket cannot be made (stable up to
 /// depth_max, no hint, a hint outside (0, depth_max]), the exhaustive search decides. The
 /// mode (bifurcation, chatter frequency) is that of the dominant multiplier at hi, within
-/// rel_tol above the boundary. `evaluations` counts every spectral radius.
+/// rel_tol above the boundary. `evaluations` counts every spectral radius. `hint_is_close`:
+/// the hint is likely within a fraction of the tolerance (extrapolated along a smooth lobe),
+/// and the first two depths straddle it 0.45 tolerance below and above (a bracket narrow
+/// enough at once when the boundary is between them; otherwise the steps above go on from
+/// there). The result meets the same conditions either way.
 CriticalDepth fd_critical_depth_from_hint(const DelayedSystem& system, const FdOptions& options,
                                           RadiusSolver solver, double rel_tol, int coarse_steps,
-                                          double hint_depth_m);
+                                          double hint_depth_m, bool hint_is_close = false);
 
 /// The same for a depth-dependent system (helical cutter), as fd_critical_depth_by_radius.
 CriticalDepth fd_critical_depth_from_hint(
     const std::function<DelayedSystem(double depth_m)>& system_at, const FdOptions& options,
-    RadiusSolver solver, double rel_tol, int coarse_steps, double hint_depth_m);
+    RadiusSolver solver, double rel_tol, int coarse_steps, double hint_depth_m,
+    bool hint_is_close = false);
 
 /// Critical depth by the dense method: spectral radius on a coarse depth scan to bracket the
 /// first unstable depth, then Brent's method to `rel_tol`. For cross-checks at short delays.

@@ -64,14 +64,14 @@ LobesReport trace_lobes(const std::function<LobePoint(double rpm)>& at_speed,
                         const std::function<void(int done, int total)>& progress = {});
 
 /// A speed's boundary computed with the points already known next to it: `near` holds the
-/// nearest computed speeds (up to two; empty for the first speed of a run), nearest first.
+/// nearest computed speeds (up to three; empty for the first speed of a run), nearest first.
 using WarmSpeedFunction =
     std::function<LobePoint(double rpm, const std::vector<const LobePoint*>& near)>;
 
 /// trace_lobes for a method that starts each speed from its neighbours (warm start): the
 /// uniform grid is cut into runs of consecutive speeds (warm_run_starts), each run traced in
-/// ascending order on one thread with `near` = the previous two speeds of the run (empty for
-/// its first); the threads share the runs. The refinement adds speeds as trace_lobes does, each
+/// ascending order on one thread with `near` = the previous three speeds of the run (fewer at
+/// its start, none for its first); the threads share the runs. The refinement adds speeds as trace_lobes does, each
 /// with `near` = the two speeds it lies between. Whatever `at_speed` does with `near`, the
 /// speeds and the order of the points are those of trace_lobes, and the points do not depend
 /// on the number of threads; `progress` counts speeds.
@@ -101,9 +101,17 @@ void complete_lobes(const std::function<LobePoint(double rpm)>& at_speed,
 /// Critical depth at one speed from a stability margin g(w) (< 0 stable, >= 0 unstable, and
 /// continuous, e.g. spectral radius − 1): scans [0, depth_max] in `coarse_steps` equal steps
 /// for the first unstable depth (so that an unstable island above a stable band is not
-/// skipped), then Brent's method on that bracket until it is smaller than rel_tol times the
-/// depth. `evaluations` counts the calls of g.
+/// skipped), then Brent's method on that bracket to boundary_tolerance(): rel_tol times the
+/// grid point above the boundary, and below an eighth of the first grid point, rel_tol times
+/// the boundary (the first cell is narrowed by factors of 8 until its lower end is stable).
+/// `evaluations` counts the calls of g.
 CriticalDepth critical_depth_by_bracketing(const std::function<double(double depth_m)>& margin,
                                            double depth_max_m, int coarse_steps, double rel_tol);
+
+/// The absolute tolerance to which critical_depth_by_bracketing finds a boundary at `depth_m`:
+/// rel_tol·c·ceil(depth/c) with c = depth_max/coarse_steps, the grid point at or above it;
+/// below c/8, rel_tol·t/8 with t = c/8^k the smallest such power with depth <= t (at most
+/// rel_tol·depth).
+double boundary_tolerance(double depth_m, double depth_max_m, int coarse_steps, double rel_tol);
 
 }  // namespace cutdyn

@@ -87,10 +87,18 @@ MillingBoundary milling_critical_depth(const MillingProcess& model, double rpm,
                                        double hint_depth_m);
 
 /// The hint for a speed from the computed speeds next to it (LobesOptions/trace_lobes_warm's
-/// `near`, nearest first): none (0) when the nearest has no boundary; the interpolation or
-/// extrapolation of ln(depth), linear in speed, of two neighbours on the same lobe with the same
-/// bifurcation (kept within a factor 2 of the nearest); else the nearest's depth, or the
-/// smaller of the two around a refined speed.
+/// `near`, nearest first): none (0) when the nearest has no boundary; when the first three
+/// are on one lobe with one bifurcation, the parabola through their ln(depth), in speed
+/// (`close`: fd_critical_depth_from_hint straddles it); with two such neighbours, the line
+/// (interpolation around a refined speed, extrapolation along a run); kept within a factor 2
+/// of the nearest; else the nearest's depth, or the smaller of the two around a refined
+/// speed.
+struct MillingDepthHint {
+  double depth_m = 0.0;  // 0: none
+  bool close = false;    // from three speeds along one lobe
+};
+MillingDepthHint milling_depth_prediction(double rpm, const std::vector<const LobePoint*>& near);
+/// milling_depth_prediction's depth.
 double milling_depth_hint(double rpm, const std::vector<const LobePoint*>& near);
 
 /// The lobes of `model` over `grid`, as `cutdyn lobes` traces them. Full discretization with
