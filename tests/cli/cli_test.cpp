@@ -997,7 +997,9 @@ TEST_F(Cli, SimulateStopsARunawayAndSaysChatter) {
   EXPECT_NE(t.out.find("CHATTER (runaway growth, stopped at t = "), std::string::npos) << t.out;
   EXPECT_TRUE(finite_numbers(path("t.csv")));
   EXPECT_TRUE(finite_numbers(path("t.json")));
-  for (const auto& run : nlohmann::json::parse(std::ifstream(path("t.json")))["results"]) {
+  // (The document is kept: a range over a member of a temporary would outlive it.)
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(path("t.json")));
+  for (const auto& run : report["results"]) {
     EXPECT_EQ(run["status"], "runaway");
     EXPECT_TRUE(run["chatter"].get<bool>());
   }

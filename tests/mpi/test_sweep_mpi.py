@@ -21,9 +21,17 @@ SWEEP = ["sweep", "--vary", "modes[0].damping_ratio=-0.01:0.01:0.04", "--vary",
          "tool.teeth=2:1:3", "--method", "zero-order", "--threads", "1"]
 
 
+# In a sanitized build (./run test --sanitize) the ranks under mpirun run without leak
+# detection: OpenMPI's plugins are opened with dlopen and closed before the process ends, so
+# the allocations they keep for the process's life are reported from an unknown module, which
+# no suppression can name. The same sweeps run in one process (no mpirun) keep it.
+MPI_ENV = {**ENV, "ASAN_OPTIONS": ENV.get("ASAN_OPTIONS", "") + ":detect_leaks=0"}
+
+
 def run(*args, mpi=0):
     command = ([MPIRUN, "--oversubscribe", "-n", str(mpi)] if mpi else []) + [CUTDYN, *args]
-    p = subprocess.run(command, capture_output=True, text=True, env=ENV, timeout=600)
+    p = subprocess.run(command, capture_output=True, text=True, env=MPI_ENV if mpi else ENV,
+                       timeout=600)
     return p.returncode, p.stdout, p.stderr
 
 
@@ -82,7 +90,7 @@ def test_resume_finishes_a_stopped_mpi_sweep(serial, tmp_path):
     slow[2] = "modes[0].damping_ratio=0.01:0.001:0.04"
     p = subprocess.Popen([MPIRUN, "--oversubscribe", "-n", "2", CUTDYN, *slow, "--out",
                           str(out_csv)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         env=ENV, start_new_session=True)
+                         env=MPI_ENV, start_new_session=True)
     # Stop it once a few variants are written.
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline:
