@@ -596,9 +596,9 @@ std::unique_ptr<PeriodMap> make_period_map(const Discretization& disc, const Del
 }
 
 // A product with the period map left the range of double: a unit vector grew beyond 1e308 in
-// one period. The process is then unstable beyond doubt at that depth (whatever the transient
-// growth of a stable map, it is not 1e308 in one period), and the radius is reported as
-// infinite: the searches treat it as unstable, and no NaN reaches an eigenvalue solver.
+// one period. The radius is reported as infinite, so the searches count the depth as
+// unstable — the conservative side, and a growth no stable cut shows — and no NaN reaches
+// an eigenvalue solver.
 struct MapOverflow {};
 constexpr double kOverflowRadius = std::numeric_limits<double>::infinity();
 
