@@ -12,7 +12,7 @@ import time
 
 import pytest
 
-from conftest import run_cli, start
+from conftest import TIMEOUT_SCALE, run_cli, start
 
 EXAMPLES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples")
 
@@ -154,7 +154,7 @@ def test_200_concurrent_lobes_requests(tmp_path):
         for t in threads:
             t.start()
         for t in threads:
-            t.join(timeout=600)
+            t.join(timeout=600 * TIMEOUT_SCALE)
         seconds = time.monotonic() - started
         assert all(a is not None and a[0] == 200 for a in answers), \
             [a for a in answers if a is None or a[0] != 200][:3]
@@ -167,7 +167,7 @@ def test_200_concurrent_lobes_requests(tmp_path):
         assert after_kb < warm_kb + 20_000, (warm_kb, after_kb)
     finally:
         s.process.terminate()
-        s.process.wait(timeout=20)
+        s.process.wait(timeout=20 * TIMEOUT_SCALE)
 
 
 def test_sigterm_and_sigint_stop_the_server():
