@@ -290,18 +290,23 @@ std::ostream& OutputTransaction::open(const fs::path& requested) {
   const fs::path folder = folder_of(target);
 
   // O_EXCL reserves a name nobody else holds; 0666 lets the umask set the permissions an
-  // ordinary output file would get (mkstemp would make it private).
+  // ordinary output file would get (mkstemp would make it private). The name is listed for
+  // the signal handler before the file exists: a signal between the two would otherwise leave
+  // the file behind (seen once in some hundred kills), while unlinking a name not yet made
+  // does nothing.
   fs::path temporary;
   for (int attempt = 0;; ++attempt) {
     temporary = temporary_name(folder, target);
+    track(temporary, kFile);
     const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd >= 0) {
       ::close(fd);
-      track(temporary, kFile);
       break;
     }
-    if (errno != EEXIST || attempt + 1 >= kNameAttempts)
-      throw_cannot_write(target, errno_text(errno));
+    const int error = errno;
+    untrack(temporary);  // (not ours: someone else's file of that name)
+    if (error != EEXIST || attempt + 1 >= kNameAttempts)
+      throw_cannot_write(target, errno_text(error));
   }
 
   auto stream = std::make_unique<std::ofstream>(temporary, std::ios::out | std::ios::trunc);
@@ -334,13 +339,15 @@ fs::path OutputTransaction::scratch_dir(const fs::path& target) {
   const fs::path folder = folder_of(target);
   for (int attempt = 0;; ++attempt) {
     fs::path dir = temporary_name(folder, target);
+    track(dir, kFolder);  // before it exists, as the files in open()
     if (::mkdir(dir.c_str(), 0777) == 0) {
-      track(dir, kFolder);
       scratch_dirs_.push_back(dir);
       return dir;
     }
-    if (errno != EEXIST || attempt + 1 >= kNameAttempts)
-      throw_cannot_write(target, errno_text(errno));
+    const int error = errno;
+    untrack(dir);  // (not ours)
+    if (error != EEXIST || attempt + 1 >= kNameAttempts)
+      throw_cannot_write(target, errno_text(error));
   }
 }
 

@@ -123,3 +123,19 @@ def test_a_full_standard_output_fails_with_a_message():
                               stderr=subprocess.PIPE, timeout=300)
     assert done.returncode == 1
     assert "standard output" in done.stderr.decode()
+
+
+def test_a_full_standard_output_is_reported_once(tmp_path):
+    # `monitor estimate` streams to the standard output and reports its failed write itself;
+    # the program adds no second message.
+    if not Path("/dev/full").exists():
+        pytest.skip("no /dev/full")
+    log = tmp_path / "log.csv"
+    log.write_text("time_s,axis,iu_a,iv_a,iw_a,speed_rad_s\n" +
+                   "".join(f"{i / 1000:.3f},x,1,-0.5,-0.5,50\n" for i in range(2000)))
+    with open("/dev/full", "wb") as full:
+        done = subprocess.run([CUTDYN, "monitor", "estimate", "--calib", "zheng2012", str(log)],
+                              stdout=full, stderr=subprocess.PIPE, timeout=300)
+    errors = [line for line in done.stderr.decode().splitlines() if "error" in line]
+    assert done.returncode == 1
+    assert len(errors) == 1 and "standard output" in errors[0], errors
