@@ -136,6 +136,7 @@ using units::kTwoPi;
 // of the step's start and end values of a linearly interpolated forcing, from one matrix
 // exponential of the block matrix [[A, I, 0], [0, 0, I], [0, 0, 0]]·h [VanLoan1978].
 struct StepIntegrals {
+  double h = 0.0;        // the step length
   Eigen::MatrixXd phi0;  // d×d
   Eigen::MatrixXd w0E;   // W0·E, d×r
   Eigen::MatrixXd w1E;   // W1·E, d×r
@@ -155,6 +156,7 @@ StepIntegrals step_integrals(const DelayedSystem& s, double h) {
   const Eigen::MatrixXd phi1 = f.block(0, d, d, d);
   const Eigen::MatrixXd w1 = f.block(0, 2 * d, d, d) / h;
   StepIntegrals out;
+  out.h = h;
   out.phi0 = f.topLeftCorner(d, d);
   out.w1E = w1 * s.E;
   out.w0E = (phi1 - w1) * s.E;
@@ -171,15 +173,6 @@ struct StepMatrices {
   const Eigen::MatrixXd& phi0() const { return integrals->phi0; }
   const Eigen::MatrixXd& w0E() const { return integrals->w0E; }
   const Eigen::MatrixXd& w1E() const { return integrals->w1E; }
-};
-
-// A delay term on one step: the depth-independent products, kept side by side in one
-// d × (2r + 2d) block of the discretization's term storage (so that a period map can view
-// them as fixed-size matrices): W0·E·H̄k (d×r), W1·E·H̄k (d×r), W0·E·H̄k·C and W1·E·H̄k·C
-// (d×d, the depth-independent parts of the step matrix).
-struct StepTerm {
-  int term = 0;
-  Eigen::Index col = 0;  // first column of its block
 };
 
 // y(t_j − τ) = (1 − α)·y(g) + α·y(g + 1), g a global node index (node g + n is node g one
@@ -204,7 +197,6 @@ class Discretization {
     const auto kinds = static_cast<Eigen::Index>(terms_.size());
     // Grids are uniform within each window segment: one matrix exponential per distinct
     // step length (to rounding) serves every step of that length.
-    std::vector<double> lengths;
     steps_.resize(static_cast<std::size_t>(n));
     // H̄k of every step and term, side by side (r × r each): the mean's own result is the
     // only allocation per step.
@@ -214,15 +206,15 @@ class Discretization {
       const double t0 = grid.nodes_s[static_cast<std::size_t>(j)];
       const double t1 = grid.nodes_s[static_cast<std::size_t>(j + 1)];
       const double h = t1 - t0;
-      auto it = std::find_if(lengths.begin(), lengths.end(),
-                             [&](double e) { return std::abs(e - h) <= 1e-12 * h; });
-      if (it == lengths.end()) {
-        lengths.push_back(h);
+      auto it = std::find_if(integrals_.begin(), integrals_.end(), [&](const StepIntegrals& e) {
+        return std::abs(e.h - h) <= 1e-12 * h;
+      });
+      if (it == integrals_.end()) {
         integrals_.push_back(step_integrals(s, h));
-        it = lengths.end() - 1;
+        it = integrals_.end() - 1;
       }
       StepMatrices& st = steps_[static_cast<std::size_t>(j)];
-      st.integrals = &integrals_[static_cast<std::size_t>(it - lengths.begin())];
+      st.integrals = &*it;
       st.h_col = r * (static_cast<Eigen::Index>(j) * kinds);
       for (Eigen::Index k = 0; k < kinds; ++k) {
         auto mean = means.middleCols(st.h_col + r * k, r);
@@ -231,8 +223,8 @@ class Discretization {
       }
     }
     h_ = std::move(means);
-    const Eigen::Index width = 2 * r + 2 * d;
-    term_data_.resize(d, width * active_terms);
+    term_width_ = 2 * r + 2 * d;
+    term_data_.resize(d, term_width_ * active_terms);
     step_terms_.reserve(static_cast<std::size_t>(active_terms));
     for (int j = 0; j < n; ++j) {
       StepMatrices& st = steps_[static_cast<std::size_t>(j)];
@@ -240,16 +232,14 @@ class Discretization {
       for (Eigen::Index k = 0; k < kinds; ++k) {
         const auto mean = h_.middleCols(st.h_col + r * k, r);
         if (mean.norm() == 0.0) continue;
-        const auto index = static_cast<Eigen::Index>(step_terms_.size());
-        const StepTerm t{static_cast<int>(k), width * index};
-        // Products of a few rows and columns: coefficient by coefficient (lazyProduct), not
-        // through the blocked matrix product's dispatch.
-        auto w0EH = term_data_.middleCols(t.col, r), w1EH = term_data_.middleCols(t.col + r, r);
+        const Eigen::Index col = term_width_ * static_cast<Eigen::Index>(step_terms_.size());
+        // Products of a few rows and columns, coefficient by coefficient.
+        auto w0EH = term_data_.middleCols(col, r), w1EH = term_data_.middleCols(col + r, r);
         w0EH.noalias() = st.w0E().lazyProduct(mean);
         w1EH.noalias() = st.w1E().lazyProduct(mean);
-        term_data_.middleCols(t.col + 2 * r, d).noalias() = w0EH.lazyProduct(s.C);
-        term_data_.middleCols(t.col + 2 * r + d, d).noalias() = w1EH.lazyProduct(s.C);
-        step_terms_.push_back(t);
+        term_data_.middleCols(col + 2 * r, d).noalias() = w0EH.lazyProduct(s.C);
+        term_data_.middleCols(col + 2 * r + d, d).noalias() = w1EH.lazyProduct(s.C);
+        step_terms_.push_back(static_cast<int>(k));
       }
       st.last_term = static_cast<int>(step_terms_.size());
     }
@@ -263,11 +253,13 @@ class Discretization {
   const StepMatrices& step(int j) const { return steps_[static_cast<std::size_t>(j)]; }
   /// H̄ of the first delay term over step j (r×r).
   auto H(int j) const { return h_.middleCols(step(j).h_col, h_.rows()); }
-  const StepTerm& step_term(int i) const { return step_terms_[static_cast<std::size_t>(i)]; }
+  /// The delay term k of step term i (the steps' terms with H̄k ≠ 0, in step order).
+  int step_term(int i) const { return step_terms_[static_cast<std::size_t>(i)]; }
   int step_terms() const { return static_cast<int>(step_terms_.size()); }
-  /// First entry of term i's block: W0·E·H̄k, W1·E·H̄k, W0·E·H̄k·C, W1·E·H̄k·C, d rows each.
+  /// First entry of step term i's block: W0·E·H̄k, W1·E·H̄k, W0·E·H̄k·C, W1·E·H̄k·C, d rows
+  /// each, side by side (so that a period map can view them as fixed-size matrices).
   const double* term_data(int i) const {
-    return term_data_.data() + term_data_.rows() * step_term(i).col;
+    return term_data_.data() + term_data_.rows() * term_width_ * i;
   }
   int terms() const { return static_cast<int>(terms_.size()); }
   /// Where y(t_j − τk) is, for node j and delay term k.
@@ -308,8 +300,9 @@ class Discretization {
                                          // into it while it grows)
   std::vector<StepMatrices> steps_;
   Eigen::MatrixXd h_;                    // H̄k of every step and term, r × r each
-  std::vector<StepTerm> step_terms_;
-  Eigen::MatrixXd term_data_;            // d × (2r + 2d) per step term
+  std::vector<int> step_terms_;          // the delay term of each step term
+  Eigen::Index term_width_ = 0;          // 2r + 2d columns per step term
+  Eigen::MatrixXd term_data_;            // the step terms' depth-independent products
   std::vector<std::vector<DelayRef>> refs_;
 };
 
@@ -430,7 +423,7 @@ class PeriodMapT final : public PeriodMap {
       out.mx.noalias() = inv * rhs;
       for (int i = st.first_term; i < st.last_term; ++i) {
         const TermBlocks t(disc_.term_data(i), d_, r_);
-        const int term = disc_.step_term(i).term;
+        const int term = disc_.step_term(i);
         Gain& g = gains_.emplace_back();
         g.term = term;
         g.k0.noalias() = (depth * inv) * t.w0EH;
@@ -752,17 +745,18 @@ std::optional<DominantMultiplier> krylov_dominant(const PeriodMap& map) {
   Eigen::VectorXd h, h2;
   DominantMultiplier out;
   out.krylov = true;
+  const auto overflowed = [&] {  // the map overflows (MapOverflow)
+    out.radius = kOverflowRadius;
+    out.mu = cplx(kOverflowRadius, 0.0);
+    return out;
+  };
   int next_test = kFirstTest, last_test = 0;
   double last_worst = 0.0;
   for (int k = 0; k < kMaxVectors; ++k) {
     z.col(0) = V.col(k);
     map.apply(z, next);
     ++out.operations;
-    if (!z.allFinite()) {  // the map overflows (MapOverflow)
-      out.radius = kOverflowRadius;
-      out.mu = cplx(kOverflowRadius, 0.0);
-      return out;
-    }
+    if (!z.allFinite()) return overflowed();
     const auto basis = V.leftCols(k + 1);
     h.noalias() = basis.transpose() * z.col(0);
     z.col(0).noalias() -= basis * h;
@@ -770,11 +764,7 @@ std::optional<DominantMultiplier> krylov_dominant(const PeriodMap& map) {
     z.col(0).noalias() -= basis * h2;
     H.col(k).head(k + 1) = h + h2;
     const double beta = z.col(0).norm();
-    if (!std::isfinite(beta)) {  // |z| beyond the range of double: an overflow too
-      out.radius = kOverflowRadius;
-      out.mu = cplx(kOverflowRadius, 0.0);
-      return out;
-    }
+    if (!std::isfinite(beta)) return overflowed();  // |z| beyond the range of double
     H(k + 1, k) = beta;
     const int m = k + 1;
     const bool invariant = beta <= std::numeric_limits<double>::epsilon() * H.col(k).norm();
