@@ -100,15 +100,29 @@ LobePoint grid_column(double rpm, const FdOptions& fd, int rows, int row_stride 
 
 // ---- 1. the lobes as `cutdyn lobes` computes them --------------------------------------
 
+// The discretization of `cutdyn lobes` until 2026-11-24: linear interpolation (order 1) on
+// steps of 1/64 of the structural period, as accurate as today's quadratic one on 1/32 on
+// the slotting example (docs/models/milling-stability.md).
+MillingStabilityOptions linear_options() {
+  MillingStabilityOptions o = cli_options();
+  o.fd.order = 1;
+  o.fd.max_step_fraction = 1.0 / 64.0;
+  return o;
+}
+
 // range(0): threads (0 = all); range(1): 1 = with the adaptive refinement; range(2): 1 = warm
-// start (today's default), 0 = every speed on its own (the former way).
+// start (today's default), 0 = every speed on its own (the former way); range(3): the
+// interpolation order, 2 = today's default, 1 = the linear interpolation on twice the steps.
 void BM_MillingLobes(benchmark::State& state) {
   const int threads = threads_arg(state);
   const bool refine = state.range(1) != 0, warm = state.range(2) != 0;
+  const bool linear = state.range(3) == 1;
   const std::string key = std::string(refine ? "fd_lobes" : "fd_lobes_uniform") +
-                          (warm ? "" : "_old") + (state.range(0) == 1 ? "/1" : "/all");
+                          (warm ? "" : "_old") + (linear ? "_linear" : "") +
+                          (state.range(0) == 1 ? "/1" : "/all");
+  const MillingStabilityOptions options = linear ? linear_options() : cli_options();
   LobesReport report;
-  Result& r = timed(state, key, [&] { report = fd_lobes(cli_options(), threads, refine, warm); });
+  Result& r = timed(state, key, [&] { report = fd_lobes(options, threads, refine, warm); });
   traced()[key] = report.points;
   r.figures["threads"] = threads;
   r.figures["speeds"] = static_cast<double>(report.points.size());
@@ -199,7 +213,7 @@ void BM_MillingLobesAccuracy(benchmark::State& state) {
 
 // ---- 2. the straightforward method ----------------------------------------------------
 
-// At the same discretization (converged steps, 1/64 of the structural period): every 20th
+// At the same discretization as the lobes (quadratic, 1/32 of the structural period): every 20th
 // speed, every 25th depth row — the cost of a point is that of one dense eigenvalue problem,
 // which depends on the speed (matrix size) but not on the depth. The whole 200 × 100 grid
 // would take hours: it is extrapolated from the sample.
@@ -209,7 +223,7 @@ void BM_DenseGridConvergedSample(benchmark::State& state) {
   Result& r = timed(state, "grid_converged_sample", [&] {
     points = sampled_speeds = 0.0;
     for (std::size_t i = 0; i < speeds.size(); i += kSampleEvery) {
-      const LobePoint p = grid_column(speeds[i], FdOptions{}, kGridDepths, 25);
+      const LobePoint p = grid_column(speeds[i], cli_options().fd, kGridDepths, 25);
       points += static_cast<double>(p.boundary.evaluations);
       sampled_speeds += 1.0;
     }
@@ -222,9 +236,9 @@ void BM_DenseGridConvergedSample(benchmark::State& state) {
   r.figures["grid_estimate_s"] = per_point * kSpeeds * kGridDepths;
   const DelayedSystem s5 = milling_system(model(), kRpmMin), s25 = milling_system(model(), kRpmMax);
   r.figures["dim_low"] =
-      static_cast<double>(fd_transition_matrix(s5, fd_grid(s5, FdOptions{}), 0.0).rows());
+      static_cast<double>(fd_transition_matrix(s5, fd_grid(s5, cli_options().fd), 0.0).rows());
   r.figures["dim_high"] =
-      static_cast<double>(fd_transition_matrix(s25, fd_grid(s25, FdOptions{}), 0.0).rows());
+      static_cast<double>(fd_transition_matrix(s25, fd_grid(s25, cli_options().fd), 0.0).rows());
   state.counters["ms_per_point"] = 1e3 * per_point;
   state.counters["points"] = points;
   state.counters["grid_estimate_s"] = r.figures["grid_estimate_s"];
@@ -262,15 +276,17 @@ constexpr auto kMs = benchmark::kMillisecond;
 
 // Old and new alternate, so that a change of load on a shared machine touches both alike.
 BENCHMARK(BM_MillingLobes)
-    ->ArgNames({"threads", "refine", "warm"})
-    ->Args({1, 0, 0})
-    ->Args({1, 0, 1})
-    ->Args({0, 0, 0})
-    ->Args({0, 0, 1})
-    ->Args({1, 1, 0})
-    ->Args({1, 1, 1})
-    ->Args({0, 1, 0})
-    ->Args({0, 1, 1})
+    ->ArgNames({"threads", "refine", "warm", "order"})
+    ->Args({1, 0, 1, 1})
+    ->Args({1, 0, 1, 2})
+    ->Args({0, 0, 1, 1})
+    ->Args({0, 0, 1, 2})
+    ->Args({1, 0, 0, 2})
+    ->Args({0, 0, 0, 2})
+    ->Args({1, 1, 0, 2})
+    ->Args({1, 1, 1, 2})
+    ->Args({0, 1, 0, 2})
+    ->Args({0, 1, 1, 2})
     ->Unit(kMs)
     ->UseRealTime();
 BENCHMARK(BM_FourModeMethods)
@@ -360,6 +376,24 @@ void print_summary() {
       std::printf("    %-56s %11.4f %%  (%d speeds compared)\n",
                   "largest relative depth difference", 1e2 * worst, common);
     }
+  }
+  std::printf(
+      "\nQuadratic interpolation on 1/32 of the structural period (default) against the linear "
+      "one on 1/64\n(the default until 2026-11-24), warm start, 200 speeds, same run:\n");
+  for (const char* threads : {"/1", "/all"}) {
+    const std::string quadratic = std::string("fd_lobes_uniform") + threads;
+    const std::string linear = std::string("fd_lobes_uniform_linear") + threads;
+    const auto a = result(linear), b = result(quadratic);
+    if (!a || !b) continue;
+    const auto [worst, common] = largest_difference(traced()[linear], traced()[quadratic]);
+    std::printf("  %s:\n", threads[1] == '1' ? "1 thread" : "all threads");
+    std::printf("    %-56s %9.2f ms  (%.2f radii per speed)\n", "linear, 1/64", 1e3 * a->seconds,
+                a->figures.at("evals_per_speed"));
+    std::printf("    %-56s %9.2f ms  (%.2f radii per speed)\n", "quadratic, 1/32 (default)",
+                1e3 * b->seconds, b->figures.at("evals_per_speed"));
+    std::printf("    %-56s %11.2fx\n", "ratio linear / quadratic", a->seconds / b->seconds);
+    std::printf("    %-56s %11.4f %%  (%d speeds compared)\n",
+                "largest relative depth difference", 1e2 * worst, common);
   }
   const auto fd4 = result("four_mode_fd"), mf4 = result("four_mode_mf");
   std::printf(

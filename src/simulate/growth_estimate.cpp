@@ -110,12 +110,31 @@ std::optional<MultiplierEstimate> dominant_multiplier(
   MultiplierEstimate out;
   out.components = static_cast<int>(rank);
   out.growth_per_period = -std::numeric_limits<double>::infinity();
+  Eigen::Index top = -1;
+  const auto significant = [&](Eigen::Index i) {
+    return share[static_cast<std::size_t>(i)] > 1e-4 * largest &&
+           std::abs(eigen.eigenvalues()(i)) > 0.0;
+  };
   for (Eigen::Index i = 0; i < rank; ++i) {
-    const double magnitude = std::abs(eigen.eigenvalues()(i));
-    if (share[static_cast<std::size_t>(i)] > 1e-4 * largest && magnitude > 0.0)
-      out.growth_per_period = std::max(out.growth_per_period, std::log(magnitude));
+    if (!significant(i)) continue;
+    const double growth = std::log(std::abs(eigen.eigenvalues()(i)));
+    if (growth > out.growth_per_period) {
+      out.growth_per_period = growth;
+      top = i;
+    }
   }
   if (!std::isfinite(out.growth_per_period)) return std::nullopt;
+  // Two components closer than the samples can resolve (about 1/count apart: a symmetric
+  // structure's x and y modes give such pairs) are split by the pencil at random, and the
+  // larger of the two is then biased up by up to that distance: no estimate (the slope, and
+  // its own settledness, decide).
+  const double resolution = 1.0 / static_cast<double>(count);
+  for (Eigen::Index i = 0; i < rank; ++i) {
+    if (i == top || !significant(i)) continue;
+    const std::complex<double> a = eigen.eigenvalues()(i), b = eigen.eigenvalues()(top);
+    if (a == std::conj(b)) continue;
+    if (std::abs(a - b) < resolution) return std::nullopt;
+  }
   return out;
 }
 

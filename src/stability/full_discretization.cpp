@@ -1,6 +1,7 @@
 #include "cutdyn/stability/full_discretization.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <deque>
 #include <limits>
@@ -134,25 +135,29 @@ using units::kTwoPi;
 
 // Exact integrals of one step [Ding2010, eqs. 8–12]: Φ0 = e^(Ah), and the weights W0, W1
 // of the step's start and end values of a linearly interpolated forcing, from one matrix
-// exponential of the block matrix [[A, I, 0], [0, 0, I], [0, 0, 0]]·h [VanLoan1978].
+// exponential of the block matrix [[A, I, 0], [0, 0, I], [0, 0, 0]]·h [VanLoan1978]. For the
+// quadratic interpolation also the moments Mp = ∫0^h e^(A(h−s))·s^p ds, p = 0 … 3, times E,
+// from the exponential of the longer chain [[A, I, 0, 0, 0], [0, 0, I, 0, 0], …]·h.
 struct StepIntegrals {
   double h = 0.0;        // the step length
   Eigen::MatrixXd phi0;  // d×d
   Eigen::MatrixXd w0E;   // W0·E, d×r
   Eigen::MatrixXd w1E;   // W1·E, d×r
+  std::array<Eigen::MatrixXd, 4> mE;  // Mp·E, d×r (quadratic interpolation only)
 };
 
-// Φ0, W0·E and W1·E for a step of length h (they depend on h only).
-StepIntegrals step_integrals(const DelayedSystem& s, double h) {
+// Φ0, W0·E and W1·E (and with `moments` M0·E … M3·E) for a step of length h (they depend on
+// h only).
+StepIntegrals step_integrals(const DelayedSystem& s, double h, bool moments) {
   const auto d = s.A0.rows();
-  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(3 * d, 3 * d);
+  const Eigen::Index blocks = moments ? 5 : 3;
+  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(blocks * d, blocks * d);
   m.topLeftCorner(d, d) = s.A0 * h;
-  m.block(0, d, d, d).setIdentity();
-  m.block(0, d, d, d) *= h;
-  m.block(d, 2 * d, d, d).setIdentity();
-  m.block(d, 2 * d, d, d) *= h;
+  for (Eigen::Index b = 0; b + 1 < blocks; ++b)
+    m.block(b * d, (b + 1) * d, d, d) = h * Eigen::MatrixXd::Identity(d, d);
   const Eigen::MatrixXd f = m.exp();
-  // With the scaling above, f12 = Φ1 = ∫0^h e^(A(h−s)) ds and f13 = ∫0^h e^(A(h−s)) s ds.
+  // With the scaling above, block (1, p + 2) of f is ∫0^h e^(A(h−s))·s^p/p! ds: f12 = Φ1,
+  // f13 = ∫0^h e^(A(h−s))·s ds.
   const Eigen::MatrixXd phi1 = f.block(0, d, d, d);
   const Eigen::MatrixXd w1 = f.block(0, 2 * d, d, d) / h;
   StepIntegrals out;
@@ -160,6 +165,13 @@ StepIntegrals step_integrals(const DelayedSystem& s, double h) {
   out.phi0 = f.topLeftCorner(d, d);
   out.w1E = w1 * s.E;
   out.w0E = (phi1 - w1) * s.E;
+  if (moments) {
+    double factorial = 1.0;
+    for (int p = 0; p < 4; ++p) {
+      if (p > 0) factorial *= p;
+      out.mE[static_cast<std::size_t>(p)] = factorial * f.block(0, (p + 1) * d, d, d) * s.E;
+    }
+  }
   return out;
 }
 
@@ -176,10 +188,13 @@ struct StepMatrices {
 };
 
 // y(t_j − τ) = (1 − α)·y(g) + α·y(g + 1), g a global node index (node g + n is node g one
-// period later).
+// period later); `weights` are those of y(g − 1), y(g), y(g + 1) in the discretization's
+// interpolation: (0, 1 − α, α) for the linear one, Lagrange's on the three nodes for the
+// quadratic one.
 struct DelayRef {
   long long g = 0;
   double alpha = 0.0;
+  std::array<double, 3> weights{0.0, 1.0, 0.0};
 };
 
 long long floor_div(long long a, long long b) {
@@ -188,19 +203,33 @@ long long floor_div(long long a, long long b) {
   return q;
 }
 
+// The coefficients (of 1, s, s²) of the Lagrange polynomials on the nodes s = a, b, c.
+std::array<std::array<double, 3>, 3> lagrange_coefficients(double a, double b, double c) {
+  const auto basis = [](double p, double q, double self) {  // (s − p)(s − q)/((self − p)(self − q))
+    const double den = (self - p) * (self - q);
+    return std::array<double, 3>{p * q / den, -(p + q) / den, 1.0 / den};
+  };
+  return {basis(b, c, a), basis(a, c, b), basis(a, b, c)};
+}
+
 class Discretization {
  public:
-  Discretization(const DelayedSystem& s, const FdGrid& grid)
-      : terms_(s.delay_terms()), grid_(grid) {
+  /// `order` 1: the forcing interpolated linearly over each step and H by its mean
+  /// [Ding2010]; 2: the displacement difference interpolated on the step's two nodes and
+  /// the one before (Lagrange), H by its mean and slope over the step, the delayed values
+  /// by Lagrange on three nodes.
+  Discretization(const DelayedSystem& s, const FdGrid& grid, int order = 1)
+      : terms_(s.delay_terms()), grid_(grid), order_(order) {
     const int n = grid.steps();
     const auto d = s.A0.rows(), r = s.C.rows();
     const auto kinds = static_cast<Eigen::Index>(terms_.size());
+    const bool quadratic = order_ == 2;
     // Grids are uniform within each window segment: one matrix exponential per distinct
     // step length (to rounding) serves every step of that length.
     steps_.resize(static_cast<std::size_t>(n));
-    // H̄k of every step and term, side by side (r × r each): the mean's own result is the
-    // only allocation per step.
-    Eigen::MatrixXd means(r, r * n * kinds);
+    // H̄k of every step and term, side by side (r × r each), and for the quadratic
+    // interpolation the slopes H'k: the means' own results are the only allocations per step.
+    Eigen::MatrixXd means(r, r * n * kinds), slopes(r, quadratic ? r * n * kinds : 0);
     Eigen::Index active_terms = 0;
     for (int j = 0; j < n; ++j) {
       const double t0 = grid.nodes_s[static_cast<std::size_t>(j)];
@@ -210,61 +239,101 @@ class Discretization {
         return std::abs(e.h - h) <= 1e-12 * h;
       });
       if (it == integrals_.end()) {
-        integrals_.push_back(step_integrals(s, h));
+        integrals_.push_back(step_integrals(s, h, quadratic));
         it = integrals_.end() - 1;
       }
       StepMatrices& st = steps_[static_cast<std::size_t>(j)];
       st.integrals = &*it;
       st.h_col = r * (static_cast<Eigen::Index>(j) * kinds);
       for (Eigen::Index k = 0; k < kinds; ++k) {
+        const PeriodicCoefficient& H = terms_[static_cast<std::size_t>(k)].H;
         auto mean = means.middleCols(st.h_col + r * k, r);
-        mean = terms_[static_cast<std::size_t>(k)].H.mean(t0, t1);
+        if (!quadratic) {
+          mean = H.mean(t0, t1);
+        } else {
+          // H ≈ H̄ + H'·(s − h/2) on the step: the mean and the slope from the means of its
+          // halves (the slope exact for a quadratic H, whose remainder then has neither mean
+          // nor first moment).
+          const double mid = 0.5 * (t0 + t1);
+          const Eigen::MatrixXd first = H.mean(t0, mid), second = H.mean(mid, t1);
+          mean = 0.5 * (first + second);
+          slopes.middleCols(st.h_col + r * k, r) = (2.0 / h) * (second - first);
+        }
         if (mean.norm() != 0.0) ++active_terms;
       }
     }
     h_ = std::move(means);
-    term_width_ = 2 * r + 2 * d;
-    term_data_.resize(d, term_width_ * active_terms);
+    term_width_ = 3 * r + 2 * d;
+    term_data_.setZero(d, term_width_ * active_terms);
     step_terms_.reserve(static_cast<std::size_t>(active_terms));
     for (int j = 0; j < n; ++j) {
       StepMatrices& st = steps_[static_cast<std::size_t>(j)];
       st.first_term = static_cast<int>(step_terms_.size());
+      // Quadratic: the Lagrange polynomials on the nodes s = −h(j−1), 0, h(j) of the step.
+      std::array<std::array<double, 3>, 3> lagrange{};
+      if (quadratic) {
+        const double h = step_length(j), back = step_length(j == 0 ? n - 1 : j - 1);
+        lagrange = lagrange_coefficients(-back, 0.0, h);
+      }
       for (Eigen::Index k = 0; k < kinds; ++k) {
         const auto mean = h_.middleCols(st.h_col + r * k, r);
         if (mean.norm() == 0.0) continue;
         const Eigen::Index col = term_width_ * static_cast<Eigen::Index>(step_terms_.size());
         // Products of a few rows and columns, coefficient by coefficient.
-        auto w0EH = term_data_.middleCols(col, r), w1EH = term_data_.middleCols(col + r, r);
-        w0EH.noalias() = st.w0E().lazyProduct(mean);
-        w1EH.noalias() = st.w1E().lazyProduct(mean);
-        term_data_.middleCols(col + 2 * r, d).noalias() = w0EH.lazyProduct(s.C);
-        term_data_.middleCols(col + 2 * r + d, d).noalias() = w1EH.lazyProduct(s.C);
+        auto g_prev = term_data_.middleCols(col, r), g0 = term_data_.middleCols(col + r, r),
+             g1 = term_data_.middleCols(col + 2 * r, r);
+        if (!quadratic) {
+          g0.noalias() = st.w0E().lazyProduct(mean);
+          g1.noalias() = st.w1E().lazyProduct(mean);
+        } else {
+          // G_i = ∫0^h e^(A(h−s))·E·(H̄ + H'·(s − h/2))·ℓi(s) ds = Σp ci,p·(Mp·E·H̄ +
+          // (Mp+1 − h/2·Mp)·E·H'), ℓi(s) = Σp ci,p·s^p.
+          const auto slope = slopes.middleCols(st.h_col + r * k, r);
+          const std::array<Eigen::MatrixXd, 4>& mE = st.integrals->mE;
+          const double half = 0.5 * st.integrals->h;
+          std::array<Eigen::MatrixXd, 3> moment_terms;  // Mp·E·H̄ + (Mp+1 − h/2·Mp)·E·H'
+          for (std::size_t p = 0; p < 3; ++p) {
+            moment_terms[p].noalias() = mE[p].lazyProduct(mean);
+            moment_terms[p].noalias() += (mE[p + 1] - half * mE[p]).lazyProduct(slope);
+          }
+          for (std::size_t i = 0; i < 3; ++i) {
+            auto gi = term_data_.middleCols(col + r * static_cast<Eigen::Index>(i), r);
+            for (std::size_t p = 0; p < 3; ++p) gi += lagrange[i][p] * moment_terms[p];
+          }
+        }
+        term_data_.middleCols(col + 3 * r, d).noalias() = g0.lazyProduct(s.C);
+        term_data_.middleCols(col + 3 * r + d, d).noalias() = g1.lazyProduct(s.C);
+        static_cast<void>(g_prev);
         step_terms_.push_back(static_cast<int>(k));
       }
       st.last_term = static_cast<int>(step_terms_.size());
     }
+    // Node j's delayed value at refs_[k][j + 1], j = −1 … n.
     refs_.resize(terms_.size());
     for (std::size_t k = 0; k < terms_.size(); ++k) {
-      for (int j = 0; j <= n; ++j) refs_[k].push_back(delay_ref(j, terms_[k].delay_s));
+      for (int j = -1; j <= n; ++j) refs_[k].push_back(delay_ref(j, terms_[k].delay_s));
     }
   }
 
   int n() const { return grid_.steps(); }
+  int order() const { return order_; }
   const StepMatrices& step(int j) const { return steps_[static_cast<std::size_t>(j)]; }
   /// H̄ of the first delay term over step j (r×r).
   auto H(int j) const { return h_.middleCols(step(j).h_col, h_.rows()); }
   /// The delay term k of step term i (the steps' terms with H̄k ≠ 0, in step order).
   int step_term(int i) const { return step_terms_[static_cast<std::size_t>(i)]; }
   int step_terms() const { return static_cast<int>(step_terms_.size()); }
-  /// First entry of step term i's block: W0·E·H̄k, W1·E·H̄k, W0·E·H̄k·C, W1·E·H̄k·C, d rows
-  /// each, side by side (so that a period map can view them as fixed-size matrices).
+  /// First entry of step term i's block: the weights G(j−1), G(j), G(j+1) of the step's
+  /// nodes' displacement differences ŷ − y (d×r each; G(j−1) = 0 in the linear
+  /// interpolation, where G(j) = W0·E·H̄k and G(j+1) = W1·E·H̄k), then G(j)·C and G(j+1)·C
+  /// (d×d), side by side (so that a period map can view them as fixed-size matrices).
   const double* term_data(int i) const {
     return term_data_.data() + term_data_.rows() * term_width_ * i;
   }
   int terms() const { return static_cast<int>(terms_.size()); }
-  /// Where y(t_j − τk) is, for node j and delay term k.
+  /// Where y(t_j − τk) is, for node j (−1 … n) and delay term k.
   const DelayRef& ref(int j, int k = 0) const {
-    return refs_[static_cast<std::size_t>(k)][static_cast<std::size_t>(j)];
+    return refs_[static_cast<std::size_t>(k)][static_cast<std::size_t>(j + 1)];
   }
   double time(long long g) const {
     const long long p = floor_div(g, n());
@@ -273,9 +342,14 @@ class Discretization {
   }
 
  private:
+  double step_length(int j) const {
+    return grid_.nodes_s[static_cast<std::size_t>(j + 1)] -
+           grid_.nodes_s[static_cast<std::size_t>(j)];
+  }
+
   DelayRef delay_ref(int j, double delay) const {
     const double T = grid_.period_s;
-    const double s = grid_.nodes_s[static_cast<std::size_t>(j)] - delay;
+    const double s = time(j) - delay;
     const double p = std::floor(s / T);
     double u = s - p * T;
     const auto& t = grid_.nodes_s;
@@ -291,17 +365,26 @@ class Discretization {
       alpha = 0.0;
       ++g;
     }
-    return {g, alpha};
+    DelayRef out{g, alpha, {0.0, 1.0 - alpha, alpha}};
+    if (order_ == 2 && alpha > 0.0) {
+      // Lagrange on the nodes g − 1, g, g + 1 (all known when the step ends: g + 1 <= j).
+      const double tg = time(g);
+      const auto c = lagrange_coefficients(time(g - 1) - tg, 0.0, time(g + 1) - tg);
+      const double x = alpha * (time(g + 1) - tg);
+      for (std::size_t q = 0; q < 3; ++q) out.weights[q] = c[q][0] + x * (c[q][1] + x * c[q][2]);
+    }
+    return out;
   }
 
   std::vector<DelayTerm> terms_;
   const FdGrid& grid_;
+  int order_ = 1;
   std::deque<StepIntegrals> integrals_;  // one per distinct step length (a deque: steps point
                                          // into it while it grows)
   std::vector<StepMatrices> steps_;
   Eigen::MatrixXd h_;                    // H̄k of every step and term, r × r each
   std::vector<int> step_terms_;          // the delay term of each step term
-  Eigen::Index term_width_ = 0;          // 2r + 2d columns per step term
+  Eigen::Index term_width_ = 0;          // 3r + 2d columns per step term
   Eigen::MatrixXd term_data_;            // the step terms' depth-independent products
   std::vector<std::vector<DelayRef>> refs_;
 };
@@ -324,12 +407,14 @@ std::vector<std::string> FdOptions::validate() const {
   v.require_positive("depth_max_m", depth_max_m, "m");
   v.require(samples_per_turn >= 4.0 && samples_per_turn <= 1000.0, "samples_per_turn",
             samples_per_turn, "", "must be 4 to 1000");
+  v.require(order == 1 || order == 2, "order", order, "", "must be 1 (linear) or 2 (quadratic)");
   return v.problems();
 }
 
 FdGrid fd_grid(const DelayedSystem& s, const FdOptions& o) {
   require_valid(s, o.validate());
   FdGrid grid;
+  grid.order = o.order;
   double h_max = o.max_step_fraction * shortest_structural_period(s);
   // The delayed value of a step's end must be known.
   for (const DelayTerm& t : s.delay_terms()) h_max = std::min(h_max, t.delay_s);
@@ -393,12 +478,41 @@ class PeriodMapT final : public PeriodMap {
   PeriodMapT(const Discretization& disc, const DelayedSystem& s, double depth)
       : disc_(disc), c_(s.C), d_(s.A0.rows()), r_(s.C.rows()) {
     const int n = disc_.n();
-    // History length: the oldest node any step needs, counted back from that step's node.
+    const bool quadratic = disc_.order() == 2;
+    // History length: the oldest node any step's delayed values need, counted back from that
+    // step's node (every step, cutting or not, so that the state does not depend on the
+    // depth), and y(j − 1) for the quadratic interpolation.
     for (int k = 0; k < disc_.terms(); ++k)
       for (int j = 0; j < n; ++j)
-        for (int e : {j, j + 1}) L_ = std::max(L_, j - disc_.ref(e, k).g);
+        for (int e = quadratic ? j - 1 : j; e <= j + 1; ++e) {
+          const DelayRef& ref = disc_.ref(e, k);
+          L_ = std::max(L_, j - ref.g + (ref.weights[0] != 0.0 ? 1 : 0));
+        }
     steps_.resize(static_cast<std::size_t>(n));
-    gains_.reserve(static_cast<std::size_t>(disc_.step_terms()));
+    gains_.reserve(static_cast<std::size_t>(disc_.step_terms() * (quadratic ? 4 : 2)));
+    // k·y(node) (global node <= j), or with `ref` k·ŷ there: one gain per node of the
+    // interpolation, weights folded into k; gains of one step on the same node merged.
+    const auto add_gain = [&](int j, const Step& step, const MatDR& k, long long node,
+                              const DelayRef* ref) {
+      const auto add = [&](long long back, double weight) {
+        if (weight == 0.0) return;
+        for (int g = step.first; g < static_cast<int>(gains_.size()); ++g) {
+          if (gains_[static_cast<std::size_t>(g)].back == back) {
+            gains_[static_cast<std::size_t>(g)].k += weight * k;
+            return;
+          }
+        }
+        Gain& g = gains_.emplace_back();
+        g.k = weight == 1.0 ? k : MatDR(weight * k);
+        g.back = back;
+      };
+      if (ref == nullptr) {
+        add(j - node, 1.0);
+        return;
+      }
+      for (std::size_t i = 0; i < 3; ++i)
+        add(j - (ref->g + static_cast<long long>(i) - 1), ref->weights[i]);
+    };
     for (int j = 0; j < n; ++j) {
       const StepMatrices& st = disc_.step(j);
       Step& out = steps_[static_cast<std::size_t>(j)];
@@ -408,33 +522,29 @@ class PeriodMapT final : public PeriodMap {
         out.mx = st.phi0();
         continue;
       }
-      // (I + Σk whk1·C)·x(j+1) = (Φ0 − Σk whk0·C)·x(j) + Σk [whk0·ŷk(j) + whk1·ŷk(j+1)]
-      // [Ding2010, eq. 13, with one delayed term per delay]. I + Σ wh1·C is I plus a term of
-      // the order of the step: well conditioned. W·E·H̄·C is kept from the discretization:
-      // only the scaling by the depth is new.
+      // x(j+1) = Φ0·x(j) + w·Σk Σi Gki·(ŷk(i) − y(i)), i = j − 1 (quadratic only), j, j + 1:
+      // (I + w·Σk Gk(j+1)·C)·x(j+1) = (Φ0 − w·Σk Gk(j)·C)·x(j) − w·Σk Gk(j−1)·y(j−1)
+      //   + w·Σk Σi Gki·ŷk(i)   [Ding2010, eq. 13, with one delayed term per delay].
+      // I + w·ΣG·C is I plus a term of the order of the step: well conditioned. G and G·C
+      // are kept from the discretization: only the scaling by the depth is new.
       MatDD lhs = MatDD::Identity(d_, d_);
       MatDD rhs = st.phi0();
+      MatDR prev = MatDR::Zero(d_, r_);
       for (int i = st.first_term; i < st.last_term; ++i) {
         const TermBlocks t(disc_.term_data(i), d_, r_);
-        lhs += depth * t.w1EHC;
-        rhs -= depth * t.w0EHC;
+        lhs += depth * t.g1C;
+        rhs -= depth * t.g0C;
+        if (quadratic) prev += t.g_prev;
       }
       const MatDD inv = lhs.inverse();
       out.mx.noalias() = inv * rhs;
+      if (quadratic) add_gain(j, out, -(depth * inv) * prev, j - 1, nullptr);
       for (int i = st.first_term; i < st.last_term; ++i) {
         const TermBlocks t(disc_.term_data(i), d_, r_);
         const int term = disc_.step_term(i);
-        Gain& g = gains_.emplace_back();
-        g.term = term;
-        g.k0.noalias() = (depth * inv) * t.w0EH;
-        g.k1.noalias() = (depth * inv) * t.w1EH;
-        // Where the delayed values of nodes j and j + 1 are, counted back from node j.
-        const DelayRef& r0 = disc_.ref(j, term);
-        const DelayRef& r1 = disc_.ref(j + 1, term);
-        g.back0 = j - r0.g;
-        g.alpha0 = r0.alpha;
-        g.back1 = j - r1.g;
-        g.alpha1 = r1.alpha;
+        if (quadratic) add_gain(j, out, (depth * inv) * t.g_prev, 0, &disc_.ref(j - 1, term));
+        add_gain(j, out, (depth * inv) * t.g0, 0, &disc_.ref(j, term));
+        add_gain(j, out, (depth * inv) * t.g1, 0, &disc_.ref(j + 1, term));
       }
       out.last = static_cast<int>(gains_.size());
     }
@@ -455,12 +565,10 @@ class PeriodMapT final : public PeriodMap {
   using MatDD = Eigen::Matrix<double, D, D>;
   using MatDR = Eigen::Matrix<double, D, R>;
   using MatRD = Eigen::Matrix<double, R, D>;
-  struct Gain {  // of one delay term on one step
-    MatDR k0, k1;
-    int term = 0;
-    // The delayed values of nodes j and j + 1: (1 − α)·y(j − back) + α·y(j − back + 1).
-    long long back0 = 0, back1 = 0;
-    double alpha0 = 0.0, alpha1 = 0.0;
+  // A gain on the displacements of one node: k·y(j − back) (y(j) the step's own node).
+  struct Gain {
+    MatDR k;
+    long long back = 0;
   };
   struct Step {
     Step() {}  // user-provided: a vector of them is not zero-filled first
@@ -470,22 +578,22 @@ class PeriodMapT final : public PeriodMap {
   // A step term's products (Discretization::term_data) seen as matrices of this map's sizes.
   struct TermBlocks {
     TermBlocks(const double* p, Eigen::Index d, Eigen::Index r)
-        : w0EH(p, d, r), w1EH(p + d * r, d, r), w0EHC(p + 2 * d * r, d, d),
-          w1EHC(p + 2 * d * r + d * d, d, d) {}
-    Eigen::Map<const MatDR> w0EH, w1EH;
-    Eigen::Map<const MatDD> w0EHC, w1EHC;
+        : g_prev(p, d, r), g0(p + d * r, d, r), g1(p + 2 * d * r, d, r), g0C(p + 3 * d * r, d, d),
+          g1C(p + 3 * d * r + d * d, d, d) {}
+    Eigen::Map<const MatDR> g_prev, g0, g1;
+    Eigen::Map<const MatDD> g0C, g1C;
   };
 
   // One column (the Arnoldi product): the same operations as run<Cols>, on maps of fixed
   // size (blocks of the dynamic z keep a dynamic column count, which slows every small
-  // kernel), with each gain's delay positions computed once by the constructor.
+  // kernel).
   void run_vector(Eigen::MatrixXd& z, Eigen::MatrixXd& next) const {
     using Xv = Eigen::Matrix<double, D, 1>;
     using Yv = Eigen::Matrix<double, R, 1>;
     double* const zp = z.data();
     Eigen::Map<Xv> x(zp, d_);
     Xv xo(d_);
-    Yv y0(r_), y1(r_), yj(r_);
+    Yv yj(r_);
     long long head = 0;                       // ring block that holds y(j − 1)
     const auto block = [&](long long back) {  // first row of the history block y(j − back)
       long long b = head + back - 1;          // 0 <= b < 2L: no division
@@ -496,10 +604,6 @@ class PeriodMapT final : public PeriodMap {
       if (back == 0) return yj;
       return Eigen::Map<const Yv>(zp + block(back), r_);
     };
-    const auto delayed = [&](long long back, double alpha, Yv& out) {
-      out = y_at(back);
-      if (alpha > 0.0) out = (1.0 - alpha) * out + alpha * y_at(back - 1);
-    };
     const int n = disc_.n();
     for (int j = 0; j < n; ++j) {
       const Step& st = steps_[static_cast<std::size_t>(j)];
@@ -508,9 +612,7 @@ class PeriodMapT final : public PeriodMap {
       x.noalias() = st.mx * xo;
       for (int g = st.first; g < st.last; ++g) {
         const Gain& gain = gains_[static_cast<std::size_t>(g)];
-        delayed(gain.back0, gain.alpha0, y0);
-        delayed(gain.back1, gain.alpha1, y1);
-        x.noalias() += gain.k0 * y0 + gain.k1 * y1;
+        x.noalias() += gain.k * y_at(gain.back);
       }
       head = head == 0 ? L_ - 1 : head - 1;  // push y(j) = C·x(j)
       Eigen::Map<Yv>(zp + d_ + r_ * head, r_) = yj;
@@ -528,22 +630,16 @@ class PeriodMapT final : public PeriodMap {
     using Ys = Eigen::Matrix<double, R, Cols>;
     const Eigen::Index cols = z.cols();
     Xs xo(d_, cols);
-    Ys y0(r_, cols), y1(r_, cols), yj(r_, cols);
+    Ys yj(r_, cols);
     long long head = 0;                       // ring block that holds y(j − 1)
     const auto block = [&](long long back) {  // first row of the history block y(j − back)
       long long b = head + back - 1;          // 0 <= b < 2L: no division
       if (b >= L_) b -= L_;
       return d_ + r_ * b;
     };
-    // weight·y at global node g seen from step j (g <= j): C·x(j) or a history block.
-    const auto y_at = [&](int j, long long g) -> Ys {
-      const long long back = j - g;
+    const auto y_at = [&](long long back) -> Ys {  // y(j − back)
       if (back == 0) return yj;
       return z.template middleRows<R>(block(back), r_);
-    };
-    const auto delayed = [&](int j, const DelayRef& ref, Ys& out) {
-      out = y_at(j, ref.g);
-      if (ref.alpha > 0.0) out = (1.0 - ref.alpha) * out + ref.alpha * y_at(j, ref.g + 1);
     };
     for (int j = 0; j < disc_.n(); ++j) {
       const Step& st = steps_[static_cast<std::size_t>(j)];
@@ -553,9 +649,7 @@ class PeriodMapT final : public PeriodMap {
       x.noalias() = st.mx * xo;
       for (int g = st.first; g < st.last; ++g) {
         const Gain& gain = gains_[static_cast<std::size_t>(g)];
-        delayed(j, disc_.ref(j, gain.term), y0);
-        delayed(j, disc_.ref(j + 1, gain.term), y1);
-        x.noalias() += gain.k0 * y0 + gain.k1 * y1;
+        x.noalias() += gain.k * y_at(gain.back);
       }
       head = head == 0 ? L_ - 1 : head - 1;  // push y(j) = C·x(j)
       z.template middleRows<R>(d_ + r_ * head, r_) = yj;
@@ -624,7 +718,8 @@ class PeriodMapOp {
 }  // namespace
 
 struct FdDiscretization::Impl {
-  Impl(const DelayedSystem& s, FdGrid g) : system(s), grid(std::move(g)), disc(system, grid) {}
+  Impl(const DelayedSystem& s, FdGrid g)
+      : system(s), grid(std::move(g)), disc(system, grid, grid.order) {}
   DelayedSystem system;
   FdGrid grid;
   Discretization disc;  // refers to the two members above
@@ -1100,6 +1195,12 @@ CriticalDepth fd_critical_depth(const DelayedSystem& s, const FdOptions& o) {
   if (!s.more_delays.empty()) {
     throw InvalidInput({"more_delays: the reduced full discretization takes one delay (use "
                         "fd_critical_depth_by_radius)"},
+                       "full discretization");
+  }
+  if (o.order != 1) {
+    throw InvalidInput({"order = " + std::to_string(o.order) +
+                        ": the reduced full discretization takes the linear interpolation "
+                        "(order 1); the spectral-radius methods take order 2"},
                        "full discretization");
   }
   const FdGrid grid = fd_grid(s, o);

@@ -7,7 +7,11 @@
 // between the step's ends:
 //     x(j+1) = Φ0j·x(j) + w·[W0j·E·H̄j·(ŷ(j) − y(j)) + W1j·E·H̄j·(ŷ(j+1) − y(j+1))],
 //     Φ0j = e^(A0·hj),  W1j = (1/hj)∫0^hj e^(A0(hj−s))·s ds,  W0j = ∫0^hj e^(A0 s) ds − W1j,
-// with ŷ(j) = y(tj − τ) interpolated linearly between the two nodes around it. Stacking
+// with ŷ(j) = y(tj − τ) interpolated linearly between the two nodes around it (order 1).
+// Order 2 (docs/models/milling-stability.md, "Second-order interpolation") takes the
+// difference ŷ − y quadratic through the nodes j − 1, j, j + 1, H as its mean plus its slope
+// over the step, and ŷ by Lagrange on three nodes: the local error falls from O(h³) to O(h⁴),
+// the critical depth's from O(h²) to O(h³), at about twice the work per step. Stacking
 // x(j) and the past displacements gives the transition matrix Φ over one period (Ding's
 // form); by Floquet theory the process is stable when every eigenvalue of Φ has modulus < 1.
 //
@@ -45,14 +49,18 @@ struct FdOptions {
   int steps_per_period = 0;
   double depth_max_m = 0.03;     // search limit
   double samples_per_turn = 16;  // multiplier-angle samples per 2π of μ^(−τ/T) phase
+  /// Interpolation within a step: 1 linear [Ding2010], 2 quadratic (see above). The reduced
+  /// method (fd_critical_depth) takes order 1 only.
+  int order = 1;
 
   std::vector<std::string> validate() const;
 };
 
-/// The time grid of one period.
+/// The time grid of one period, and the interpolation order used on it.
 struct FdGrid {
   double period_s = 0.0;
   std::vector<double> nodes_s;  // n + 1 nodes, nodes_s.front() = 0, nodes_s.back() = T
+  int order = 1;                // FdOptions::order
   int steps() const { return static_cast<int>(nodes_s.size()) - 1; }
 };
 
