@@ -484,6 +484,7 @@ json to_json(const EstimateReport& r) {
                {"format", "cutdyn monitor estimate"},
                {"version", 1},
                {"samples", r.samples},
+               {"skipped_lines", r.bad_lines},
                {"force_sigma_n_covers", kSigmaCovers}};
   summary["axes"] = json::object();
   for (const EstimatedAxis& e : r.axes) {

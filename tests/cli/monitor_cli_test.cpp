@@ -305,11 +305,15 @@ TEST_F(MonitorCli, SkipBadLinesReportsTheCount) {
   write("bad.csv",
         "time_s,axis,iu_a,iv_a,iw_a,speed_rad_s\n0,x,20,-10,-10,50\n0.001,x,ten,-5,-5,50\n"
         "0.002,x,20,-10,-10,nan\n0.003,x,20,-10,-10,50\n0.001,x,20,-10,-10,50\n");
-  const Result r = cutdyn(
-      {"monitor", "estimate", "--calib", "zheng2012", path("bad.csv"), "--on-bad-line", "skip"});
+  const Result r = cutdyn({"monitor", "estimate", "--calib", "zheng2012", path("bad.csv"),
+                           "--on-bad-line", "skip", "--json", path("bad.json")});
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(lines_of(r.out).size(), 3u);  // header + lines 2 and 5
   EXPECT_NE(r.err.find("bad.csv: skipped 3 bad lines"), std::string::npos) << r.err;
+  // The JSON summary counts them too, beside the samples estimated.
+  const auto j = nlohmann::json::parse(testing::read_file(path("bad.json")));
+  EXPECT_EQ(j["skipped_lines"].get<int>(), 3);
+  EXPECT_EQ(j["samples"].get<int>(), 2);
   EXPECT_NE(r.err.find("line 3: iu_a = \"ten\": not a number (skipped)"), std::string::npos);
   // All lines bad: nothing to estimate, exit 2.
   write("allbad.csv", "time_s,axis,iu_a,iv_a,iw_a,speed_rad_s\n0,x,a,b,c,d\n");
