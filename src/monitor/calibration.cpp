@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <limits>
 #include <map>
 
@@ -47,6 +48,21 @@ std::vector<std::string> CalibrationOptions::validate() const {
   return v.problems();
 }
 
+namespace {
+
+bool all_finite(std::initializer_list<double> values) {
+  return std::all_of(values.begin(), values.end(), [](double x) { return std::isfinite(x); });
+}
+
+// A fit that overflowed: a current, speed or force of the logs near the range of a double.
+std::string not_finite_message(const std::string& step) {
+  return step + ": the fit is not finite: a current, speed or force of the logs is beyond what "
+                "it can take (a value near the range of a double); check the logs' units and "
+                "columns";
+}
+
+}  // namespace
+
 const char* to_string(CalibrationStatus status) {
   switch (status) {
     case CalibrationStatus::kSuccess:
@@ -57,6 +73,8 @@ const char* to_string(CalibrationStatus status) {
       return "too few speeds";
     case CalibrationStatus::kNoForce:
       return "no force";
+    case CalibrationStatus::kNotFinite:
+      return "not finite";
   }
   return "?";
 }
@@ -496,6 +514,13 @@ IdleFit fit_idle(const AxisModel& m, const std::vector<AxisRun>& runs,
     r.residual_sigma_nm = std::sqrt(var1);
     r.residual_rms_nm = std::sqrt(ss1 / static_cast<double>(n));
   }
+  if (!all_finite({fit.friction_nm, fit.viscous_nm_s_per_rad, fit.friction_sigma_nm,
+                   fit.viscous_sigma, fit.covariance, fit.current_noise_a, fit.speed_noise_rad_s,
+                   r.r_squared, r.residual_rms_nm, r.residual_sigma_nm})) {
+    r.status = CalibrationStatus::kNotFinite;
+    r.message = not_finite_message("step 1");
+    return fit;
+  }
   r.message = "step 1: " + std::to_string(r.windows) + " steady windows at " +
               std::to_string(r.distinct_speeds) + " speeds";
   return fit;
@@ -588,6 +613,12 @@ LoadFit fit_load(const AxisCalibration& c, const std::vector<AxisRun>& runs,
   fit.force_gain_m = k;
   fit.force_gain_sigma_from_idle_m = std::sqrt(std::max(0.0, var_idle));
   fit.force_gain_sigma_m = std::sqrt(var_fit + std::max(0.0, var_idle));
+  if (!all_finite({fit.force_gain_m, fit.force_gain_sigma_m, fit.force_gain_sigma_from_idle_m,
+                   r.r_squared, r.residual_rms_nm, r.residual_sigma_nm})) {
+    r.status = CalibrationStatus::kNotFinite;
+    r.message = not_finite_message("step 2");
+    return fit;
+  }
   r.message = "step 2: " + std::to_string(r.windows) + " steady windows";
   return fit;
 }

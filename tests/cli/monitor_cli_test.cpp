@@ -84,6 +84,25 @@ TEST_F(MonitorCli, CalibrateWritesTheDocumentedFile) {
   // KT and J are needed: without --base or --kt/--inertia the run is refused.
   expect_rejected({"monitor", "calibrate", "--idle", path("idle.csv"), "--out", path("c2.json")},
                   "the torque constant is unknown");
+  // A current near the range of a double (a finite number, so the reader takes it) makes the
+  // fit overflow: refused with what went wrong, not a calibration of NaN.
+  std::istringstream idle(testing::read_file(path("idle.csv")));
+  std::string line, huge;
+  for (int i = 0; std::getline(idle, line); ++i) {
+    if (i > 0 && i % 97 == 0) {
+      std::vector<std::string> fields;
+      std::stringstream split(line);
+      for (std::string f; std::getline(split, f, ',');) fields.push_back(f);
+      fields[2] = "1e300";
+      line = fields[0];
+      for (std::size_t k = 1; k < fields.size(); ++k) line += "," + fields[k];
+    }
+    huge += line + "\n";
+  }
+  write("huge.csv", huge);
+  expect_rejected({"monitor", "calibrate", "--idle", path("huge.csv"), "--base", "zheng2012",
+                   "--out", path("c3.json")},
+                  "step 1: the fit is not finite");
 }
 
 TEST_F(MonitorCli, EstimateStreamsTheForce) {

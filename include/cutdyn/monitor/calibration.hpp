@@ -86,6 +86,7 @@ enum class CalibrationStatus {
   kTooFewWindows,  // fewer usable windows than parameters + 1
   kTooFewSpeeds,   // step 1: the speeds do not determine Tnzm and X (one speed, one sign)
   kNoForce,        // step 2: the reference force is zero in every window
+  kNotFinite,      // a value of the logs is beyond what the fit can take (near overflow)
 };
 const char* to_string(CalibrationStatus status);
 
