@@ -8,7 +8,8 @@
 //                         (exact for conventional turning, the averaged theory with vibration)
 //   closed-form           the same as zero-order, in both processes
 //   multi-frequency       Hill's / the multi-frequency method
-//   full-discretization   the first-order full discretization (matrix-free)
+//   full-discretization   the full discretization (matrix-free): in milling with the
+//                         quadratic interpolation (order 2), in turning the first-order one
 //   full-discretization-dense   the same with the dense transition matrix (slow; checks)
 #pragma once
 
