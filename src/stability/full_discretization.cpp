@@ -280,8 +280,8 @@ class Discretization {
         if (mean.norm() == 0.0) continue;
         const Eigen::Index col = term_width_ * static_cast<Eigen::Index>(step_terms_.size());
         // Products of a few rows and columns, coefficient by coefficient.
-        auto g_prev = term_data_.middleCols(col, r), g0 = term_data_.middleCols(col + r, r),
-             g1 = term_data_.middleCols(col + 2 * r, r);
+        // G(j−1) at col (left 0 by the linear interpolation), G(j) and G(j+1) after it.
+        auto g0 = term_data_.middleCols(col + r, r), g1 = term_data_.middleCols(col + 2 * r, r);
         if (!quadratic) {
           g0.noalias() = st.w0E().lazyProduct(mean);
           g1.noalias() = st.w1E().lazyProduct(mean);
@@ -303,7 +303,6 @@ class Discretization {
         }
         term_data_.middleCols(col + 3 * r, d).noalias() = g0.lazyProduct(s.C);
         term_data_.middleCols(col + 3 * r + d, d).noalias() = g1.lazyProduct(s.C);
-        static_cast<void>(g_prev);
         step_terms_.push_back(static_cast<int>(k));
       }
       st.last_term = static_cast<int>(step_terms_.size());
