@@ -25,7 +25,9 @@ struct MultiplierEstimate {
 /// length; several channels and phases of the period help). Uses the samples from the first
 /// quarter on (at most the last 240). Empty when the samples are not explained by a few
 /// multipliers (the Hankel matrix is of more than half its possible rank, or the model predicts
-/// the samples worse than 1e-6): then the caller falls back on the amplitude's slope.
+/// the samples worse than 1e-6), or when another component lies within 1/N of the largest
+/// (N samples used: closer than they resolve): then the caller falls back on the amplitude's
+/// slope.
 std::optional<MultiplierEstimate> dominant_multiplier(
     const std::vector<std::vector<double>>& samples);
 
