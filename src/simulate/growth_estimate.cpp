@@ -131,9 +131,10 @@ std::optional<MultiplierEstimate> dominant_multiplier(
   const double resolution = 1.0 / static_cast<double>(count);
   for (Eigen::Index i = 0; i < rank; ++i) {
     if (i == top || !significant(i)) continue;
-    const std::complex<double> a = eigen.eigenvalues()(i), b = eigen.eigenvalues()(top);
-    if (a == std::conj(b)) continue;
-    if (std::abs(a - b) < resolution) return std::nullopt;
+    const std::complex<double> other = eigen.eigenvalues()(i);
+    const std::complex<double> largest_root = eigen.eigenvalues()(top);
+    if (other == std::conj(largest_root)) continue;
+    if (std::abs(other - largest_root) < resolution) return std::nullopt;
   }
   return out;
 }

@@ -149,7 +149,8 @@ TEST(FullDiscretization, QuadraticInterpolationDenseEqualsArnoldi) {
   systems.emplace_back("up-milling a/D 0.05",
                        milling_system(testing::insperger_benchmark(0.05, true, false), 14000.0));
   systems.emplace_back("uneven pitch", milling_system(uneven, 9500.0));
-  systems.emplace_back("vibration-assisted turning", turning_system(table2_vibration(700.0), 3000.0));
+  systems.emplace_back("vibration-assisted turning",
+                       turning_system(table2_vibration(700.0), 3000.0));
   for (const auto& [name, s] : systems) {
     FdOptions o;
     o.order = 2;
