@@ -55,7 +55,7 @@ TEST(GrowthEstimate, LeavesTwoRootsCloserThanTheSamplesResolveToTheSlope) {
       {std::polar(std::exp(-0.0027), angle), std::polar(std::exp(0.0001), angle + 1e-3)},
       {1.0, 0.01}, 120);
   EXPECT_FALSE(dominant_multiplier(close).has_value());
-  // The same pair 0.05 apart (six times the resolution of the 90 samples used): resolved.
+  // The same pair 0.05 apart (4.5 times the resolution 1/90 of the 90 samples used): resolved.
   const auto apart = sum_of_powers(
       {std::polar(std::exp(-0.0027), angle), std::polar(std::exp(0.0001), angle + 0.05)},
       {1.0, 0.01}, 120);
