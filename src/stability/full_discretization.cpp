@@ -143,7 +143,9 @@ struct StepIntegrals {
   Eigen::MatrixXd phi0;  // d×d
   Eigen::MatrixXd w0E;   // W0·E, d×r
   Eigen::MatrixXd w1E;   // W1·E, d×r
-  std::array<Eigen::MatrixXd, 4> mE;  // Mp·E, d×r (quadratic interpolation only)
+  // Quadratic interpolation only: Mp·E and (Mp+1 − h/2·Mp)·E, p = 0 … 2 (d×r), the weights of
+  // H̄ and of H' in a step's moment of order p.
+  std::array<Eigen::MatrixXd, 3> mE, centred_mE;
 };
 
 // Φ0, W0·E and W1·E (and with `moments` M0·E … M3·E) for a step of length h (they depend on
@@ -166,10 +168,15 @@ StepIntegrals step_integrals(const DelayedSystem& s, double h, bool moments) {
   out.w1E = w1 * s.E;
   out.w0E = (phi1 - w1) * s.E;
   if (moments) {
+    std::array<Eigen::MatrixXd, 4> mE;  // Mp·E, p = 0 … 3
     double factorial = 1.0;
     for (int p = 0; p < 4; ++p) {
       if (p > 0) factorial *= p;
-      out.mE[static_cast<std::size_t>(p)] = factorial * f.block(0, (p + 1) * d, d, d) * s.E;
+      mE[static_cast<std::size_t>(p)] = factorial * f.block(0, (p + 1) * d, d, d) * s.E;
+    }
+    for (std::size_t p = 0; p < 3; ++p) {
+      out.mE[p] = mE[p];
+      out.centred_mE[p] = mE[p + 1] - 0.5 * h * mE[p];
     }
   }
   return out;
@@ -266,6 +273,7 @@ class Discretization {
     term_width_ = 3 * r + 2 * d;
     term_data_.setZero(d, term_width_ * active_terms);
     step_terms_.reserve(static_cast<std::size_t>(active_terms));
+    std::array<Eigen::MatrixXd, 3> moment_terms;  // Mp·E·H̄ + (Mp+1 − h/2·Mp)·E·H' of a step
     for (int j = 0; j < n; ++j) {
       StepMatrices& st = steps_[static_cast<std::size_t>(j)];
       st.first_term = static_cast<int>(step_terms_.size());
@@ -289,12 +297,9 @@ class Discretization {
           // G_i = ∫0^h e^(A(h−s))·E·(H̄ + H'·(s − h/2))·ℓi(s) ds = Σp ci,p·(Mp·E·H̄ +
           // (Mp+1 − h/2·Mp)·E·H'), ℓi(s) = Σp ci,p·s^p.
           const auto slope = slopes.middleCols(st.h_col + r * k, r);
-          const std::array<Eigen::MatrixXd, 4>& mE = st.integrals->mE;
-          const double half = 0.5 * st.integrals->h;
-          std::array<Eigen::MatrixXd, 3> moment_terms;  // Mp·E·H̄ + (Mp+1 − h/2·Mp)·E·H'
           for (std::size_t p = 0; p < 3; ++p) {
-            moment_terms[p].noalias() = mE[p].lazyProduct(mean);
-            moment_terms[p].noalias() += (mE[p + 1] - half * mE[p]).lazyProduct(slope);
+            moment_terms[p].noalias() = st.integrals->mE[p].lazyProduct(mean);
+            moment_terms[p].noalias() += st.integrals->centred_mE[p].lazyProduct(slope);
           }
           for (std::size_t i = 0; i < 3; ++i) {
             auto gi = term_data_.middleCols(col + r * static_cast<Eigen::Index>(i), r);
@@ -489,28 +494,24 @@ class PeriodMapT final : public PeriodMap {
         }
     steps_.resize(static_cast<std::size_t>(n));
     gains_.reserve(static_cast<std::size_t>(disc_.step_terms() * (quadratic ? 4 : 2)));
-    // k·y(node) (global node <= j), or with `ref` k·ŷ there: one gain per node of the
-    // interpolation, weights folded into k; gains of one step on the same node merged.
-    const auto add_gain = [&](int j, const Step& step, const MatDR& k, long long node,
-                              const DelayRef* ref) {
-      const auto add = [&](long long back, double weight) {
-        if (weight == 0.0) return;
-        for (int g = step.first; g < static_cast<int>(gains_.size()); ++g) {
-          if (gains_[static_cast<std::size_t>(g)].back == back) {
-            gains_[static_cast<std::size_t>(g)].k += weight * k;
-            return;
-          }
+    // weight·k·y(j − back) into the gains of the step that starts at gains_[first]; one gain
+    // per node, those of one step on the same node merged.
+    const auto add_gain = [&](int first, long long back, double weight, const MatDR& k) {
+      if (weight == 0.0) return;
+      for (auto g = static_cast<std::size_t>(first); g < gains_.size(); ++g) {
+        if (gains_[g].back == back) {
+          gains_[g].k += weight * k;
+          return;
         }
-        Gain& g = gains_.emplace_back();
-        g.k = weight == 1.0 ? k : MatDR(weight * k);
-        g.back = back;
-      };
-      if (ref == nullptr) {
-        add(j - node, 1.0);
-        return;
       }
+      Gain& g = gains_.emplace_back();
+      g.k = weight == 1.0 ? k : MatDR(weight * k);
+      g.back = back;
+    };
+    // k·ŷ (a delayed value, `ref`) seen from step j: one gain per node of its interpolation.
+    const auto add_delayed = [&](int j, int first, const MatDR& k, const DelayRef& ref) {
       for (std::size_t i = 0; i < 3; ++i)
-        add(j - (ref->g + static_cast<long long>(i) - 1), ref->weights[i]);
+        add_gain(first, j - (ref.g + static_cast<long long>(i) - 1), ref.weights[i], k);
     };
     for (int j = 0; j < n; ++j) {
       const StepMatrices& st = disc_.step(j);
@@ -537,13 +538,13 @@ class PeriodMapT final : public PeriodMap {
       }
       const MatDD inv = lhs.inverse();
       out.mx.noalias() = inv * rhs;
-      if (quadratic) add_gain(j, out, -(depth * inv) * prev, j - 1, nullptr);
+      if (quadratic) add_gain(out.first, 1, 1.0, -(depth * inv) * prev);  // on y(j − 1)
       for (int i = st.first_term; i < st.last_term; ++i) {
         const TermBlocks t(disc_.term_data(i), d_, r_);
         const int term = disc_.step_term(i);
-        if (quadratic) add_gain(j, out, (depth * inv) * t.g_prev, 0, &disc_.ref(j - 1, term));
-        add_gain(j, out, (depth * inv) * t.g0, 0, &disc_.ref(j, term));
-        add_gain(j, out, (depth * inv) * t.g1, 0, &disc_.ref(j + 1, term));
+        if (quadratic) add_delayed(j, out.first, (depth * inv) * t.g_prev, disc_.ref(j - 1, term));
+        add_delayed(j, out.first, (depth * inv) * t.g0, disc_.ref(j, term));
+        add_delayed(j, out.first, (depth * inv) * t.g1, disc_.ref(j + 1, term));
       }
       out.last = static_cast<int>(gains_.size());
     }
