@@ -825,7 +825,7 @@ std::pair<cplx, Eigen::VectorXcd> dominant_eigenpair(const PeriodMap& map, Radiu
 // largest modulus pass Spectra's residual test (|h(m+1,m)·y(m)| < tol·max(|θ|, eps^(2/3)),
 // y the unit eigenvector of H), so only where they do. nullopt when kMaxVectors are not
 // enough or the map is small (the caller then uses Spectra or the dense matrix).
-std::optional<DominantMultiplier> krylov_dominant(const PeriodMap& map) {
+std::optional<DominantMultiplier> krylov_dominant(const PeriodMap& map, int first_test) {
   constexpr int kNev = 3, kMaxVectors = 30, kFirstTest = 8;
   constexpr double kTol = 1e-10;
   const Eigen::Index n = map.dim();
@@ -845,7 +845,8 @@ std::optional<DominantMultiplier> krylov_dominant(const PeriodMap& map) {
     out.mu = cplx(kOverflowRadius, 0.0);
     return out;
   };
-  int next_test = kFirstTest, last_test = 0;
+  int next_test = first_test > 0 ? std::clamp(first_test, kNev, kMaxVectors) : kFirstTest;
+  int last_test = 0;
   double last_worst = 0.0;
   for (int k = 0; k < kMaxVectors; ++k) {
     z.col(0) = V.col(k);
@@ -928,10 +929,15 @@ std::pair<Bifurcation, double> FdDiscretization::dominant_mode(double depth_m,
 
 DominantMultiplier FdDiscretization::dominant_multiplier(double depth_m,
                                                          RadiusSolver solver) const {
+  return dominant_multiplier(depth_m, solver, ArnoldiSchedule{});
+}
+
+DominantMultiplier FdDiscretization::dominant_multiplier(double depth_m, RadiusSolver solver,
+                                                         const ArnoldiSchedule& schedule) const {
   const auto map_ptr = make_period_map(impl_->disc, impl_->system, depth_m);
   const PeriodMap& map = *map_ptr;
   if (solver == RadiusSolver::kArnoldi) {
-    if (auto d = krylov_dominant(map)) return std::move(*d);
+    if (auto d = krylov_dominant(map, schedule.first_test)) return std::move(*d);
   }
   // Spectra (maps of more than 60 rows), else the dense matrix: as dominant_mode.
   auto [mu, v] = dominant_eigenpair(map, solver);
@@ -990,17 +996,48 @@ double FdDiscretization::radius_without_cutting() const {
 
 namespace {
 
+// The dominant multipliers of one speed's depth search, depth after depth, each Arnoldi
+// iteration first tested after as many products as the previous one took (ArnoldiSchedule).
+class ScheduledRadii {
+ public:
+  using Evaluate = std::function<DominantMultiplier(double, const ArnoldiSchedule&)>;
+  explicit ScheduledRadii(Evaluate evaluate) : evaluate_(std::move(evaluate)) {}
+  DominantMultiplier operator()(double depth) {
+    DominantMultiplier d = evaluate_(depth, schedule_);
+    if (d.krylov) schedule_.first_test = static_cast<int>(d.operations);
+    return d;
+  }
+
+ private:
+  Evaluate evaluate_;
+  ArnoldiSchedule schedule_;
+};
+
+ScheduledRadii radii_of(const FdDiscretization& fd, RadiusSolver solver) {
+  return ScheduledRadii([&fd, solver](double w, const ArnoldiSchedule& schedule) {
+    return fd.dominant_multiplier(w, solver, schedule);
+  });
+}
+
+// The depth-dependent system (helical cutter): the step coefficients rebuilt at each depth.
+ScheduledRadii radii_of(const std::function<DelayedSystem(double)>& system_at, const FdGrid& grid,
+                        RadiusSolver solver) {
+  return ScheduledRadii([&system_at, &grid, solver](double w, const ArnoldiSchedule& schedule) {
+    return FdDiscretization(system_at(w), grid).dominant_multiplier(w, solver, schedule);
+  });
+}
+
 // The coarse scan and Brent's method on ρ − 1, ρ the dominant multiplier's modulus (the
 // unrestarted Arnoldi for kArnoldi, with its fallbacks); the mode from the dominant multiplier
 // just above the boundary, where it is the critical one.
 CriticalDepth exhaustive_search(const FdDiscretization& fd, double depth_max, RadiusSolver solver,
                                 double rel_tol, int coarse_steps) {
+  ScheduledRadii at = radii_of(fd, solver);
   CriticalDepth result = critical_depth_by_bracketing(
-      [&](double w) { return fd.dominant_multiplier(w, solver).radius - 1.0; }, depth_max,
-      coarse_steps, rel_tol);
+      [&](double w) { return at(w).radius - 1.0; }, depth_max, coarse_steps, rel_tol);
   if (!result.found) return result;
   std::tie(result.bifurcation, result.chatter_hz) =
-      fd.mode_of(fd.dominant_multiplier(result.depth_m * (1.0 + 0.5 * rel_tol), solver));
+      fd.mode_of(at(result.depth_m * (1.0 + 0.5 * rel_tol)));
   return result;
 }
 
@@ -1015,9 +1052,7 @@ CriticalDepth fd_critical_depth_by_radius(const std::function<DelayedSystem(doub
                                           const FdOptions& o, RadiusSolver solver, double rel_tol,
                                           int coarse_steps) {
   const FdGrid grid = fd_grid(system_at(o.depth_max_m), o);
-  const auto at = [&](double w) {
-    return FdDiscretization(system_at(w), grid).dominant_multiplier(w, solver);
-  };
+  ScheduledRadii at = radii_of(system_at, grid, solver);
   CriticalDepth result = critical_depth_by_bracketing([&](double w) { return at(w).radius - 1.0; },
                                                       o.depth_max_m, coarse_steps, rel_tol);
   if (!result.found) return result;
@@ -1149,7 +1184,8 @@ CriticalDepth fd_critical_depth_from_hint(const DelayedSystem& s, const FdOption
                                           double hint_depth_m, bool hint_is_close) {
   const FdDiscretization fd(s, o);
   long long evaluations = 0;
-  auto found = warm_search([&](double w) { return fd.dominant_multiplier(w, solver); },
+  ScheduledRadii at = radii_of(fd, solver);
+  auto found = warm_search([&](double w) { return at(w); },
                            fd.radius_without_cutting(), o.depth_max_m, coarse_steps, rel_tol,
                            hint_depth_m, hint_is_close, evaluations);
   if (!found) {
@@ -1170,8 +1206,9 @@ CriticalDepth fd_critical_depth_from_hint(const std::function<DelayedSystem(doub
   const DelayedSystem at_limit = system_at(o.depth_max_m);
   const FdGrid grid = fd_grid(at_limit, o);
   long long evaluations = 0;
+  ScheduledRadii at = radii_of(system_at, grid, solver);
   auto found = warm_search(
-      [&](double w) { return FdDiscretization(system_at(w), grid).dominant_multiplier(w, solver); },
+      [&](double w) { return at(w); },
       radius_at_zero(at_limit, grid.period_s), o.depth_max_m, coarse_steps, rel_tol, hint_depth_m,
       hint_is_close, evaluations);
   if (!found) {

@@ -101,6 +101,15 @@ struct DominantMultiplier {
   bool krylov = false;             // false: from the dense matrix
 };
 
+/// When the Arnoldi iteration of FdDiscretization::dominant_multiplier first tests its Ritz
+/// values. The acceptance is the same whatever the schedule; a search that evaluates many
+/// depths of one speed passes the products the previous depth took to converge (its
+/// DominantMultiplier::operations): the maps of nearby depths converge after nearly the same
+/// number, and each test not passed costs about two products.
+struct ArnoldiSchedule {
+  int first_test = 0;  // Krylov vectors at the first test; 0: after the 8th and 9th products
+};
+
 /// The discretized system at one speed — step matrices and delay references, which do not
 /// depend on the depth. Build it once and evaluate the period map at many depths.
 class FdDiscretization {
@@ -128,6 +137,8 @@ class FdDiscretization {
   /// then the dense eigenvalues.
   /// kDense: the dense matrix's eigenvalues and eigenvectors.
   DominantMultiplier dominant_multiplier(double depth_m, RadiusSolver solver) const;
+  DominantMultiplier dominant_multiplier(double depth_m, RadiusSolver solver,
+                                         const ArnoldiSchedule& schedule) const;
   /// How stability is lost with that multiplier (as dominant_mode) and the chatter frequency.
   std::pair<Bifurcation, double> mode_of(const DominantMultiplier& dominant) const;
   /// Spectral radius of the map at depth 0 without evaluating it: the map is then block
