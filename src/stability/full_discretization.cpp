@@ -825,9 +825,10 @@ std::pair<cplx, Eigen::VectorXcd> dominant_eigenpair(const PeriodMap& map, Radiu
 // largest modulus pass Spectra's residual test (|h(m+1,m)·y(m)| < tol·max(|θ|, eps^(2/3)),
 // y the unit eigenvector of H), so only where they do. nullopt when kMaxVectors are not
 // enough or the map is small (the caller then uses Spectra or the dense matrix).
-std::optional<DominantMultiplier> krylov_dominant(const PeriodMap& map, int first_test) {
+std::optional<DominantMultiplier> krylov_dominant(const PeriodMap& map,
+                                                  const ArnoldiOptions& options) {
   constexpr int kNev = 3, kMaxVectors = 30, kFirstTest = 8;
-  constexpr double kTol = 1e-10;
+  constexpr double kTol = 1e-10, kScreenTol = 1e-7;
   const Eigen::Index n = map.dim();
   if (n <= 2 * kMaxVectors) return std::nullopt;
   const double eps23 = std::pow(std::numeric_limits<double>::epsilon(), 2.0 / 3.0);
@@ -845,7 +846,8 @@ std::optional<DominantMultiplier> krylov_dominant(const PeriodMap& map, int firs
     out.mu = cplx(kOverflowRadius, 0.0);
     return out;
   };
-  int next_test = first_test > 0 ? std::clamp(first_test, kNev, kMaxVectors) : kFirstTest;
+  int next_test = options.first_test > 0 ? std::clamp(options.first_test, kNev, kMaxVectors)
+                                         : kFirstTest;
   int last_test = 0;
   double last_worst = 0.0;
   for (int k = 0; k < kMaxVectors; ++k) {
@@ -880,12 +882,16 @@ std::optional<DominantMultiplier> krylov_dominant(const PeriodMap& map, int firs
     for (int i = 0; i < m; ++i) order[static_cast<std::size_t>(i)] = i;
     std::stable_sort(order.begin(), order.end(),
                      [&](int a, int b) { return std::abs(values(a)) > std::abs(values(b)); });
-    // The worst of the kNev residuals against its bound (< 1: all pass).
+    // The worst of the kNev residuals against its bound (< 1: all pass), at the screening
+    // tolerance while the largest Ritz value is below the screening bound.
+    const int top = order.front();
+    const bool screening = std::abs(values(top)) < options.screen_below;
+    const double tol = screening ? kScreenTol : kTol;
     double worst = 0.0;
     for (int q = 0; q < kNev; ++q) {
       const int i = order[static_cast<std::size_t>(q)];
       const double residual = invariant ? 0.0 : std::abs(vectors(m - 1, i)) * beta;
-      worst = std::max(worst, residual / (kTol * std::max(eps23, std::abs(values(i)))));
+      worst = std::max(worst, residual / (tol * std::max(eps23, std::abs(values(i)))));
     }
     if (!(worst < 1.0)) {
       // Not yet. The residuals fall geometrically with each product (by 15–40× in milling
@@ -901,7 +907,14 @@ std::optional<DominantMultiplier> krylov_dominant(const PeriodMap& map, int firs
       last_test = m;
       continue;
     }
-    const int top = order.front();
+    // The products after which the test would likely have passed: the residuals fall by
+    // the last ratio seen per product (15 if none was: the slow end of milling maps).
+    const double fall = (last_worst > 0.0 && last_test == m - 1 && worst < last_worst)
+                            ? last_worst / worst
+                            : 40.0;
+    const int earlier = worst > 0.0 ? static_cast<int>(std::log(1.0 / worst) / std::log(fall)) : 0;
+    out.passes_after = std::max(kNev, m - std::min(earlier, 1));
+    out.screened = screening;
     out.mu = values(top);
     out.radius = std::abs(out.mu);
     const Eigen::VectorXd re = V.leftCols(m) * vectors.col(top).real();
@@ -929,15 +942,15 @@ std::pair<Bifurcation, double> FdDiscretization::dominant_mode(double depth_m,
 
 DominantMultiplier FdDiscretization::dominant_multiplier(double depth_m,
                                                          RadiusSolver solver) const {
-  return dominant_multiplier(depth_m, solver, ArnoldiSchedule{});
+  return dominant_multiplier(depth_m, solver, ArnoldiOptions{});
 }
 
 DominantMultiplier FdDiscretization::dominant_multiplier(double depth_m, RadiusSolver solver,
-                                                         const ArnoldiSchedule& schedule) const {
+                                                         const ArnoldiOptions& options) const {
   const auto map_ptr = make_period_map(impl_->disc, impl_->system, depth_m);
   const PeriodMap& map = *map_ptr;
   if (solver == RadiusSolver::kArnoldi) {
-    if (auto d = krylov_dominant(map, schedule.first_test)) return std::move(*d);
+    if (auto d = krylov_dominant(map, options)) return std::move(*d);
   }
   // Spectra (maps of more than 60 rows), else the dense matrix: as dominant_mode.
   auto [mu, v] = dominant_eigenpair(map, solver);
@@ -997,33 +1010,40 @@ double FdDiscretization::radius_without_cutting() const {
 namespace {
 
 // The dominant multipliers of one speed's depth search, depth after depth, each Arnoldi
-// iteration first tested after as many products as the previous one took (ArnoldiSchedule).
+// iteration first tested after as many products as the previous one took
+// (ArnoldiOptions::first_test), those that only screen ρ < 1 after as many as the previous
+// screening (at first, two fewer than the full tolerance).
 class ScheduledRadii {
  public:
-  using Evaluate = std::function<DominantMultiplier(double, const ArnoldiSchedule&)>;
+  using Evaluate = std::function<DominantMultiplier(double, const ArnoldiOptions&)>;
   explicit ScheduledRadii(Evaluate evaluate) : evaluate_(std::move(evaluate)) {}
-  DominantMultiplier operator()(double depth) {
-    DominantMultiplier d = evaluate_(depth, schedule_);
-    if (d.krylov) schedule_.first_test = static_cast<int>(d.operations);
+  /// `screen_below` > 0: only whether ρ < screen_below is asked (ArnoldiOptions).
+  DominantMultiplier operator()(double depth, double screen_below = 0.0) {
+    ArnoldiOptions options;
+    options.screen_below = screen_below;
+    options.first_test = full_;
+    if (screen_below > 0.0) options.first_test = screened_ > 0 ? screened_ : std::max(0, full_ - 2);
+    DominantMultiplier d = evaluate_(depth, options);
+    if (d.krylov) (d.screened ? screened_ : full_) = d.passes_after;
     return d;
   }
 
  private:
   Evaluate evaluate_;
-  ArnoldiSchedule schedule_;
+  int full_ = 0, screened_ = 0;  // products of the last radius at each tolerance (0: none yet)
 };
 
 ScheduledRadii radii_of(const FdDiscretization& fd, RadiusSolver solver) {
-  return ScheduledRadii([&fd, solver](double w, const ArnoldiSchedule& schedule) {
-    return fd.dominant_multiplier(w, solver, schedule);
+  return ScheduledRadii([&fd, solver](double w, const ArnoldiOptions& options) {
+    return fd.dominant_multiplier(w, solver, options);
   });
 }
 
 // The depth-dependent system (helical cutter): the step coefficients rebuilt at each depth.
 ScheduledRadii radii_of(const std::function<DelayedSystem(double)>& system_at, const FdGrid& grid,
                         RadiusSolver solver) {
-  return ScheduledRadii([&system_at, &grid, solver](double w, const ArnoldiSchedule& schedule) {
-    return FdDiscretization(system_at(w), grid).dominant_multiplier(w, solver, schedule);
+  return ScheduledRadii([&system_at, &grid, solver](double w, const ArnoldiOptions& options) {
+    return FdDiscretization(system_at(w), grid).dominant_multiplier(w, solver, options);
   });
 }
 
@@ -1073,14 +1093,13 @@ struct WarmFound {
   double hi = 0.0;
 };
 
-std::optional<WarmFound> warm_search(const std::function<DominantMultiplier(double)>& at,
-                                     double rho0, double depth_max, int coarse_steps,
-                                     double rel_tol, double hint, bool close,
+std::optional<WarmFound> warm_search(ScheduledRadii& at, double rho0, double depth_max,
+                                     int coarse_steps, double rel_tol, double hint, bool close,
                                      long long& evaluations) {
   if (!(hint > 0.0 && hint <= depth_max) || !(rho0 < 1.0)) return std::nullopt;
-  const auto evaluate = [&](double w) {
+  const auto evaluate = [&](double w, double screen_below = 0.0) {
     ++evaluations;
-    return at(w);
+    return at(w, screen_below);
   };
   const auto secant = [](double xa, double ga, double xb, double gb) {
     return gb == ga ? std::numeric_limits<double>::quiet_NaN() : xb - gb * (xb - xa) / (gb - ga);
@@ -1163,11 +1182,14 @@ std::optional<WarmFound> warm_search(const std::function<DominantMultiplier(doub
     bisect = !bisect && (hi - lo) > 0.5 * prev_width;
     prev_width = hi - lo;
   }
-  // 3. The guard: every point of the exhaustive scan's grid below the bracket is stable.
+  // 3. The guard: every point of the exhaustive scan's grid below the bracket is stable. Only
+  //    ρ < 1 is asked: a radius below 0.99 may stop at the screening tolerance (its error
+  //    is below 1e-4; ArnoldiOptions::screen_below), one closer to 1 goes to the full one.
+  constexpr double kScreenBelow = 0.99;
   for (int k = coarse_steps; k >= 1; --k) {
     const double w = depth_max * k / coarse_steps;
     if (!(w < lo)) continue;
-    if (evaluate(w).radius >= 1.0) return std::nullopt;
+    if (evaluate(w, kScreenBelow).radius >= 1.0) return std::nullopt;
   }
   WarmFound out;
   out.result.found = true;
@@ -1185,8 +1207,7 @@ CriticalDepth fd_critical_depth_from_hint(const DelayedSystem& s, const FdOption
   const FdDiscretization fd(s, o);
   long long evaluations = 0;
   ScheduledRadii at = radii_of(fd, solver);
-  auto found = warm_search([&](double w) { return at(w); },
-                           fd.radius_without_cutting(), o.depth_max_m, coarse_steps, rel_tol,
+  auto found = warm_search(at, fd.radius_without_cutting(), o.depth_max_m, coarse_steps, rel_tol,
                            hint_depth_m, hint_is_close, evaluations);
   if (!found) {
     CriticalDepth result = exhaustive_search(fd, o.depth_max_m, solver, rel_tol, coarse_steps);
@@ -1207,10 +1228,8 @@ CriticalDepth fd_critical_depth_from_hint(const std::function<DelayedSystem(doub
   const FdGrid grid = fd_grid(at_limit, o);
   long long evaluations = 0;
   ScheduledRadii at = radii_of(system_at, grid, solver);
-  auto found = warm_search(
-      [&](double w) { return at(w); },
-      radius_at_zero(at_limit, grid.period_s), o.depth_max_m, coarse_steps, rel_tol, hint_depth_m,
-      hint_is_close, evaluations);
+  auto found = warm_search(at, radius_at_zero(at_limit, grid.period_s), o.depth_max_m,
+                           coarse_steps, rel_tol, hint_depth_m, hint_is_close, evaluations);
   if (!found) {
     CriticalDepth result = fd_critical_depth_by_radius(system_at, o, solver, rel_tol, coarse_steps);
     result.evaluations += evaluations;

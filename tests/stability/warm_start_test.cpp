@@ -254,6 +254,60 @@ TEST(WarmStart, KrylovRadiusIsSpectrasAndTheDenseOne) {
   }
 }
 
+TEST(WarmStart, KrylovScheduleAndScreeningKeepTheRadius) {
+  // When the Ritz values are first tested (ArnoldiOptions::first_test) does not change what is
+  // accepted; a screened radius (the guard's question, ρ < 0.99) is within 1e-4 of the full
+  // one and only given below 0.99; at or above it the full tolerance decides. Depths from far
+  // below the boundary to above it, on the maps of the test above.
+  struct Point {
+    MillingProcess m;
+    double rpm, depth;
+  };
+  const std::vector<Point> points = {{insperger_benchmark(1.0), 5000.0, 0.0475e-3},
+                                     {insperger_benchmark(1.0), 9200.0, 0.5e-3},
+                                     {insperger_benchmark(1.0), 24000.0, 0.3e-3},
+                                     {insperger_benchmark(0.05, false), 10900.0, 1.9e-3},
+                                     {insperger_benchmark(0.05, false), 16000.0, 1e-3},
+                                     {four_mode_milling(0.5), 8000.0, 2e-3}};
+  int screened = 0, full = 0;
+  for (const Point& p : points) {
+    const FdDiscretization fd(milling_system(p.m, p.rpm), kLobesFd);
+    for (double f : {0.05, 0.3, 0.6, 0.9, 0.97, 0.995, 1.0, 1.01, 1.5}) {
+      const double w = f * p.depth;
+      const DominantMultiplier reference = fd.dominant_multiplier(w, RadiusSolver::kArnoldi);
+      ASSERT_TRUE(reference.krylov);
+      for (int first : {3, 6, 9, 12, 20}) {
+        ArnoldiOptions o;
+        o.first_test = first;
+        const DominantMultiplier k = fd.dominant_multiplier(w, RadiusSolver::kArnoldi, o);
+        EXPECT_NEAR(k.radius, reference.radius, 1e-8) << p.rpm << " rpm, " << w << ", " << first;
+        EXPECT_FALSE(k.screened);
+      }
+      ArnoldiOptions o;
+      o.screen_below = 0.99;
+      const DominantMultiplier s = fd.dominant_multiplier(w, RadiusSolver::kArnoldi, o);
+      if (s.screened) {
+        ++screened;
+        EXPECT_LT(s.radius, 0.99);
+        EXPECT_LT(reference.radius, 0.99 + 1e-4);
+        EXPECT_NEAR(s.radius, reference.radius, 1e-4) << p.rpm << " rpm, " << w;
+        EXPECT_LE(s.operations, reference.operations);
+      } else {
+        ++full;
+        EXPECT_NEAR(s.radius, reference.radius, 1e-8) << p.rpm << " rpm, " << w;
+      }
+      if (reference.radius < 0.98) {
+        EXPECT_TRUE(s.screened) << p.rpm << " rpm, " << w;
+      }
+      if (reference.radius >= 0.99 + 1e-4) {
+        EXPECT_FALSE(s.screened) << p.rpm << " rpm, " << w;
+      }
+    }
+  }
+  EXPECT_GT(screened, 10);
+  EXPECT_GT(full, 10);
+}
+
 TEST(WarmStart, RadiusWithoutCuttingIsThatOfTheMap) {
   for (double rpm : {5000.0, 13000.0, 25000.0}) {
     const FdDiscretization fd(milling_system(insperger_benchmark(1.0), rpm), kLobesFd);

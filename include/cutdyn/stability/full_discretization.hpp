@@ -99,15 +99,27 @@ struct DominantMultiplier {
   Eigen::VectorXcd vector;         // its eigenvector (state of the period map)
   long long operations = 0;        // products with the period map
   bool krylov = false;             // false: from the dense matrix
+  /// Krylov: the products after which the test would likely have passed already (from the
+  /// residuals' margin at acceptance): the next depth's ArnoldiOptions::first_test.
+  int passes_after = 0;
+  /// From the screening tolerance (ArnoldiOptions::screen_below): radius < screen_below, to
+  /// about 1e-4 (at most 4e-5 from the full tolerance's over 5378 guard points of the tests).
+  bool screened = false;
 };
 
-/// When the Arnoldi iteration of FdDiscretization::dominant_multiplier first tests its Ritz
-/// values. The acceptance is the same whatever the schedule; a search that evaluates many
-/// depths of one speed passes the products the previous depth took to converge (its
-/// DominantMultiplier::operations): the maps of nearby depths converge after nearly the same
-/// number, and each test not passed costs about two products.
-struct ArnoldiSchedule {
-  int first_test = 0;  // Krylov vectors at the first test; 0: after the 8th and 9th products
+/// How the Arnoldi iteration of FdDiscretization::dominant_multiplier is run by a search that
+/// evaluates many depths of one speed.
+struct ArnoldiOptions {
+  /// Krylov vectors at the first test of the Ritz values; 0: after the 8th and 9th products.
+  /// A search passes the previous depth's DominantMultiplier::passes_after: nearby depths
+  /// converge after nearly the same number of products, and each test not passed costs about
+  /// two products. The acceptance is the same whatever the schedule.
+  int first_test = 0;
+  /// > 0: the caller asks only whether ρ < screen_below (the warm search's guard), so the
+  /// iteration may stop at the screening tolerance, 1e-7 instead of 1e-10 (the residual
+  /// test, relative), once the largest Ritz value is also below screen_below
+  /// (DominantMultiplier::screened). A radius at or above it goes on to the full tolerance.
+  double screen_below = 0.0;
 };
 
 /// The discretized system at one speed — step matrices and delay references, which do not
@@ -138,7 +150,7 @@ class FdDiscretization {
   /// kDense: the dense matrix's eigenvalues and eigenvectors.
   DominantMultiplier dominant_multiplier(double depth_m, RadiusSolver solver) const;
   DominantMultiplier dominant_multiplier(double depth_m, RadiusSolver solver,
-                                         const ArnoldiSchedule& schedule) const;
+                                         const ArnoldiOptions& options) const;
   /// How stability is lost with that multiplier (as dominant_mode) and the chatter frequency.
   std::pair<Bifurcation, double> mode_of(const DominantMultiplier& dominant) const;
   /// Spectral radius of the map at depth 0 without evaluating it: the map is then block
