@@ -642,14 +642,26 @@ class PeriodMapT final : public PeriodMap {
       return Eigen::Map<const Yv>(zp + block(back), r_);
     };
     const int n = disc_.n();
+    Xv delayed(d_);
     for (int j = 0; j < n; ++j) {
       const Step& st = steps_[static_cast<std::size_t>(j)];
       xo = x;
       yj.noalias() = c_ * xo;
-      x.noalias() = st.mx * xo;
+      // The gains on past displacements first, into their own sum: they do not depend on
+      // x(j), so the processor computes them while the previous step's x is still being
+      // formed, and the chain from step to step is only Mx·x (several times shorter).
+      delayed.setZero();
       for (int g = st.first; g < st.last; ++g) {
         const Gain& gain = gains_[static_cast<std::size_t>(g)];
-        x.noalias() += gain.k * y_at(gain.back);
+        delayed.noalias() += gain.k * y_at(gain.back);
+      }
+      if constexpr (D != Eigen::Dynamic && D % 2 == 0) {  // two independent halves
+        const Xv first = st.mx.template leftCols<D / 2>() * xo.template head<D / 2>();
+        x.noalias() = st.mx.template rightCols<D / 2>() * xo.template tail<D / 2>();
+        x += first + delayed;
+      } else {
+        x.noalias() = st.mx * xo;
+        x += delayed;
       }
       head = head == 0 ? L_ - 1 : head - 1;  // push y(j) = C·x(j)
       Eigen::Map<Yv>(zp + d_ + r_ * head, r_) = yj;
