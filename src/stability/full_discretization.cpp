@@ -575,13 +575,15 @@ class PeriodMapT final : public PeriodMap {
       }
       const MatDD inv = lhs.inverse();
       out.mx.noalias() = inv * rhs;
-      if (quadratic) add_gain(out.first, 1, 1.0, -(depth * inv) * prev);  // on y(j − 1)
+      const MatDD scaled = depth * inv;
+      if (quadratic) add_gain(out.first, 1, 1.0, -scaled * prev);  // on y(j − 1)
       for (int i = st.first_term; i < st.last_term; ++i) {
-        const TermBlocks t(disc_.term_data(i), d_, r_);
+        // G(j−1), G(j), G(j+1) lie side by side: one product for the three.
+        const MatD3R g = scaled * Eigen::Map<const MatD3R>(disc_.term_data(i), d_, 3 * r_);
         const int term = disc_.step_term(i);
-        if (quadratic) add_delayed(j, out.first, (depth * inv) * t.g_prev, disc_.ref(j - 1, term));
-        add_delayed(j, out.first, (depth * inv) * t.g0, disc_.ref(j, term));
-        add_delayed(j, out.first, (depth * inv) * t.g1, disc_.ref(j + 1, term));
+        if (quadratic) add_delayed(j, out.first, g.leftCols(r_), disc_.ref(j - 1, term));
+        add_delayed(j, out.first, g.middleCols(r_, r_), disc_.ref(j, term));
+        add_delayed(j, out.first, g.rightCols(r_), disc_.ref(j + 1, term));
       }
       out.last = static_cast<int>(gains_.size());
     }
@@ -602,6 +604,7 @@ class PeriodMapT final : public PeriodMap {
   using MatDD = Eigen::Matrix<double, D, D>;
   using MatDR = Eigen::Matrix<double, D, R>;
   using MatRD = Eigen::Matrix<double, R, D>;
+  using MatD3R = Eigen::Matrix<double, D, R == Eigen::Dynamic ? Eigen::Dynamic : 3 * R>;
   // A gain on the displacements of one node: k·y(j − back) (y(j) the step's own node).
   struct Gain {
     MatDR k;
