@@ -880,7 +880,8 @@ std::pair<cplx, Eigen::VectorXcd> dominant_eigenpair(const PeriodMap& map, Radiu
 std::optional<DominantMultiplier> krylov_dominant(const PeriodMap& map,
                                                   const ArnoldiOptions& options) {
   constexpr int kNev = 3, kMaxVectors = 30, kFirstTest = 8;
-  constexpr double kTol = 1e-10, kScreenTol = 1e-7;
+  constexpr double kScreenTol = 1e-7;
+  const double full_tol = options.tolerance;
   const Eigen::Index n = map.dim();
   if (n <= 2 * kMaxVectors) return std::nullopt;
   const double eps23 = std::pow(std::numeric_limits<double>::epsilon(), 2.0 / 3.0);
@@ -944,7 +945,7 @@ std::optional<DominantMultiplier> krylov_dominant(const PeriodMap& map,
     // tolerance while the largest Ritz value is below the screening bound.
     const int top = order.front();
     const bool screening = std::abs(values(top)) < options.screen_below;
-    const double tol = screening ? kScreenTol : kTol;
+    const double tol = screening ? std::max(kScreenTol, full_tol) : full_tol;
     double worst = 0.0;
     for (int q = 0; q < kNev; ++q) {
       const int i = order[static_cast<std::size_t>(q)];
@@ -1075,9 +1076,12 @@ class ScheduledRadii {
  public:
   using Evaluate = std::function<DominantMultiplier(double, const ArnoldiOptions&)>;
   explicit ScheduledRadii(Evaluate evaluate) : evaluate_(std::move(evaluate)) {}
-  /// `screen_below` > 0: only whether ρ < screen_below is asked (ArnoldiOptions).
-  DominantMultiplier operator()(double depth, double screen_below = 0.0) {
+  /// `tolerance`: the residual test's (ArnoldiOptions::tolerance); `screen_below` > 0: only
+  /// whether ρ < screen_below is asked (ArnoldiOptions::screen_below).
+  DominantMultiplier operator()(double depth, double tolerance = ArnoldiOptions{}.tolerance,
+                                double screen_below = 0.0) {
     ArnoldiOptions options;
+    options.tolerance = tolerance;
     options.screen_below = screen_below;
     options.first_test = full_;
     if (screen_below > 0.0) options.first_test = screened_ > 0 ? screened_ : std::max(0, full_ - 2);
@@ -1155,9 +1159,13 @@ std::optional<WarmFound> warm_search(ScheduledRadii& at, double rho0, double dep
                                      int coarse_steps, double rel_tol, double hint, bool close,
                                      long long& evaluations) {
   if (!(hint > 0.0 && hint <= depth_max) || !(rho0 < 1.0)) return std::nullopt;
+  // The bracket's depths need only the sign of ρ − 1 and a secant through it: a residual
+  // tolerance of 1e-8 (ArnoldiOptions::tolerance) leaves ρ within about 3e-6 of the 1e-10
+  // one, a depth error near 1e-5 of the boundary's, against the search's 1e-3.
+  constexpr double kBracketTol = 1e-8;
   const auto evaluate = [&](double w, double screen_below = 0.0) {
     ++evaluations;
-    return at(w, screen_below);
+    return at(w, kBracketTol, screen_below);
   };
   const auto secant = [](double xa, double ga, double xb, double gb) {
     return gb == ga ? std::numeric_limits<double>::quiet_NaN() : xb - gb * (xb - xa) / (gb - ga);

@@ -116,10 +116,14 @@ struct ArnoldiOptions {
   /// two products. The acceptance is the same whatever the schedule.
   int first_test = 0;
   /// > 0: the caller asks only whether ρ < screen_below (the warm search's guard), so the
-  /// iteration may stop at the screening tolerance, 1e-7 instead of 1e-10 (the residual
+  /// iteration may stop at the screening tolerance, 1e-7 instead of `tolerance` (the residual
   /// test, relative), once the largest Ritz value is also below screen_below
   /// (DominantMultiplier::screened). A radius at or above it goes on to the full tolerance.
   double screen_below = 0.0;
+  /// The residual test's tolerance (relative; Spectra's convergence test, as in
+  /// spectral_radius_arnoldi). A depth search's bracket, which needs only the sign of ρ − 1,
+  /// takes 1e-8: about one product less a decade.
+  double tolerance = 1e-10;
 };
 
 /// The discretized system at one speed — step matrices and delay references, which do not
