@@ -226,20 +226,27 @@ TEST(WarmStart, NeverLessConservativeWhereAnIslandGrazes) {
 
 // ---- the pieces -------------------------------------------------------------------------
 
+// Maps near a boundary (its depth at that speed, about): slotting at three speeds, low
+// immersion on a flip and a Hopf lobe, four modes.
+struct KrylovPoint {
+  MillingProcess m;
+  double rpm, depth;
+};
+
+std::vector<KrylovPoint> krylov_points() {
+  return {{insperger_benchmark(1.0), 5000.0, 0.0475e-3},
+          {insperger_benchmark(1.0), 9200.0, 0.5e-3},
+          {insperger_benchmark(1.0), 24000.0, 0.3e-3},
+          {insperger_benchmark(0.05, false), 10900.0, 1.9e-3},
+          {insperger_benchmark(0.05, false), 16000.0, 1e-3},
+          {four_mode_milling(0.5), 8000.0, 2e-3}};
+}
+
 TEST(WarmStart, KrylovRadiusIsSpectrasAndTheDenseOne) {
   // The unrestarted Arnoldi of dominant_multiplier against Spectra's restarted one and the
   // dense eigenvalues, on both sides of the boundary, slotting, low immersion and four modes.
-  struct Point {
-    MillingProcess m;
-    double rpm, depth;
-  };
-  const std::vector<Point> points = {{insperger_benchmark(1.0), 5000.0, 0.0475e-3},
-                                     {insperger_benchmark(1.0), 9200.0, 0.5e-3},
-                                     {insperger_benchmark(1.0), 24000.0, 0.3e-3},
-                                     {insperger_benchmark(0.05, false), 10900.0, 1.9e-3},
-                                     {insperger_benchmark(0.05, false), 16000.0, 1e-3},
-                                     {four_mode_milling(0.5), 8000.0, 2e-3}};
-  for (const Point& p : points) {
+  const std::vector<KrylovPoint> points = krylov_points();
+  for (const KrylovPoint& p : points) {
     const FdDiscretization fd(milling_system(p.m, p.rpm), kLobesFd);
     for (double f : {0.5, 0.99, 1.0, 1.01, 2.0}) {
       const double w = f * p.depth;
@@ -256,22 +263,14 @@ TEST(WarmStart, KrylovRadiusIsSpectrasAndTheDenseOne) {
 
 TEST(WarmStart, KrylovScheduleAndScreeningKeepTheRadius) {
   // When the Ritz values are first tested (ArnoldiOptions::first_test) does not change what is
-  // accepted; a radius at the bracket's tolerance of 1e-8 is within 1e-5; a screened radius (the guard's question, ρ < 0.99) is within 1e-4 of the full
-  // one and only given below 0.99; at or above it the full tolerance decides. Depths from far
-  // below the boundary to above it, on the maps of the test above.
-  struct Point {
-    MillingProcess m;
-    double rpm, depth;
-  };
-  const std::vector<Point> points = {{insperger_benchmark(1.0), 5000.0, 0.0475e-3},
-                                     {insperger_benchmark(1.0), 9200.0, 0.5e-3},
-                                     {insperger_benchmark(1.0), 24000.0, 0.3e-3},
-                                     {insperger_benchmark(0.05, false), 10900.0, 1.9e-3},
-                                     {insperger_benchmark(0.05, false), 16000.0, 1e-3},
-                                     {four_mode_milling(0.5), 8000.0, 2e-3}};
+  // accepted; a radius at the bracket's tolerance of 1e-8 is within 1e-5; a screened radius
+  // (the guard's question, ρ < 0.99) is within 1e-4 of the full one and only given below
+  // 0.99; at or above it the full tolerance decides. Depths from far below the boundary to
+  // above it.
+  const std::vector<KrylovPoint> points = krylov_points();
   int screened = 0, full = 0;
   long long loose_products = 0, full_products = 0;
-  for (const Point& p : points) {
+  for (const KrylovPoint& p : points) {
     const FdDiscretization fd(milling_system(p.m, p.rpm), kLobesFd);
     for (double f : {0.05, 0.3, 0.6, 0.9, 0.97, 0.995, 1.0, 1.01, 1.5}) {
       const double w = f * p.depth;
