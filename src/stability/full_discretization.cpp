@@ -967,7 +967,8 @@ std::optional<DominantMultiplier> krylov_dominant(const PeriodMap& map,
       continue;
     }
     // The products after which the test would likely have passed: the residuals fall by
-    // the last ratio seen per product (15 if none was: the slow end of milling maps).
+    // the last ratio seen per product (40 if none was, the fast end of milling maps, so that
+    // the schedule moves earlier only with room to spare).
     const double fall = (last_worst > 0.0 && last_test == m - 1 && worst < last_worst)
                             ? last_worst / worst
                             : 40.0;
@@ -1069,9 +1070,9 @@ double FdDiscretization::radius_without_cutting() const {
 namespace {
 
 // The dominant multipliers of one speed's depth search, depth after depth, each Arnoldi
-// iteration first tested after as many products as the previous one took
-// (ArnoldiOptions::first_test), those that only screen ρ < 1 after as many as the previous
-// screening (at first, two fewer than the full tolerance).
+// iteration first tested where the previous one would have passed (ArnoldiOptions::
+// first_test, DominantMultiplier::passes_after), those that only screen ρ < 1 where the
+// previous screening would have (at first, two products before the full tolerance's).
 class ScheduledRadii {
  public:
   using Evaluate = std::function<DominantMultiplier(double, const ArnoldiOptions&)>;
