@@ -129,10 +129,10 @@ std::optional<MultiplierEstimate> dominant_multiplier(
   // larger of the two is then biased up by up to that distance: no estimate (the slope, and
   // its own settledness, decide).
   const double resolution = 1.0 / static_cast<double>(count);
+  const std::complex<double> largest_root = eigen.eigenvalues()(top);
   for (Eigen::Index i = 0; i < rank; ++i) {
     if (i == top || !significant(i)) continue;
     const std::complex<double> other = eigen.eigenvalues()(i);
-    const std::complex<double> largest_root = eigen.eigenvalues()(top);
     if (other == std::conj(largest_root)) continue;
     if (std::abs(other - largest_root) < resolution) return std::nullopt;
   }

@@ -354,10 +354,21 @@ class Discretization {
     for (std::size_t k = 0; k < terms_.size(); ++k) {
       for (int j = -1; j <= n; ++j) refs_[k].push_back(delay_ref(j, terms_[k].delay_s));
     }
+    // The oldest node any step's delayed values need, counted back from that step's node
+    // (every step, cutting or not, so that a period map's state does not depend on the
+    // depth), and y(j − 1) for the quadratic interpolation.
+    for (int k = 0; k < terms(); ++k)
+      for (int j = 0; j < n; ++j)
+        for (int e = quadratic ? j - 1 : j; e <= j + 1; ++e) {
+          const DelayRef& ref = this->ref(e, k);
+          history_ = std::max(history_, j - ref.g + (ref.weights[0] != 0.0 ? 1 : 0));
+        }
   }
 
   int n() const { return grid_.steps(); }
   int order() const { return order_; }
+  /// Displacement blocks a period map keeps: y(j − 1) … y(j − history()).
+  long long history() const { return history_; }
   const StepMatrices& step(int j) const { return steps_[static_cast<std::size_t>(j)]; }
   /// H̄ of the first delay term over step j (r×r).
   auto H(int j) const { return h_.middleCols(step(j).h_col, h_.rows()); }
@@ -428,6 +439,7 @@ class Discretization {
   Eigen::Index term_width_ = 0;          // 3r + 2d columns per step term
   Eigen::MatrixXd term_data_;            // the step terms' depth-independent products
   std::vector<std::vector<DelayRef>> refs_;
+  long long history_ = 1;
 };
 
 double shortest_structural_period(const DelayedSystem& s) {
@@ -517,18 +529,9 @@ template <int D, int R>
 class PeriodMapT final : public PeriodMap {
  public:
   PeriodMapT(const Discretization& disc, const DelayedSystem& s, double depth)
-      : disc_(disc), c_(s.C), d_(s.A0.rows()), r_(s.C.rows()) {
+      : disc_(disc), c_(s.C), d_(s.A0.rows()), r_(s.C.rows()), L_(disc.history()) {
     const int n = disc_.n();
     const bool quadratic = disc_.order() == 2;
-    // History length: the oldest node any step's delayed values need, counted back from that
-    // step's node (every step, cutting or not, so that the state does not depend on the
-    // depth), and y(j − 1) for the quadratic interpolation.
-    for (int k = 0; k < disc_.terms(); ++k)
-      for (int j = 0; j < n; ++j)
-        for (int e = quadratic ? j - 1 : j; e <= j + 1; ++e) {
-          const DelayRef& ref = disc_.ref(e, k);
-          L_ = std::max(L_, j - ref.g + (ref.weights[0] != 0.0 ? 1 : 0));
-        }
     steps_.resize(static_cast<std::size_t>(n));
     gains_.reserve(static_cast<std::size_t>(disc_.step_terms() * (quadratic ? 4 : 2)));
     // weight·k·y(j − back) into the gains of the step that starts at gains_[first]; one gain
@@ -618,13 +621,12 @@ class PeriodMapT final : public PeriodMap {
   // A step term's products (Discretization::term_data) seen as matrices of this map's sizes.
   struct TermBlocks {
     TermBlocks(const double* p, Eigen::Index d, Eigen::Index r)
-        : g_prev(p, d, r), g0(p + d * r, d, r), g1(p + 2 * d * r, d, r), g0C(p + 3 * d * r, d, d),
-          g1C(p + 3 * d * r + d * d, d, d) {}
-    Eigen::Map<const MatDR> g_prev, g0, g1;
+        : g_prev(p, d, r), g0C(p + 3 * d * r, d, d), g1C(p + 3 * d * r + d * d, d, d) {}
+    Eigen::Map<const MatDR> g_prev;  // G(j), G(j + 1) follow it (read as one block, MatD3R)
     Eigen::Map<const MatDD> g0C, g1C;
   };
 
-  // One column (the Arnoldi product): the same operations as run<Cols>, on maps of fixed
+  // One column (the Arnoldi product): the same map as run<Cols>, on maps of fixed
   // size (blocks of the dynamic z keep a dynamic column count, which slows every small
   // kernel).
   void run_vector(Eigen::MatrixXd& z, Eigen::MatrixXd& next) const {
@@ -716,7 +718,7 @@ class PeriodMapT final : public PeriodMap {
   const Discretization& disc_;
   MatRD c_;
   Eigen::Index d_, r_;
-  long long L_ = 1;
+  long long L_;  // history blocks (Discretization::history)
   std::vector<Step> steps_;
   std::vector<Gain, Eigen::aligned_allocator<Gain>> gains_;
 };
