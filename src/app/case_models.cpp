@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <system_error>
@@ -160,6 +161,8 @@ LobesOptions lobes_grid(const io::Case& c, int threads) {
   grid.rpm_steps = c.lobes.rpm_steps;
   grid.threads = threads;
   grid.refine = c.lobes.refine;
+  // The refinement's budget is not a case key: a grid finer than it may still double.
+  grid.refine_max_points = std::max(grid.refine_max_points, 2 * grid.rpm_steps);
   if (const auto problems = grid.validate(); !problems.empty())
     throw InvalidInput(problems, c.source);
   return grid;

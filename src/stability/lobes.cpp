@@ -27,8 +27,8 @@ std::vector<std::string> LobesOptions::validate() const {
             "must be 0 to 20");
   v.require(refine_change > 0.0 && refine_change <= 10.0, "refine_change", refine_change, "",
             "must be greater than 0 and at most 10");
-  v.require(refine_max_points >= rpm_steps, "refine_max_points", refine_max_points, "",
-            "must be at least rpm_steps");
+  v.require(!refine || refine_max_points >= rpm_steps, "refine_max_points", refine_max_points,
+            "", "must be at least rpm_steps when refining");
   return v.problems();
 }
 

@@ -3,6 +3,7 @@
 // stable at the target depth by `check`, with the stated margin.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -108,6 +109,29 @@ TEST(StabilityJobsInput, RequestNamesAppearInTheErrors) {
   r.rpm = 1000.0;
   r.method = "tlusty";
   EXPECT_THROW(run_check(c, r), InvalidInput);
+}
+
+TEST(StabilityJobsInput, EveryGridTheCaseFileAcceptsIsAGrid) {
+  // The refinement's speed budget is not a case key, so it never refuses a grid the case file
+  // accepts: up to 100 000 speeds, refined or not, and refinement may still double it.
+  io::Case c = load_case("milling-insperger", "");
+  for (const bool refine : {true, false}) {
+    for (const int steps : {2, 200, 20000, 20001, 100000}) {
+      c.lobes.refine = refine;
+      c.lobes.rpm_steps = steps;
+      const LobesOptions grid = lobes_grid(c, 1);
+      EXPECT_EQ(grid.rpm_steps, steps);
+      EXPECT_GE(grid.refine_max_points, std::max(20000, 2 * steps));
+    }
+  }
+  // In the library the budget is checked only when refining.
+  LobesOptions o;
+  o.rpm_steps = 30000;
+  o.refine = false;
+  EXPECT_TRUE(o.validate().empty());
+  o.refine = true;
+  ASSERT_EQ(o.validate().size(), 1u);
+  EXPECT_NE(o.validate()[0].find("refine_max_points"), std::string::npos);
 }
 
 }  // namespace

@@ -12,7 +12,8 @@ SCRIPT = """
 import sys, threading, time
 import cutdyn
 d = cutdyn.example("milling-insperger").to_dict()
-d["lobes"]["rpm_steps"] = 20000
+d["lobes"]["rpm_steps"] = 100000
+d["lobes"]["refine"] = False
 case = cutdyn.Case(d)
 ticks = []
 ticker = threading.Thread(target=lambda: [ticks.append(time.sleep(0.01)) for _ in range(50)])
@@ -28,9 +29,9 @@ except KeyboardInterrupt:
 
 
 def test_ctrl_c_stops_a_long_lobes_run():
-    # 20 000 speeds by full discretization on one thread take about four seconds (5000 took
-    # less than the 1 s below once the lobes got faster); SIGINT after 1 s must end it within
-    # a second or two. Meanwhile another Python thread keeps running
+    # 100 000 speeds by full discretization on one thread take about 17 s (5000 took less than
+    # the 1 s below once the lobes got faster); SIGINT after 1 s must end it within a second or
+    # two. Meanwhile another Python thread keeps running
     # (the GIL is released): its 50 ticks of 10 ms all happen.
     p = subprocess.Popen([sys.executable, "-c", SCRIPT], stdout=subprocess.PIPE, text=True,
                          env=os.environ)

@@ -107,7 +107,9 @@ def test_bad_requests_are_refused_and_the_server_stays_up(server):
 
 def test_a_newer_request_from_the_same_page_cancels_the_older(server):
     case = server.request("/api/case")[1]["case"]
-    slow = {**case, "lobes": {**case["lobes"], "rpm_steps": 4000, "refine": False}}
+    # The older request must still be running when the newer one arrives: 100 000 speeds take
+    # seconds even on a fast machine (4000 once finished within the 0.5 s wait).
+    slow = {**case, "lobes": {**case["lobes"], "rpm_steps": 100000, "refine": False}}
     results = {}
 
     def run(name, body, page):
