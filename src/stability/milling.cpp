@@ -42,17 +42,38 @@ Eigen::Matrix2cd directional_integral(double kappa, double a, double b, double k
   return m;
 }
 
-// ∫ over φ in [a, b] of A(φ)·g(φ)·e^(−iκφ), with g the window [φst, φex] repeated every 2π.
-Eigen::Matrix2cd windowed_integral(double kappa, double a, double b, double st, double ex,
-                                   double kr) {
-  Eigen::Matrix2cd sum = Eigen::Matrix2cd::Zero();
+// ∫_a^b A(φ) dφ, real and in closed form: with ∫ sin 2φ = sin(a + b)·sin(b − a) and
+// ∫ cos 2φ = cos(a + b)·sin(b − a) over [a, b] (no cancellation on short intervals). The
+// κ = 0 case of directional_integral, which the period means of every step ask for.
+Eigen::Matrix2d directional_mean_integral(double a, double b, double kr) {
+  const double l = b - a, sl = std::sin(l);
+  const double s2 = std::sin(a + b) * sl, c2 = std::cos(a + b) * sl;
+  Eigen::Matrix2d m;
+  m << -s2 - kr * (l - c2), -(l + c2) - kr * s2, (l - c2) - kr * s2, s2 - kr * (l + c2);
+  return m;
+}
+
+// Σ piece(lo, hi) over the parts [lo, hi] of [a, b] inside the window [φst, φex] repeated
+// every 2π.
+template <class Piece>
+auto windowed_sum(double a, double b, double st, double ex, const Piece& piece) {
+  decltype(piece(a, b)) sum;
+  sum.setZero();
   const double k0 = std::floor((a - ex) / kTwoPi);
   for (double k = k0; st + kTwoPi * k < b; k += 1.0) {
     const double lo = std::max(a, st + kTwoPi * k);
     const double hi = std::min(b, ex + kTwoPi * k);
-    if (hi > lo) sum += directional_integral(kappa, lo, hi, kr);
+    if (hi > lo) sum += piece(lo, hi);
   }
   return sum;
+}
+
+// ∫ over φ in [a, b] of A(φ)·g(φ)·e^(−iκφ), with g the window [φst, φex] repeated every 2π.
+Eigen::Matrix2cd windowed_integral(double kappa, double a, double b, double st, double ex,
+                                   double kr) {
+  return windowed_sum(a, b, st, ex, [&](double lo, double hi) {
+    return directional_integral(kappa, lo, hi, kr);
+  });
 }
 
 }  // namespace
@@ -94,10 +115,13 @@ PeriodicCoefficient tooth_coefficient(const MillingProcess& m, double spindle, d
   }
   std::sort(h.breakpoints_s.begin(), h.breakpoints_s.end());
   h.mean = [=](double t0, double t1) {
-    Eigen::Matrix2cd sum = Eigen::Matrix2cd::Zero();
-    for (double c : teeth.offsets_rad)
-      sum += windowed_integral(0.0, spindle * t0 - c, spindle * t1 - c, st, ex, kr);
-    return Eigen::MatrixXd(scale * teeth.weight * sum.real() / (spindle * (t1 - t0)));
+    Eigen::Matrix2d sum = Eigen::Matrix2d::Zero();
+    for (double c : teeth.offsets_rad) {
+      sum += windowed_sum(spindle * t0 - c, spindle * t1 - c, st, ex, [&](double lo, double hi) {
+        return directional_mean_integral(lo, hi, kr);
+      });
+    }
+    return Eigen::MatrixXd(scale * teeth.weight * sum / (spindle * (t1 - t0)));
   };
   // H_p = (1/P)∫0^P h(t)·e^(−ipω0·t) dt; with φ = Ωs·t − c: e^(−iνc)·∫ A·g·e^(−iνφ) dφ over
   // [−c, Ωs·P − c], ν = p·ω0/Ωs.

@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <utility>
+#include <vector>
 #include <complex>
 
 #include "cutdyn/core/units.hpp"
@@ -77,6 +81,62 @@ TEST(Milling, AverageCoefficientIsAltintasClosedForm) {
       EXPECT_NEAR(h0.imag().norm(), 0.0, 1e-6 * m.cutting.kt_pa);
       // The mean over one whole period is the same matrix.
       EXPECT_NEAR((s.H.mean(0.0, s.H.period_s) - h0.real()).norm(), 0.0, 1e-6 * m.cutting.kt_pa);
+    }
+  }
+}
+
+TEST(Milling, StepMeansAgreeWithQuadratureToRounding) {
+  // The means in closed form against 8-point Gauss–Legendre on the pieces between the window
+  // edges (H is a trigonometric polynomial of degree 2 there: the rule is exact to rounding),
+  // on steps short and long, inside a window, across its edges and over several periods; up
+  // and down milling, slotting and low immersion, even and uneven pitch. (A step of length l at
+  // angle φ is known to about ε·φ/l from its ends: 1e-10 for the shortest here.)
+  static constexpr std::array<double, 4> kNode{0.1834346424956498, 0.5255324099163290,
+                                               0.7966664774136267, 0.9602898564975363};
+  static constexpr std::array<double, 4> kWeight{0.3626837833783620, 0.3137066458778873,
+                                                 0.2223810344533745, 0.1012285362903763};
+  for (const double immersion : {1.0, 0.5, 0.05}) {
+    for (const bool down : {true, false}) {
+      for (const bool uneven : {false, true}) {
+        MillingProcess m = benchmark(immersion);
+        m.engagement.down_milling = down;
+        if (uneven) m.tool.pitch_rad = {units::deg_to_rad(150.0), units::deg_to_rad(210.0)};
+        const double rpm = 7300.0;
+        const DelayedSystem s = milling_system(m, rpm);
+        // Uneven pitch: one delay term per tooth, H the sum of theirs.
+        std::vector<const PeriodicCoefficient*> parts{&s.H};
+        for (const DelayTerm& term : s.more_delays) parts.push_back(&term.H);
+        ASSERT_EQ(parts.size(), uneven ? 2u : 1u);
+        const auto mean = [&](double a, double b) {
+          Eigen::Matrix2d sum = Eigen::Matrix2d::Zero();
+          for (const PeriodicCoefficient* h : parts) sum += h->mean(a, b);
+          return sum;
+        };
+        std::vector<double> edges;
+        for (const PeriodicCoefficient* h : parts)
+          edges.insert(edges.end(), h->breakpoints_s.begin(), h->breakpoints_s.end());
+        std::sort(edges.begin(), edges.end());
+        const double T = s.H.period_s;
+        for (const auto& [a, b] : {std::pair{0.0, T}, {0.013 * T, 0.0137 * T},
+                                   {0.2 * T, 0.71 * T}, {0.49 * T, 0.93 * T}, {0.0, 0.999 * T},
+                                   {0.6 * T, 0.6 * T + 1e-6 * T}}) {
+          std::vector<double> cuts{a};
+          for (double e : edges)
+            if (e > a && e < b) cuts.push_back(e);
+          cuts.push_back(b);
+          Eigen::Matrix2d q = Eigen::Matrix2d::Zero();
+          for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
+            const double mid = 0.5 * (cuts[i] + cuts[i + 1]), half = 0.5 * (cuts[i + 1] - cuts[i]);
+            for (std::size_t g = 0; g < kNode.size(); ++g)
+              for (const double sign : {-1.0, 1.0})
+                q += kWeight[g] * half * direct_h(m, rpm, mid + sign * half * kNode[g]);
+          }
+          q /= b - a;
+          EXPECT_LT((mean(a, b) - q).norm(), 1e-9 * m.cutting.kt_pa)
+              << "immersion " << immersion << (down ? " down" : " up") << (uneven ? " uneven" : "")
+              << " [" << a / T << ", " << b / T << "]·T";
+        }
+      }
     }
   }
 }
