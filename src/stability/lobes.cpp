@@ -187,12 +187,24 @@ std::vector<int> warm_run_starts(const std::vector<double>& speeds_rpm) {
   const int runs = std::clamp(n / kWarmRunLength, 1, std::max(n, 1));
   double total = 0.0;
   for (double rpm : speeds_rpm) total += 1.0 / rpm;
+  // The cumulative shares where runs end: equal ones, the last cut in kWarmTailRuns (the
+  // threads take the runs in order as they come free, and short last runs let them finish
+  // together: the runs' true costs differ by up to 3× on the default milling lobes).
+  std::vector<double> ends;
+  for (int k = 1; k < runs; ++k) ends.push_back(static_cast<double>(k) / runs);
+  if (runs > 1) {
+    for (int k = 1; k < kWarmTailRuns; ++k)
+      ends.push_back((runs - 1 + static_cast<double>(k) / kWarmTailRuns) / runs);
+  }
   std::vector<int> starts{0};
   double sum = 0.0;
-  for (int i = 0; i < n && static_cast<int>(starts.size()) < runs; ++i) {
+  std::size_t next = 0;
+  for (int i = 0; i + 1 < n && next < ends.size(); ++i) {
     sum += 1.0 / speeds_rpm[static_cast<std::size_t>(i)];
-    if (sum >= total * static_cast<double>(starts.size()) / runs && i + 1 < n)
+    if (sum >= total * ends[next]) {
       starts.push_back(i + 1);
+      while (next < ends.size() && sum >= total * ends[next]) ++next;
+    }
   }
   starts.push_back(n);
   return starts;

@@ -475,24 +475,31 @@ TEST(WarmStart, RunsShareTheCostEqually) {
   std::vector<double> speeds;
   for (int i = 0; i < 200; ++i) speeds.push_back(5000.0 + 100.0 * i);
   const std::vector<int> starts = warm_run_starts(speeds);
-  ASSERT_EQ(starts.size(), 200 / kWarmRunLength + 1u);
+  const int shares = 200 / kWarmRunLength;
+  ASSERT_EQ(starts.size(), static_cast<std::size_t>(shares + kWarmTailRuns));
   EXPECT_EQ(starts.front(), 0);
   EXPECT_EQ(starts.back(), 200);
   double total = 0.0;
   for (double rpm : speeds) total += 1.0 / rpm;
-  const double share = total / static_cast<double>(starts.size() - 1);
+  const double share = total / shares;
   for (std::size_t r = 0; r + 1 < starts.size(); ++r) {
     ASSERT_LT(starts[r], starts[r + 1]);
     double cost = 0.0;
     for (int i = starts[r]; i < starts[r + 1]; ++i)
       cost += 1.0 / speeds[static_cast<std::size_t>(i)];
-    // Each run ends at the first speed that completes its share: off by at most one speed.
-    EXPECT_NEAR(cost, share, 1.0 / 5000.0) << "run " << r;
+    // Each run ends at the first speed that completes its share (the last share cut in
+    // kWarmTailRuns): off by at most one speed.
+    const bool tail = r + kWarmTailRuns >= starts.size() - 1;
+    EXPECT_NEAR(cost, tail ? share / kWarmTailRuns : share, 1.0 / 5000.0) << "run " << r;
   }
-  // Longer runs where the speeds are cheaper (higher).
-  EXPECT_GT(starts[starts.size() - 1] - starts[starts.size() - 2], starts[1] - starts[0]);
+  // Longer runs where the speeds are cheaper (higher), among the equal shares.
+  EXPECT_GT(starts[starts.size() - kWarmTailRuns] - starts[starts.size() - kWarmTailRuns - 1],
+            starts[1] - starts[0]);
   EXPECT_EQ(warm_run_starts({}), (std::vector<int>{0, 0}));
   EXPECT_EQ(warm_run_starts({1000.0, 2000.0}), (std::vector<int>{0, 2}));
+  // Two shares: the second cut in three.
+  EXPECT_EQ(warm_run_starts(std::vector<double>(32, 1024.0)),
+            (std::vector<int>{0, 16, 22, 27, 32}));
 }
 
 }  // namespace

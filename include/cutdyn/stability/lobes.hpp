@@ -78,9 +78,14 @@ using WarmSpeedFunction =
 /// Speeds per run of trace_lobes_warm, on average.
 inline constexpr int kWarmRunLength = 16;
 
-/// The first index of each run of trace_lobes_warm and, last, the number of speeds: about
-/// n / kWarmRunLength runs (at least one) of equal estimated cost, the cost of a speed taken as
-/// its period (1/rpm), as the period map's steps grow. A function of the speeds alone.
+/// The last share of the cost is cut into this many shorter runs.
+inline constexpr int kWarmTailRuns = 3;
+
+/// The first index of each run of trace_lobes_warm and, last, the number of speeds: R = about
+/// n / kWarmRunLength shares (at least one) of equal estimated cost, the cost of a speed taken
+/// as its period (1/rpm), as the period map's steps grow; with R > 1 the last share is cut into
+/// kWarmTailRuns runs (the threads take the runs in order, and the last ones short let them
+/// finish together). A function of the speeds alone.
 std::vector<int> warm_run_starts(const std::vector<double>& speeds_rpm);
 
 LobesReport trace_lobes_warm(const WarmSpeedFunction& at_speed, const LobesOptions& options,
