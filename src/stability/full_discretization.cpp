@@ -633,7 +633,9 @@ class PeriodMapT final : public PeriodMap {
     using Xv = Eigen::Matrix<double, D, 1>;
     using Yv = Eigen::Matrix<double, R, 1>;
     double* const zp = z.data();
-    Eigen::Map<Xv> x(zp, d_);
+    // x in registers for the period (as a view of z, every store of y(j) into the history
+    // could alias it, and each step would store and reload it)
+    Xv x = Eigen::Map<const Xv>(zp, d_);
     Xv xo(d_);
     Yv yj(r_);
     long long head = 0;                       // ring block that holds y(j − 1)
@@ -672,7 +674,7 @@ class PeriodMapT final : public PeriodMap {
       Eigen::Map<Yv>(zp + d_ + r_ * head, r_) = yj;
     }
     next.resize(z.rows(), 1);
-    next.topRows(d_) = z.topRows(d_);
+    next.topRows(d_) = x;
     for (long long b = 1; b <= L_; ++b)
       next.middleRows(d_ + r_ * (b - 1), r_) = z.middleRows(block(b), r_);
     z.swap(next);
