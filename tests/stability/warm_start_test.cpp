@@ -276,6 +276,10 @@ TEST(WarmStart, KrylovScheduleAndScreeningKeepTheRadius) {
       const double w = f * p.depth;
       const DominantMultiplier reference = fd.dominant_multiplier(w, RadiusSolver::kArnoldi);
       ASSERT_TRUE(reference.krylov);
+      if (f == 0.3 || f == 1.0 || f == 1.5) {  // the Krylov radius against the dense matrix's
+        const DominantMultiplier dense = fd.dominant_multiplier(w, RadiusSolver::kDense);
+        EXPECT_NEAR(reference.radius, dense.radius, 1e-9 * dense.radius) << p.rpm << ", " << w;
+      }
       for (int first : {3, 6, 9, 12, 20}) {
         ArnoldiOptions o;
         o.first_test = first;
