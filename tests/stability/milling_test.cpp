@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <complex>
 #include <utility>
 #include <vector>
-#include <complex>
 
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/stability/full_discretization.hpp"

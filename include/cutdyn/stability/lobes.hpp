@@ -68,13 +68,6 @@ LobesReport trace_lobes(const std::function<LobePoint(double rpm)>& at_speed,
 using WarmSpeedFunction =
     std::function<LobePoint(double rpm, const std::vector<const LobePoint*>& near)>;
 
-/// trace_lobes for a method that starts each speed from its neighbours (warm start): the
-/// uniform grid is cut into runs of consecutive speeds (warm_run_starts), each run traced in
-/// ascending order on one thread with `near` = the previous three speeds of the run (fewer at
-/// its start, none for its first); the threads share the runs. The refinement adds speeds as trace_lobes does, each
-/// with `near` = the two speeds it lies between. Whatever `at_speed` does with `near`, the
-/// speeds and the order of the points are those of trace_lobes, and the points do not depend
-/// on the number of threads; `progress` counts speeds.
 /// Speeds per run of trace_lobes_warm, on average.
 inline constexpr int kWarmRunLength = 16;
 
@@ -88,6 +81,13 @@ inline constexpr int kWarmTailRuns = 3;
 /// finish together). A function of the speeds alone.
 std::vector<int> warm_run_starts(const std::vector<double>& speeds_rpm);
 
+/// trace_lobes for a method that starts each speed from its neighbours (warm start): the
+/// uniform grid is cut into runs of consecutive speeds (warm_run_starts), each run traced in
+/// ascending order on one thread with `near` = the previous three speeds of the run (fewer at
+/// its start, none for its first); the threads share the runs. The refinement adds speeds as
+/// trace_lobes does, each with `near` = the two speeds it lies between. Whatever `at_speed`
+/// does with `near`, the speeds and the order of the points are those of trace_lobes, and the
+/// points do not depend on the number of threads; `progress` counts speeds.
 LobesReport trace_lobes_warm(const WarmSpeedFunction& at_speed, const LobesOptions& options,
                              const std::function<void(int done, int total)>& progress = {});
 
