@@ -30,10 +30,24 @@ std::vector<SpeedRange> stable_ranges(const std::vector<LobePoint>& p, double de
 }
 
 std::vector<std::size_t> stable_pockets(const std::vector<LobePoint>& p, std::size_t count) {
+  // The depth must fall by kPocketProminence of the peak on each side before the curve rises
+  // above the peak again or ends: the searches' tolerance (0.1 %) lets the depths of a fine
+  // grid wobble at a peak, and each wobble is a local maximum, not a pocket.
+  const auto depth = [&](std::size_t i) { return p[i].boundary.depth_m; };
+  const auto falls = [&](std::size_t i, int step) {
+    const double floor = depth(i) * (1.0 - kPocketProminence);
+    for (auto j = static_cast<std::ptrdiff_t>(i) + step;
+         j >= 0 && j < static_cast<std::ptrdiff_t>(p.size()); j += step) {
+      const double d = depth(static_cast<std::size_t>(j));
+      if (d < floor) return true;
+      if (d > depth(i)) return false;
+    }
+    return false;
+  };
   std::vector<std::size_t> peaks;
   for (std::size_t i = 1; i + 1 < p.size(); ++i) {
-    const double d = p[i].boundary.depth_m;
-    if (d >= p[i - 1].boundary.depth_m && d > p[i + 1].boundary.depth_m) peaks.push_back(i);
+    const double d = depth(i);
+    if (d >= depth(i - 1) && d > depth(i + 1) && falls(i, -1) && falls(i, 1)) peaks.push_back(i);
   }
   std::stable_sort(peaks.begin(), peaks.end(), [&](std::size_t a, std::size_t b) {
     return p[a].boundary.depth_m > p[b].boundary.depth_m;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "cutdyn/stability/turning.hpp"
 #include "support/reference_cases.hpp"
@@ -85,6 +86,42 @@ LobePoint point(double rpm, double depth, bool found = true) {
   p.boundary.depth_m = depth;
   p.boundary.found = found;
   return p;
+}
+
+TEST(Advice, PocketsAreProminentPeaksNotWobbles) {
+  // Two lobes meeting at cusps: depth 1 + |sin| shaped, peaks of 2.0 and 1.5 at 30 and 70 rpm,
+  // on a grid of 0.01 rpm with a ±0.05 % wobble (a depth search's tolerance) on every point.
+  std::vector<LobePoint> p;
+  for (int i = 0; i <= 10000; ++i) {
+    const double rpm = 0.01 * i;
+    const double shape = rpm < 50.0 ? 2.0 - std::abs(rpm - 30.0) / 30.0
+                                    : 1.5 - std::abs(rpm - 70.0) / 60.0;
+    LobePoint q;
+    q.rpm = rpm;
+    q.boundary.found = true;
+    q.boundary.depth_m = 1e-3 * shape * (1.0 + 5e-4 * std::sin(2.3 * i) * std::cos(0.7 * i * i));
+    p.push_back(q);
+  }
+  const std::vector<std::size_t> pockets = stable_pockets(p, 3);
+  ASSERT_EQ(pockets.size(), 2u);
+  EXPECT_NEAR(p[pockets[0]].rpm, 30.0, 0.1);
+  EXPECT_NEAR(p[pockets[1]].rpm, 70.0, 0.1);
+  // Without the wobble, and past 90 rpm a third lobe of depth 1.1 with a shallow pocket
+  // (1.8 % above its sides, at 95 rpm) and a bump of 0.5 % (at 98.5 rpm): the pocket counts,
+  // the bump does not.
+  for (LobePoint& q : p) {
+    const double rpm = q.rpm;
+    const double third = 1.1 + 0.02 * std::max(0.0, 1.0 - std::abs(rpm - 95.0) / 2.0) +
+                         0.0055 * std::max(0.0, 1.0 - std::abs(rpm - 98.5) / 0.5);
+    q.boundary.depth_m = 1e-3 * (rpm < 50.0   ? 2.0 - std::abs(rpm - 30.0) / 30.0
+                                 : rpm < 90.0 ? 1.5 - std::abs(rpm - 70.0) / 60.0
+                                              : third);
+  }
+  const std::vector<std::size_t> clean = stable_pockets(p, 5);
+  ASSERT_EQ(clean.size(), 3u);
+  EXPECT_NEAR(p[clean[0]].rpm, 30.0, 1e-9);
+  EXPECT_NEAR(p[clean[1]].rpm, 70.0, 1e-9);
+  EXPECT_NEAR(p[clean[2]].rpm, 95.0, 1e-9);
 }
 
 TEST(Advice, StableRangeEndsAreInterpolated) {

@@ -20,8 +20,13 @@ struct SpeedRange {
 /// range that runs to the first or last speed ends there.
 std::vector<SpeedRange> stable_ranges(const std::vector<LobePoint>& points, double depth_m);
 
+/// How far (relative) the critical depth must fall on both sides of a local maximum for it to
+/// be a stable pocket: ten times the depth searches' tolerance.
+inline constexpr double kPocketProminence = 0.01;
+
 /// Indices of the stable pockets — local maxima of the critical depth, the peaks between two
-/// lobes — deepest first, at most `count`.
+/// lobes, from which the depth falls by kPocketProminence on each side before it rises above
+/// the peak again or the speeds end — deepest first, at most `count`.
 std::vector<std::size_t> stable_pockets(const std::vector<LobePoint>& points, std::size_t count);
 
 /// The recommended speed for a target depth a and its margin ε: the largest ε such that
