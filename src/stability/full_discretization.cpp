@@ -90,11 +90,11 @@ double dominant_frequency_hz_uniform(double theta, double period, int n,
   // sine and cosine each cost several times as much.
   const cplx turn = std::polar(1.0, (theta - kTwoPi * kmax) / n);
   cplx factor(1.0, 0.0);
-  std::size_t q = 0;
+  std::size_t slot = 0;  // i mod n
   for (std::size_t i = 0; i < values.size(); ++i) {
-    folded[q] += values[i] * factor;
+    folded[slot] += values[i] * factor;
     factor *= turn;
-    if (++q == un) q = 0;
+    if (++slot == un) slot = 0;
   }
   double total = 0.0;
   for (const cplx& g : folded) total += std::norm(g);
