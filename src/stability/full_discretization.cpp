@@ -1127,9 +1127,9 @@ ScheduledRadii radii_of(const std::function<DelayedSystem(double)>& system_at, c
 // The coarse scan and Brent's method on ρ − 1, ρ the dominant multiplier's modulus (the
 // unrestarted Arnoldi for kArnoldi, with its fallbacks); the mode from the dominant multiplier
 // just above the boundary, where it is the critical one.
-CriticalDepth exhaustive_search(const FdDiscretization& fd, double depth_max, RadiusSolver solver,
+// `at` evaluates fd's radii (a warm search's, when it falls back here, keeps its schedule).
+CriticalDepth exhaustive_search(const FdDiscretization& fd, ScheduledRadii& at, double depth_max,
                                 double rel_tol, int coarse_steps) {
-  ScheduledRadii at = radii_of(fd, solver);
   CriticalDepth result = critical_depth_by_bracketing(
       [&](double w) { return at(w).radius - 1.0; }, depth_max, coarse_steps, rel_tol);
   if (!result.found) return result;
@@ -1142,7 +1142,9 @@ CriticalDepth exhaustive_search(const FdDiscretization& fd, double depth_max, Ra
 
 CriticalDepth fd_critical_depth_by_radius(const DelayedSystem& s, const FdOptions& o,
                                           RadiusSolver solver, double rel_tol, int coarse_steps) {
-  return exhaustive_search(FdDiscretization(s, o), o.depth_max_m, solver, rel_tol, coarse_steps);
+  const FdDiscretization fd(s, o);
+  ScheduledRadii at = radii_of(fd, solver);
+  return exhaustive_search(fd, at, o.depth_max_m, rel_tol, coarse_steps);
 }
 
 CriticalDepth fd_critical_depth_by_radius(const std::function<DelayedSystem(double)>& system_at,
@@ -1291,7 +1293,7 @@ CriticalDepth fd_critical_depth_from_hint(const DelayedSystem& s, const FdOption
   auto found = warm_search(at, fd.radius_without_cutting(), o.depth_max_m, coarse_steps, rel_tol,
                            hint_depth_m, hint_is_close, evaluations);
   if (!found) {
-    CriticalDepth result = exhaustive_search(fd, o.depth_max_m, solver, rel_tol, coarse_steps);
+    CriticalDepth result = exhaustive_search(fd, at, o.depth_max_m, rel_tol, coarse_steps);
     result.evaluations += evaluations;
     return result;
   }

@@ -276,7 +276,9 @@ TEST(WarmStart, KrylovScheduleAndScreeningKeepTheRadius) {
       const double w = f * p.depth;
       const DominantMultiplier reference = fd.dominant_multiplier(w, RadiusSolver::kArnoldi);
       ASSERT_TRUE(reference.krylov);
-      if (f == 0.3 || f == 1.0 || f == 1.5) {  // the Krylov radius against the dense matrix's
+      // The Krylov radius against the dense matrix's: the residual test at 1e-10 leaves it
+      // within a few times that (3.4e-10 at most here).
+      if (f == 0.3 || f == 1.0 || f == 1.5) {
         const DominantMultiplier dense = fd.dominant_multiplier(w, RadiusSolver::kDense);
         EXPECT_NEAR(reference.radius, dense.radius, 1e-9 * dense.radius) << p.rpm << ", " << w;
       }
