@@ -9,6 +9,10 @@
 
 #include "cutdyn/core/error.hpp"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace cutdyn {
 namespace {
 
@@ -269,11 +273,120 @@ unsigned other_bytes(std::uint64_t x) {
   return fast_number(p, end, value);
 }
 
+#if defined(__SSE2__)
+// Where the 64 bytes at p are line ends, commas, points, minus signs and digits: bit i for
+// byte i.
+struct ByteClasses {
+  std::uint64_t lf = 0, comma = 0, point = 0, minus = 0, digit = 0;
+};
+
+[[gnu::always_inline]] inline ByteClasses byte_classes(const char* p) {
+  ByteClasses c;
+  const __m128i lf = _mm_set1_epi8('\n'), comma = _mm_set1_epi8(','), point = _mm_set1_epi8('.'),
+                minus = _mm_set1_epi8('-'), zero = _mm_set1_epi8('0'), nine = _mm_set1_epi8(9);
+  for (int i = 0; i < 4; ++i) {
+    const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + 16 * i));
+    const __m128i d = _mm_sub_epi8(v, zero);  // a digit: 0..9 as an unsigned byte
+    const auto bits = [i](__m128i m) {
+      return static_cast<std::uint64_t>(static_cast<std::uint16_t>(_mm_movemask_epi8(m)))
+             << (16 * i);
+    };
+    c.lf |= bits(_mm_cmpeq_epi8(v, lf));
+    c.comma |= bits(_mm_cmpeq_epi8(v, comma));
+    c.point |= bits(_mm_cmpeq_epi8(v, point));
+    c.minus |= bits(_mm_cmpeq_epi8(v, minus));
+    c.digit |= bits(_mm_cmpeq_epi8(_mm_min_epu8(d, nine), d));
+  }
+  return c;
+}
+
+// Runs of 9 or more set bits in x: a bit for each (0 if there are none).
+[[gnu::always_inline]] inline std::uint64_t runs_of_nine(std::uint64_t x) {
+  std::uint64_t r = x & (x >> 1);  // runs of 2
+  r &= r >> 2;                     // 4
+  r &= r >> 4;                     // 8
+  return r & (x >> 8);             // 9
+}
+
+// A data line of the standard layout, kFields fields (time_s, axis, the currents, the speed
+// and, with 7, the rotor angle), at p: its numbers in `value` (the slots of CurrentCsvParser),
+// its axis field in `axis`, and the bytes up to the next line; 0 where the line is not one of
+// LF- or CR LF-ended plain numbers within 63 bytes (the caller's other paths take it). All
+// separators are found first, so that the numbers are read side by side rather than one
+// after the other; the form of all of them is checked at once. 96 bytes readable at p.
+template <int kFields>
+[[gnu::always_inline]] inline int separated_line(const char* p, double (&value)[8],
+                                                 std::string_view& axis) {
+  const ByteClasses c = byte_classes(p);
+  const int length = std::countr_zero(c.lf);  // the LF's position; 64: none
+  if (length >= 63) return 0;
+  std::uint64_t commas = c.comma & ((std::uint64_t{1} << length) - 1);
+  int last[kFields];  // field f ends at last[f] (a comma, the CR or the LF)
+  for (int f = 0; f + 1 < kFields; ++f) {
+    last[f] = std::countr_zero(commas);  // 64 when they run out: refused below
+    commas &= commas - 1;
+  }
+  if (commas != 0 || last[kFields - 2] >= length) return 0;  // more fields, or fewer
+  const int cr = p[length - 1] == '\r' ? 1 : 0;              // length > 0: commas precede it
+  last[kFields - 1] = length - cr;
+  axis = std::string_view(p + last[0] + 1, static_cast<std::size_t>(last[1] - last[0] - 1));
+  // The bytes of the numbers, and the first of each (an empty field has none).
+  const std::uint64_t axis_bytes =
+      ((std::uint64_t{1} << last[1]) - 1) & ~((std::uint64_t{2} << last[0]) - 1);
+  const std::uint64_t numbers =
+      ((std::uint64_t{1} << last[kFields - 1]) - 1) & ~c.comma & ~axis_bytes;
+  const std::uint64_t firsts = numbers & ~(numbers << 1);
+  const std::uint64_t signs = c.minus & firsts;
+  const std::uint64_t digit = c.digit & numbers;
+  std::uint64_t points = c.point & numbers;
+  // [-]digits.digits, 1 to 8 digits on each side of the point (a number without a point, and
+  // longer ones, go to the general reader of numbers).
+  std::uint64_t bad = (numbers & ~(digit | points | signs)) |          // another byte
+                      (((firsts & ~signs) | (signs << 1)) & ~digit) |  // no digit first
+                      (points & ~((digit << 1) & (digit >> 1))) |      // none beside a point
+                      runs_of_nine(digit);                             // more than 8 digits
+  for (int f = 0; f < kFields; ++f) {
+    if (f == 1) continue;  // the axis
+    const int first = f == 0 ? 0 : last[f - 1] + 1, e = last[f];
+    const int q = std::countr_zero(points);  // this field's point, if the form is right
+    points &= points - 1;
+    bad |= static_cast<std::uint64_t>(q <= first) | static_cast<std::uint64_t>(q >= e);
+    const std::uint64_t negative = (signs >> first) & 1;
+    const int s = first + static_cast<int>(negative);
+    // The integer digits moved to the top of a word, the fraction's kept at its bottom
+    // (they are then its 8 digits padded with zeros): the value is m / 10^8. Shifts are
+    // kept defined whatever the form.
+    const int whole_shift = (64 - 8 * (q - s)) & 63, fraction_shift = (64 - 8 * (e - q - 1)) & 63;
+    std::uint64_t a, b;
+    std::memcpy(&a, p + s, 8);
+    std::memcpy(&b, p + (q & 63) + 1, 8);
+    a = (a ^ 0x3030303030303030) << whole_shift;
+    b = ((b ^ 0x3030303030303030) << fraction_shift) >> fraction_shift;
+    const std::uint64_t m = value_of_eight(a) * 100'000'000 + value_of_eight(b);
+    bad |= m > (std::uint64_t{1} << 53) ? 1 : 0;  // an exact double, or the general reader
+    // One correctly rounded division of exact doubles: the value std::from_chars reads.
+    const double v = static_cast<double>(static_cast<std::int64_t>(m)) / 1e8;
+    value[f < 6 ? f : 7] =
+        std::bit_cast<double>(std::bit_cast<std::uint64_t>(v) | (negative << 63));
+  }
+  bad |= points;  // a second point in the last field (one elsewhere is the next field's)
+  if (bad != 0) {
+    for (int f = 0; f < kFields; ++f) {
+      if (f == 1) continue;
+      const char* const first = p + (f == 0 ? 0 : last[f - 1] + 1);
+      const char* const number = first + (*first == '+' ? 1 : 0);  // as the general path allows
+      if (plain_number(number, p + 96, value[f < 6 ? f : 7]) != p + last[f]) return 0;
+    }
+  }
+  return length + 1;
+}
+#endif
+
 // ---- numbers out ----------------------------------------------------------------------------
 
 // The 8 decimal digits of n < 10^8 as ASCII in a word, the first digit in the lowest byte
 // (SWAR: 4 + 4 digits, then 2 + 2, then 1 + 1, by multiplications instead of divisions).
-std::uint64_t eight_digits_text(std::uint32_t n) {
+[[gnu::always_inline]] inline std::uint64_t eight_digits_text(std::uint32_t n) {
   std::uint64_t merged = (n / 10000) | (static_cast<std::uint64_t>(n % 10000) << 32);
   const std::uint64_t div100 = ((merged * 10486) >> 20) & 0x0000007f0000007f;
   merged = div100 | ((merged - 100 * div100) << 16);
@@ -405,8 +518,10 @@ char* general7_any(char* p, double x) {
   if (!(y >= 1e6 && y < 1e7)) return general7_any(p, x);  // out of range, and so refused)
   const auto whole = static_cast<std::uint32_t>(y);
   const double fraction = y - whole;
-  if (fraction > 0.5 - 1e-6 && fraction < 0.5 + 1e-6) return general7_any(p, x);
-  const std::uint32_t n = whole + (fraction > 0.5 ? 1u : 0u);
+  if (std::abs(fraction - 0.5) < 1e-6) return general7_any(p, x);  // one test: predictable
+  // Rounded without a branch on the fraction (a coin toss): y + 0.5 is within 2^-29 of its
+  // exact value and more than 1e-6 from an integer, so its floor is the rounded y.
+  const auto n = static_cast<std::uint32_t>(y + 0.5);
   if (n == 10'000'000) return general7_any(p, x);
   const std::uint64_t text = (eight_digits_text(n) >> 8) | (std::uint64_t{'0'} << 56);
   const std::uint64_t nonzero_digits = text ^ 0x3030303030303030;
@@ -717,6 +832,61 @@ bool CurrentCsvParser::parse_line(std::string_view line, std::vector<CurrentRow>
   return true;
 }
 
+[[gnu::always_inline]] inline bool CurrentCsvParser::keep_row(const double* value,
+                                                              std::string_view name,
+                                                              std::vector<CurrentRow>& rows) {
+  int a = -1;
+  if (name.size() == 1) {
+    a = one_byte_axis_[static_cast<unsigned char>(name[0])];
+  } else {
+    const auto it = std::find(axes_.begin(), axes_.end(), name);
+    if (it != axes_.end()) a = static_cast<int>(it - axes_.begin());
+  }
+  if (a < 0) return false;  // a new axis: the general path makes it
+  const auto i = static_cast<std::size_t>(a);
+  const double t = value[kTime];
+  if (last_line_[i] != 0 && !(t > last_time_[i])) return false;
+  ++line_;
+  last_time_[i] = t;
+  last_line_[i] = line_;
+  CurrentRow& row = rows.emplace_back();
+  row.line = line_;
+  row.axis = a;
+  row.time_s = t;
+  row.iu_a = value[2];
+  row.iv_a = value[3];
+  row.iw_a = value[4];
+  row.speed_rad_s = value[5];
+  row.extra = value[kExtra];
+  row.rotor_angle_rad = value[kAngleSlot];
+  ++data_lines_;
+  ++good_;
+  return true;
+}
+
+const char* CurrentCsvParser::separated_lines(const char* p, const char* const end,
+                                              std::vector<CurrentRow>& rows) {
+#if defined(__SSE2__)
+  if constexpr (std::endian::native == std::endian::little) {
+    static_assert(kTime == 0 && kAxis == 1 && kAngleSlot == 7);  // separated_line's slots
+    const auto lines = [&]<int kFields>() {
+      while (end - p >= 96) {
+        double value[8] = {};
+        std::string_view axis;
+        const int next = separated_line<kFields>(p, value, axis);
+        if (next == 0 || !keep_row(value, axis, rows)) break;
+        p += next;
+      }
+    };
+    if (needed_fields_ == 6)
+      lines.template operator()<6>();
+    else if (needed_fields_ == 7)
+      lines.template operator()<7>();
+  }
+#endif
+  return p;
+}
+
 const char* CurrentCsvParser::fast_line(const char* p, const char* const end,
                                         std::vector<CurrentRow>& rows) {
   const char* const begin = p;
@@ -779,33 +949,7 @@ const char* CurrentCsvParser::fast_line(const char* p, const char* const end,
   if (p != end && *p == '\r') ++p;
   if (p == end || *p != '\n') return nullptr;
   if (static_cast<std::size_t>(stop - begin) > kMaxCurrentLineBytes) return nullptr;
-  int a = -1;
-  if (name.size() == 1) {
-    a = one_byte_axis_[static_cast<unsigned char>(name[0])];
-  } else {
-    const auto it = std::find(axes_.begin(), axes_.end(), name);
-    if (it != axes_.end()) a = static_cast<int>(it - axes_.begin());
-  }
-  if (a < 0) return nullptr;  // a new axis: the general path makes it
-  const auto i = static_cast<std::size_t>(a);
-  const double t = value[kTime];
-  if (last_line_[i] != 0 && !(t > last_time_[i])) return nullptr;
-  ++line_;
-  last_time_[i] = t;
-  last_line_[i] = line_;
-  CurrentRow& row = rows.emplace_back();
-  row.line = line_;
-  row.axis = a;
-  row.time_s = t;
-  row.iu_a = value[2];
-  row.iv_a = value[3];
-  row.iw_a = value[4];
-  row.speed_rad_s = value[5];
-  row.extra = value[kExtra];
-  row.rotor_angle_rad = value[kAngleSlot];
-  ++data_lines_;
-  ++good_;
-  return p + 1;
+  return keep_row(value, name, rows) ? p + 1 : nullptr;
 }
 
 bool CurrentCsvParser::too_long(std::size_t number, std::size_t bytes, bool ended,
@@ -912,6 +1056,10 @@ bool CurrentCsvParser::feed(std::string_view chunk, std::vector<CurrentRow>& row
   }
   while (p < end) {
     if (header_done_) {
+      if (standard_layout_) {
+        p = separated_lines(p, end, rows);
+        if (p == end) break;
+      }
       if (const char* next = fast_line(p, end, rows)) {
         p = next;
         continue;

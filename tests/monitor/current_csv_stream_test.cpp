@@ -414,6 +414,88 @@ TEST(MonitorCsvStream, TheFastPathAgreesWithTheGeneralOneOnDamagedLines) {
   EXPECT_EQ(texts(fast.errors), texts(general.errors));
 }
 
+TEST(MonitorCsvStream, TheSeparatedLineReaderAgreesWithTheGeneralOne) {
+  // Lines of plain decimals, the form loggers write, are read with all their separators found
+  // at once and their numbers side by side. On lines of every digit count on either side of
+  // the point (0 to 10), signs, CR LF, and one damaged byte, field or line end in five, with
+  // and without the rotor angle column: the same rows (to the bit, each what std::from_chars
+  // reads) and the same errors as a byte at a time through the general path.
+  std::mt19937_64 rng(29);
+  const auto pick = [&](std::size_t n) { return static_cast<std::size_t>(rng() % n); };
+  const auto digits = [&](std::size_t n) {
+    std::string d;
+    for (std::size_t i = 0; i < n; ++i) d += static_cast<char>('0' + pick(10));
+    return d;
+  };
+  const std::string damage = "-+.,e \t\x01\x80x0";  // (a lone CR: the tests above)
+  for (const bool angle : {false, true}) {
+    std::string text = kHeader + (angle ? ",rotor_angle_rad\n" : "\n");
+    for (int k = 0; k < 20000; ++k) {
+      std::string line =
+          std::to_string(k / 3) + "." + digits(1 + pick(4)) + "," + std::string(1, "xyz"[k % 3]);
+      for (int f = 0; f < (angle ? 5 : 4); ++f) {
+        const std::size_t whole = pick(4) == 0 ? pick(11) : 1 + pick(3);
+        const std::size_t fraction = pick(4) == 0 ? pick(11) : 1 + pick(8);
+        line += std::string(",") + (pick(2) ? "-" : "") + digits(whole) +
+                (fraction > 0 || pick(8) == 0 ? "." : "") + digits(fraction);
+      }
+      if (pick(5) == 0) {  // after the time (a time damaged ahead would refuse the lines after)
+        const std::size_t at = line.find(',') + 1;
+        switch (pick(4)) {
+          case 0:
+            line[at + pick(line.size() - at)] = damage[pick(damage.size())];
+            break;
+          case 1:
+            line.insert(at + pick(line.size() - at + 1), 1, damage[pick(damage.size())]);
+            break;
+          case 2:
+            line += ",5";
+            break;
+          default:
+            line.erase(line.rfind(','));
+            break;
+        }
+      }
+      text += line + (pick(8) == 0 ? "\r\n" : "\n");
+    }
+    const std::string what = angle ? "with the rotor angle" : "without";
+    const Parsed general = parse(text, false, 1), fast = parse(text, false);
+    EXPECT_GT(fast.rows.size(), 12000u) << what;
+    EXPECT_GT(fast.errors.size(), 500u) << what;
+    expect_same_rows(fast.rows, general.rows, what + ": whole against a byte at a time");
+    EXPECT_EQ(texts(fast.errors), texts(general.errors)) << what;
+    // Each number is what std::from_chars reads from its field.
+    std::vector<std::string> lines;
+    for (std::size_t at = 0, end; (end = text.find('\n', at)) != std::string::npos; at = end + 1)
+      lines.push_back(text.substr(at, end - at));
+    for (const CurrentRow& row : fast.rows) {
+      std::string line = lines.at(row.line - 1);
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      std::vector<double> expect;
+      for (std::size_t at = 0;;) {
+        const std::size_t stop = std::min(line.find(',', at), line.size());
+        double v = 0.0;
+        if (expect.size() != 1) {  // blanks around a number, and a '+', are allowed
+          std::size_t a = at, b = stop;
+          while (a < b && (line[a] == ' ' || line[a] == '\t')) ++a;
+          while (b > a && (line[b - 1] == ' ' || line[b - 1] == '\t')) --b;
+          if (a < b && line[a] == '+') ++a;
+          std::from_chars(line.data() + a, line.data() + b, v);
+        }
+        expect.push_back(v);
+        if (stop == line.size()) break;
+        at = stop + 1;
+      }
+      ASSERT_EQ(expect.size(), angle ? 7u : 6u) << line;
+      const double got[] = {row.time_s,         0.0, row.iu_a, row.iv_a, row.iw_a, row.speed_rad_s,
+                            row.rotor_angle_rad};
+      for (std::size_t f = 0; f < expect.size(); ++f)
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(got[f]), std::bit_cast<std::uint64_t>(expect[f]))
+            << line << " field " << f;
+    }
+  }
+}
+
 // ---- numbers: the same as std::from_chars and std::to_chars -----------------------------------
 
 // Alone, and followed by more of a line (the reader then looks at whole words of it).
