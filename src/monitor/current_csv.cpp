@@ -505,17 +505,66 @@ char* general7_any(char* p, double x) {
   return g.e10 < -4 || g.e10 >= 7 ? put_scientific(p, g) : put_fixed(p, g);
 }
 
-// The same for 1e-4 <= |x| < 1e7, printf's fixed form (the columns of an estimate), in one
+// For 1e-4 <= ax < 1e7: its decimal exponent e10 (-4..6) and y = ax·10^(6 − e10) in
+// [10^6, 10^7), in one correctly rounded multiplication; false outside that range, and where
+// the exponent estimate is one off near a power of ten (y then out of range).
+[[gnu::always_inline]] inline bool seven_digit_scale(double ax, int& e10, double& y) {
+  static constexpr double kNear[13] = {1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1e0, 1e1,
+                                       1e2,  1e3,  1e4,  1e5,  1e6,  1e7};  // 10^(i − 5)
+  if (!(ax >= 1e-4 && ax < 1e7)) return false;
+  e10 = decimal_exponent_estimate(ax);  // -14..23 here: -5..6
+  e10 += ax >= kNear[e10 + 6] ? 1 : 0;
+  y = ax * kPow10[6 - e10];
+  return y >= 1e6 && y < 1e7;
+}
+
+// The 7 digits of n (10^6 <= n < 10^7) as text in a word, the first in the lowest byte and '0'
+// in the last, and how many there are up to the last that is not 0.
+struct SevenDigits {
+  std::uint64_t text = 0;
+  int count = 0;
+};
+
+[[gnu::always_inline]] inline SevenDigits seven_digits(std::uint32_t n) {
+  SevenDigits d;
+  d.text = (eight_digits_text(n) >> 8) | (std::uint64_t{'0'} << 56);
+  const std::uint64_t nonzero_digits = d.text ^ 0x3030303030303030;
+  const std::uint64_t flags =
+      (((nonzero_digits & 0x7f7f7f7f7f7f7f7f) + 0x7f7f7f7f7f7f7f7f) | nonzero_digits) &
+      0x8080808080808080;
+  d.count = 1 + ((63 - std::countl_zero(flags)) >> 3);
+  return d;
+}
+
+// The digits d × 10^(e10 − 6) in printf's fixed form, trailing zeros after the point dropped,
+// '-' first if `negative` (-4 <= e10 <= 6; up to 16 bytes written).
+[[gnu::always_inline]] inline char* put_fixed7(char* p, const SevenDigits& d, int e10,
+                                               bool negative) {
+  *p = '-';
+  p += negative ? 1 : 0;
+  if (e10 < 0) {
+    std::memcpy(p, "0.000000", 8);
+    std::memcpy(p + 1 - e10, &d.text, 8);
+    return p + 1 - e10 + d.count;
+  }
+  const int before = e10 + 1;  // digits before the point
+  if (d.count <= before) {
+    std::memcpy(p, &d.text, 8);
+    return p + before;
+  }
+  const std::uint64_t low = (std::uint64_t{1} << (8 * before)) - 1;  // before <= 6
+  const std::uint64_t word =
+      (d.text & low) | (std::uint64_t{'.'} << (8 * before)) | ((d.text & ~low) << 8);
+  std::memcpy(p, &word, 8);
+  return p + d.count + 1;
+}
+
+// general7_any for 1e-4 <= |x| < 1e7, printf's fixed form (the columns of an estimate), in one
 // word: 7 digits and a point are 8 bytes. Anything else, to general7_any.
 [[gnu::always_inline]] inline char* general7(char* p, double x) {
-  constexpr double kNear[13] = {1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1e0, 1e1,
-                                1e2,  1e3,  1e4,  1e5,  1e6,  1e7};  // 10^(i − 5)
-  const double ax = x < 0 ? -x : x;
-  if (!(ax >= 1e-4 && ax < 1e7)) return general7_any(p, x);
-  int e10 = decimal_exponent_estimate(ax);                // -14..23 here: -5..6
-  e10 += ax >= kNear[e10 + 6] ? 1 : 0;                    // the decimal exponent (or, near a
-  const double y = ax * kPow10[6 - e10];                  // power of ten, one off: then y is
-  if (!(y >= 1e6 && y < 1e7)) return general7_any(p, x);  // out of range, and so refused)
+  int e10 = 0;
+  double y = 0.0;
+  if (!seven_digit_scale(x < 0 ? -x : x, e10, y)) return general7_any(p, x);
   const auto whole = static_cast<std::uint32_t>(y);
   const double fraction = y - whole;
   if (std::abs(fraction - 0.5) < 1e-6) return general7_any(p, x);  // one test: predictable
@@ -523,29 +572,26 @@ char* general7_any(char* p, double x) {
   // exact value and more than 1e-6 from an integer, so its floor is the rounded y.
   const auto n = static_cast<std::uint32_t>(y + 0.5);
   if (n == 10'000'000) return general7_any(p, x);
-  const std::uint64_t text = (eight_digits_text(n) >> 8) | (std::uint64_t{'0'} << 56);
-  const std::uint64_t nonzero_digits = text ^ 0x3030303030303030;
-  const std::uint64_t flags =
-      (((nonzero_digits & 0x7f7f7f7f7f7f7f7f) + 0x7f7f7f7f7f7f7f7f) | nonzero_digits) &
-      0x8080808080808080;
-  const int count = 1 + ((63 - std::countl_zero(flags)) >> 3);
-  *p = '-';
-  p += x < 0 ? 1 : 0;
-  if (e10 < 0) {
-    std::memcpy(p, "0.000000", 8);
-    std::memcpy(p + 1 - e10, &text, 8);
-    return p + 1 - e10 + count;
-  }
-  const int before = e10 + 1;  // digits before the point
-  if (count <= before) {
-    std::memcpy(p, &text, 8);
-    return p + before;
-  }
-  const std::uint64_t low = (std::uint64_t{1} << (8 * before)) - 1;  // before <= 6
-  const std::uint64_t word =
-      (text & low) | (std::uint64_t{'.'} << (8 * before)) | ((text & ~low) << 8);
-  std::memcpy(p, &word, 8);
-  return p + count + 1;
+  return put_fixed7(p, seven_digits(n), e10, x < 0);
+}
+
+// std::to_chars(p, ..., x) for an x with 1e-4 <= |x| < 1e7 that has a form of at most 7
+// significant digits whose fixed form is not longer than its scientific one (times logged to
+// the microsecond, say), or nullptr. Its 7-digit rounding reads back as x (one correctly
+// rounded division by an exact power of ten), and two decimals of at most 15 digits never read
+// as the same double (DBL_DIG): so it is the shortest form, trailing zeros dropped.
+[[gnu::always_inline]] inline char* shortest7(char* p, double x) {
+  const double ax = x < 0 ? -x : x;
+  int e10 = 0;
+  double y = 0.0;
+  if (!seven_digit_scale(ax, e10, y)) return nullptr;
+  const auto n = static_cast<std::uint32_t>(y + 0.5);  // any n that reads back as x will do
+  if (n >= 10'000'000 || static_cast<double>(n) / kPow10[6 - e10] != ax) return nullptr;
+  const SevenDigits d = seven_digits(n);
+  const int fixed = e10 < 0 ? 1 - e10 + d.count : d.count <= e10 + 1 ? e10 + 1 : d.count + 1;
+  const int scientific = d.count + (d.count > 1 ? 1 : 0) + 4;  // d[.ddd]e±dd
+  if (fixed > scientific) return nullptr;                      // 100000 is 1e+05
+  return put_fixed7(p, d, e10, x < 0);
 }
 
 // std::to_chars(p, ..., x) (the shortest form that reads back as x), for an x that has a form
@@ -584,7 +630,13 @@ char* shortest15(char* p, double x) {
 // Writes `value` as append_number does, at p: room for 48 characters needed.
 [[gnu::always_inline]] inline char* put_number(char* p, double value, int digits) {
   if constexpr (std::endian::native == std::endian::little) {  // words written as text order
-    char* end = digits == 0 ? shortest15(p, value) : digits == 7 ? general7(p, value) : nullptr;
+    char* end = nullptr;
+    if (digits == 0) {
+      end = shortest7(p, value);
+      if (!end) end = shortest15(p, value);
+    } else if (digits == 7) {
+      end = general7(p, value);
+    }
     if (end) return end;
   }
   const auto r = digits > 0 ? std::to_chars(p, p + 32, value, std::chars_format::general, digits)
@@ -849,16 +901,8 @@ bool CurrentCsvParser::parse_line(std::string_view line, std::vector<CurrentRow>
   ++line_;
   last_time_[i] = t;
   last_line_[i] = line_;
-  CurrentRow& row = rows.emplace_back();
-  row.line = line_;
-  row.axis = a;
-  row.time_s = t;
-  row.iu_a = value[2];
-  row.iv_a = value[3];
-  row.iw_a = value[4];
-  row.speed_rad_s = value[5];
-  row.extra = value[kExtra];
-  row.rotor_angle_rad = value[kAngleSlot];
+  rows.push_back(
+      {line_, a, t, value[2], value[3], value[4], value[5], value[kExtra], value[kAngleSlot]});
   ++data_lines_;
   ++good_;
   return true;
@@ -1141,7 +1185,9 @@ void append_estimate_row(std::string& out, double time_s, std::string_view axis,
     last_time = bits;
   }
   *p++ = ',';
-  if (axis.size() <= 64) {
+  if (axis.size() == 1) {  // the usual x, y, z: no call to copy one byte
+    *p++ = axis[0];
+  } else if (axis.size() <= 64) {
     std::memcpy(p, axis.data(), axis.size());
     p += axis.size();
   } else {

@@ -646,7 +646,17 @@ TEST(MonitorCsvNumbers, AppendNumberIsToChars) {
                          0.00012345675,
                          9999999.5,
                          999999.95,
-                         99999995.0})
+                         99999995.0,
+                         // Up to 7 digits, where the fixed and the scientific forms compete.
+                         10000.0,
+                         100000.0,
+                         120000.0,
+                         1000000.0,
+                         9999999.0,
+                         0.00012,
+                         0.0001234567,
+                         333.333,
+                         -2.5})
     expect_format_like_to_chars(x);
   std::mt19937_64 rng(5);
   std::uniform_int_distribution<int> exponent(-30, 40), digits(1, 17);
