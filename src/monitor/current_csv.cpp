@@ -322,6 +322,7 @@ template <int kFields>
   if (length >= 63) return 0;
   std::uint64_t commas = c.comma & ((std::uint64_t{1} << length) - 1);
   int last[kFields];  // field f ends at last[f] (a comma, the CR or the LF)
+#pragma GCC unroll 8
   for (int f = 0; f + 1 < kFields; ++f) {
     last[f] = std::countr_zero(commas);  // 64 when they run out: refused below
     commas &= commas - 1;
@@ -345,6 +346,7 @@ template <int kFields>
                       (((firsts & ~signs) | (signs << 1)) & ~digit) |  // no digit first
                       (points & ~((digit << 1) & (digit >> 1))) |      // none beside a point
                       runs_of_nine(digit);                             // more than 8 digits
+#pragma GCC unroll 8
   for (int f = 0; f < kFields; ++f) {
     if (f == 1) continue;  // the axis
     const int first = f == 0 ? 0 : last[f - 1] + 1, e = last[f];
@@ -564,7 +566,7 @@ struct SevenDigits {
 [[gnu::always_inline]] inline char* general7(char* p, double x) {
   int e10 = 0;
   double y = 0.0;
-  if (!seven_digit_scale(x < 0 ? -x : x, e10, y)) return general7_any(p, x);
+  if (!seven_digit_scale(std::fabs(x), e10, y)) return general7_any(p, x);
   const auto whole = static_cast<std::uint32_t>(y);
   const double fraction = y - whole;
   if (std::abs(fraction - 0.5) < 1e-6) return general7_any(p, x);  // one test: predictable
@@ -572,7 +574,7 @@ struct SevenDigits {
   // exact value and more than 1e-6 from an integer, so its floor is the rounded y.
   const auto n = static_cast<std::uint32_t>(y + 0.5);
   if (n == 10'000'000) return general7_any(p, x);
-  return put_fixed7(p, seven_digits(n), e10, x < 0);
+  return put_fixed7(p, seven_digits(n), e10, std::signbit(x));  // not 0 here
 }
 
 // std::to_chars(p, ..., x) for an x with 1e-4 <= |x| < 1e7 that has a form of at most 7
@@ -581,7 +583,7 @@ struct SevenDigits {
 // rounded division by an exact power of ten), and two decimals of at most 15 digits never read
 // as the same double (DBL_DIG): so it is the shortest form, trailing zeros dropped.
 [[gnu::always_inline]] inline char* shortest7(char* p, double x) {
-  const double ax = x < 0 ? -x : x;
+  const double ax = std::fabs(x);
   int e10 = 0;
   double y = 0.0;
   if (!seven_digit_scale(ax, e10, y)) return nullptr;
@@ -591,7 +593,7 @@ struct SevenDigits {
   const int fixed = e10 < 0 ? 1 - e10 + d.count : d.count <= e10 + 1 ? e10 + 1 : d.count + 1;
   const int scientific = d.count + (d.count > 1 ? 1 : 0) + 4;  // d[.ddd]e±dd
   if (fixed > scientific) return nullptr;                      // 100000 is 1e+05
-  return put_fixed7(p, d, e10, x < 0);
+  return put_fixed7(p, d, e10, std::signbit(x));
 }
 
 // std::to_chars(p, ..., x) (the shortest form that reads back as x), for an x that has a form
