@@ -126,9 +126,20 @@ struct CurrentCsv {
   static void row(std::string& out, double t, std::string_view axis, const ForceEstimate& e) {
     append_estimate_row(out, t, axis, e);
   }
+  // In place, as app::EstimateJob writes them: `out` is storage, the text is [0, used).
+  static constexpr bool kInPlace = true;
+  static void row(std::string& out, std::size_t& used, double t, std::string_view axis,
+                  const ForceEstimate& e) {
+    if (out.size() < used + kEstimateRowRoom + axis.size() + 1)
+      out.resize(std::max(2 * out.size(), used + kEstimateRowRoom + axis.size() + 1));
+    char* p = write_estimate_row(out.data() + used, t, axis, e);
+    *p++ = '\n';
+    used = static_cast<std::size_t>(p - out.data());
+  }
 };
 struct BaselineCsv {
   using Parser = baseline::BaselineCsvParser;
+  static constexpr bool kInPlace = false;
   static void row(std::string& out, double t, std::string_view axis, const ForceEstimate& e) {
     baseline::append_estimate_row(out, t, axis, e);
   }
@@ -146,20 +157,31 @@ void estimate_from_csv(benchmark::State& state, const std::string& key) {
     std::vector<CurrentRow> rows;
     std::vector<CsvLineError> errors;
     std::string out = kEstimateHeader;
+    std::size_t used = out.size();
     bytes = 0;
     const std::string_view text = l.csv;
     const auto process = [&] {
       for (const CurrentRow& row : rows) {
         while (est.size() <= static_cast<std::size_t>(row.axis))
           est.emplace_back(cal.at(parser.axes()[est.size()]));
-        Csv::row(out, row.time_s, parser.axes()[static_cast<std::size_t>(row.axis)],
-                 est[static_cast<std::size_t>(row.axis)].update(row.time_s, row.iu_a, row.iv_a,
-                                                                row.iw_a, row.speed_rad_s));
-        out += '\n';
+        const ForceEstimate e = est[static_cast<std::size_t>(row.axis)].update(
+            row.time_s, row.iu_a, row.iv_a, row.iw_a, row.speed_rad_s);
+        const std::string& axis = parser.axes()[static_cast<std::size_t>(row.axis)];
+        if constexpr (Csv::kInPlace) {
+          Csv::row(out, used, row.time_s, axis, e);
+        } else {
+          Csv::row(out, row.time_s, axis, e);
+          out += '\n';
+        }
       }
       rows.clear();
-      bytes += out.size();
-      out.clear();
+      if constexpr (Csv::kInPlace) {
+        bytes += used;
+        used = 0;
+      } else {
+        bytes += out.size();
+        out.clear();
+      }
     };
     for (std::size_t at = 0; at < text.size(); at += 1 << 16) {
       parser.feed(text.substr(at, 1 << 16), rows, errors, true);

@@ -1,6 +1,8 @@
 // The estimate job (docs/models/monitor.md §4, §5): a current log through the estimators of
 // its axes and, with a band, the alarm monitors, as it arrives.
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <set>
 
 #include "cutdyn/app/monitor.hpp"
@@ -48,11 +50,23 @@ struct EstimateJob::State {
   EstimateReport report;
   std::map<std::string, AlarmMonitor> monitors;
   bool with_band = false;
+  // The CSV text of the rows since the last flush, in [0, used) of `buffer`, which is only
+  // storage: rows are written in place (write_estimate_row), not appended with a copy each.
   std::string buffer;
+  std::size_t used = 0;
   std::map<std::string, std::size_t> seen_events;
   std::set<std::string> unbanded, unknown_sigma;
   std::unique_ptr<detail::EstimateStream> stream;
 
+  // `n` bytes of room at the end of the text.
+  char* room(std::size_t n) {
+    if (buffer.size() < used + n) buffer.resize(std::max(2 * buffer.size(), used + n));
+    return buffer.data() + used;
+  }
+  void put(std::string_view text) {
+    std::memcpy(room(text.size()), text.data(), text.size());
+    used += text.size();
+  }
   void each(const CurrentRow& r, const std::string& axis, const ForceEstimate& e);
   void alarm_columns(double time_s, const std::string& axis, const ForceEstimate& e,
                      std::optional<AlarmSample>& alarm);
@@ -70,16 +84,17 @@ void EstimateJob::State::alarm_columns(double time_s, const std::string& axis,
   const auto it = monitors.find(axis);
   if (it == monitors.end()) {
     if (unbanded.insert(axis).second) warn(MonitorWarning::Kind::kNoBand, band_name, axis);
-    buffer += ",,,,";
+    put(",,,,");
     return;
   }
   const AlarmSample& s = alarm.emplace(it->second.update(time_s, e.force_n));
   for (const double x : {s.level_n, s.upper_n, s.lower_n}) {
-    buffer += ',';
-    append_number(buffer, x, 7);
+    char* p = room(1 + kNumberRoom);
+    *p = ',';
+    used = static_cast<std::size_t>(write_number(p + 1, x, 7) - buffer.data());
   }
-  buffer += ',';
-  buffer += alarm_text(s.active);
+  put(",");
+  put(alarm_text(s.active));
   const auto& all = it->second.events();
   for (std::size_t& k = seen_events[axis]; k < all.size(); ++k) {
     if (listener.alarm) listener.alarm(axis, all[k]);
@@ -93,10 +108,11 @@ void EstimateJob::State::each(const CurrentRow& r, const std::string& axis,
   // docs/models/monitor.md): said once per axis, at its first estimate.
   if (!e.sigma_known && unknown_sigma.insert(axis).second)
     warn(MonitorWarning::Kind::kUncertaintyUnknown, report.calibration, axis);
-  append_estimate_row(buffer, r.time_s, axis, e);
+  char* const p = room(kEstimateRowRoom + axis.size());
+  used = static_cast<std::size_t>(write_estimate_row(p, r.time_s, axis, e) - buffer.data());
   std::optional<AlarmSample> alarm;
   if (with_band) alarm_columns(r.time_s, axis, e, alarm);
-  buffer += '\n';
+  put("\n");
   if (sinks.row) sinks.row(EstimatedRow{r, axis, e, alarm ? &*alarm : nullptr});
 }
 
@@ -128,9 +144,9 @@ EstimateJob::EstimateJob(Calibration calibration, std::string calibration_name,
       detail::warn(s.listener, s.report.warnings, std::move(w));
     }
   }
-  s.buffer = kEstimateHeader;
-  if (s.with_band) s.buffer += ",level_n,upper_n,lower_n,alarm";
-  s.buffer += '\n';
+  s.put(kEstimateHeader);
+  if (s.with_band) s.put(",level_n,upper_n,lower_n,alarm");
+  s.put("\n");
   s.stream = std::make_unique<detail::EstimateStream>(
       s.calibration, s.report.calibration, options.estimator, std::move(source),
       options.stop_at_bad_line, s.listener, s.report.warnings,
@@ -138,8 +154,8 @@ EstimateJob::EstimateJob(Calibration calibration, std::string calibration_name,
         s.each(r, axis, e);
       },
       [&s] {
-        if (s.sinks.csv) s.sinks.csv(s.buffer);
-        s.buffer.clear();
+        if (s.sinks.csv) s.sinks.csv(std::string_view(s.buffer.data(), s.used));
+        s.used = 0;
       });
   s.stream->set_names(options.names);
 }

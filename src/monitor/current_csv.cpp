@@ -1161,41 +1161,39 @@ bool CurrentCsvParser::finish(std::vector<CurrentRow>& rows, std::vector<CsvLine
   return ok;
 }
 
+char* write_number(char* p, double value, int digits) { return put_number(p, value, digits); }
+
 void append_number(std::string& out, double value, int digits) {
-  char buffer[64];
+  char buffer[kNumberRoom];
   out.append(buffer, put_number(buffer, value, digits));
 }
 
-void append_estimate_row(std::string& out, double time_s, std::string_view axis,
-                         const ForceEstimate& e) {
-  // One append per row: the five numbers (at most 5 × 25 characters, and the 16 bytes the
-  // digit copies may overwrite) and a short axis name in one buffer.
-  char buffer[256];
+char* write_estimate_row(char* p, double time_s, std::string_view axis, const ForceEstimate& e) {
+  // Room: the time's 32 bytes copied, two commas and the axis, then three numbers of at most
+  // 14 characters and their commas before the last, which has kNumberRoom: 32 + 2 + 45 + 48,
+  // within kEstimateRowRoom.
+  static_assert(32 + 2 + 3 * 15 + kNumberRoom <= kEstimateRowRoom);
   // Axes logged side by side share their times: a time equal to the last one written (to the
   // bit) is copied rather than formatted again.
   thread_local std::uint64_t last_time = ~std::uint64_t{0};
   thread_local int last_size = 0;
   thread_local char last_text[48];
-  char* p = buffer;
   if (const auto bits = std::bit_cast<std::uint64_t>(time_s); bits == last_time) {
-    std::memcpy(buffer, last_text, 32);
+    std::memcpy(p, last_text, 32);  // a shortest form is at most 24 characters
     p += last_size;
   } else {
-    p = put_number(buffer, time_s, 0);
-    last_size = static_cast<int>(p - buffer);
-    std::memcpy(last_text, buffer, 32);
+    char* const start = p;
+    p = put_number(p, time_s, 0);
+    last_size = static_cast<int>(p - start);
+    std::memcpy(last_text, start, 32);
     last_time = bits;
   }
   *p++ = ',';
   if (axis.size() == 1) {  // the usual x, y, z: no call to copy one byte
     *p++ = axis[0];
-  } else if (axis.size() <= 64) {
+  } else {
     std::memcpy(p, axis.data(), axis.size());
     p += axis.size();
-  } else {
-    out.append(buffer, p);
-    out += axis;
-    p = buffer;
   }
   *p++ = ',';
   p = put_number(p, e.force_n, 7);
@@ -1204,8 +1202,18 @@ void append_estimate_row(std::string& out, double time_s, std::string_view axis,
   *p++ = ',';
   p = put_number(p, e.speed_rad_s, 7);
   *p++ = ',';
-  p = put_number(p, e.accel_rad_s2, 7);
-  out.append(buffer, p);
+  return put_number(p, e.accel_rad_s2, 7);
+}
+
+void append_estimate_row(std::string& out, double time_s, std::string_view axis,
+                         const ForceEstimate& e) {
+  if (axis.size() <= 64) {  // one append per row
+    char buffer[kEstimateRowRoom + 64];
+    out.append(buffer, write_estimate_row(buffer, time_s, axis, e));
+  } else {
+    std::string buffer(kEstimateRowRoom + axis.size(), '\0');
+    out.append(buffer.data(), write_estimate_row(buffer.data(), time_s, axis, e));
+  }
 }
 
 }  // namespace cutdyn

@@ -170,6 +170,13 @@ class CurrentCsvParser {
 /// and for 7 digits.
 void append_number(std::string& out, double value, int digits = 0);
 
+/// The room write_number needs at p.
+inline constexpr std::size_t kNumberRoom = 48;
+
+/// append_number's text written at p (kNumberRoom bytes of room; bytes past the returned end
+/// may be overwritten): for output assembled in place, without a copy per number.
+char* write_number(char* p, double value, int digits = 0);
+
 /// The estimate's columns: time_s,axis,force_n,force_sigma_n,speed_rad_s,accel_rad_s2.
 inline constexpr const char* kEstimateHeader =
     "time_s,axis,force_n,force_sigma_n,speed_rad_s,accel_rad_s2";
@@ -179,5 +186,13 @@ inline constexpr const char* kEstimateHeader =
 /// is unknown (ForceEstimate::sigma_known false), never NaN.
 void append_estimate_row(std::string& out, double time_s, std::string_view axis,
                          const ForceEstimate& e);
+
+/// The room write_estimate_row needs at p besides the axis name's bytes.
+inline constexpr std::size_t kEstimateRowRoom = 192;
+
+/// append_estimate_row's line written at p (kEstimateRowRoom + axis.size() bytes of room;
+/// bytes past the returned end may be overwritten): for rows assembled in place, without a copy
+/// per row.
+char* write_estimate_row(char* p, double time_s, std::string_view axis, const ForceEstimate& e);
 
 }  // namespace cutdyn
