@@ -116,10 +116,10 @@ class CurrentCsvParser {
   // `end`: appended to `rows` (line_ counts it), and the position after its line end; else
   // nullptr, nothing changed.
   const char* fast_line(const char* begin, const char* end, std::vector<CurrentRow>& rows);
-  // The lines from `begin` on, as many as are good data lines of the standard layout within 64
-  // bytes (and 96 before `end`), taken as fast_line takes them: the separators of a line found
-  // at once, so that its numbers are read independently of one another. Returns where it
-  // stopped: the first line it did not take.
+  // The lines from `begin` on, as many as are good data lines of the standard layout of at most
+  // 63 bytes with their line end (and 96 before `end`), taken as fast_line takes them: the
+  // separators of a line found at once, so that its numbers are read independently of one another.
+  // Returns where it stopped: the first line it did not take.
   const char* separated_lines(const char* begin, const char* end, std::vector<CurrentRow>& rows);
   // The end of a fast line: the row of `value` (time_s in slot 0, ...) on axis `name` appended,
   // if the axis is known and its time goes forward; else false, nothing changed.
