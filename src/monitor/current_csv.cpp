@@ -274,19 +274,22 @@ unsigned other_bytes(std::uint64_t x) {
 }
 
 #if defined(__SSE2__)
-// Where the 64 bytes at p are line ends, commas, points, minus signs and digits: bit i for
-// byte i.
+// The index of the lowest set bit of x, 63 if there is none (x's bit 63 is never a position of
+// a line's byte here): a plain bit scan, without the branch std::countr_zero needs for 0.
+[[gnu::always_inline]] inline int lowest_bit(std::uint64_t x) {
+  return __builtin_ctzll(x | (std::uint64_t{1} << 63));
+}
+
+// Where the 64 bytes at p are line ends, commas and points: bit i for byte i.
 struct ByteClasses {
-  std::uint64_t lf = 0, comma = 0, point = 0, minus = 0, digit = 0;
+  std::uint64_t lf = 0, comma = 0, point = 0;
 };
 
 [[gnu::always_inline]] inline ByteClasses byte_classes(const char* p) {
   ByteClasses c;
-  const __m128i lf = _mm_set1_epi8('\n'), comma = _mm_set1_epi8(','), point = _mm_set1_epi8('.'),
-                minus = _mm_set1_epi8('-'), zero = _mm_set1_epi8('0'), nine = _mm_set1_epi8(9);
+  const __m128i lf = _mm_set1_epi8('\n'), comma = _mm_set1_epi8(','), point = _mm_set1_epi8('.');
   for (int i = 0; i < 4; ++i) {
     const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + 16 * i));
-    const __m128i d = _mm_sub_epi8(v, zero);  // a digit: 0..9 as an unsigned byte
     const auto bits = [i](__m128i m) {
       return static_cast<std::uint64_t>(static_cast<std::uint16_t>(_mm_movemask_epi8(m)))
              << (16 * i);
@@ -294,85 +297,140 @@ struct ByteClasses {
     c.lf |= bits(_mm_cmpeq_epi8(v, lf));
     c.comma |= bits(_mm_cmpeq_epi8(v, comma));
     c.point |= bits(_mm_cmpeq_epi8(v, point));
-    c.minus |= bits(_mm_cmpeq_epi8(v, minus));
-    c.digit |= bits(_mm_cmpeq_epi8(_mm_min_epu8(d, nine), d));
   }
   return c;
 }
 
-// Runs of 9 or more set bits in x: a bit for each (0 if there are none).
-[[gnu::always_inline]] inline std::uint64_t runs_of_nine(std::uint64_t x) {
-  std::uint64_t r = x & (x >> 1);  // runs of 2
-  r &= r >> 2;                     // 4
-  r &= r >> 4;                     // 8
-  return r & (x >> 8);             // 9
+// The bytes [0, n) of a word kept, for n = 0..15 (8 and more: all of it).
+constexpr std::uint64_t kLowBytes[16] = {
+    0,
+    0xff,
+    0xffff,
+    0xffffff,
+    0xffffffff,
+    0xffffffffff,
+    0xffffffffffff,
+    0xffffffffffffff,
+    ~std::uint64_t{0}, ~std::uint64_t{0}, ~std::uint64_t{0}, ~std::uint64_t{0},
+    ~std::uint64_t{0}, ~std::uint64_t{0}, ~std::uint64_t{0}, ~std::uint64_t{0}};
+
+// The digits of a number [-]W.F at p, W the bytes [s, q) and F the `fraction` bytes after q,
+// as 16 byte values: W's from byte 0, F's from byte 8, zeros after each (each read as 8 digits
+// padded on the right: W·10^(8 − whole) and F·10^(8 − fraction)); a byte that is not a digit
+// is a value above 9 there. `whole` and `fraction` in 1..8 give the number; other counts keep
+// every read in bounds (the caller refuses them). 8 bytes readable at p + s and at p + q + 1.
+[[gnu::always_inline]] inline __m128i number_digits(const char* p, int s, int q, int whole,
+                                                    int fraction) {
+  std::uint64_t a, b;
+  std::memcpy(&a, p + s, 8);
+  std::memcpy(&b, p + q + 1, 8);
+  a = (a ^ 0x3030303030303030) & kLowBytes[whole & 15];
+  b = (b ^ 0x3030303030303030) & kLowBytes[fraction & 15];
+  return _mm_unpacklo_epi64(_mm_cvtsi64_si128(static_cast<long long>(a)),
+                            _mm_cvtsi64_si128(static_cast<long long>(b)));
+}
+
+// number_digits' 16 digits summed to four groups of four (32-bit lanes: W's first and last
+// four, F's first and last four), by multiply-adds of neighbours: pairs, then quads.
+[[gnu::always_inline]] inline __m128i digit_quads(__m128i d) {
+  const __m128i zero = _mm_setzero_si128(), ten_one = _mm_set1_epi32(0x0001000a);
+  const __m128i low = _mm_madd_epi16(_mm_unpacklo_epi8(d, zero), ten_one);
+  const __m128i high = _mm_madd_epi16(_mm_unpackhi_epi8(d, zero), ten_one);
+  return _mm_madd_epi16(_mm_packs_epi32(low, high), _mm_set1_epi32(0x00010064));  // ×100 + 1
+}
+
+// The values of two numbers from their digits (number_digits), the powers 10^whole and their
+// sign bits. With W' = W·10^(8 − whole) and F' = F·10^(8 − fraction) the 8-digit integers of
+// the two halves, W' · 10^whole = W·10^8 exactly (a product that is an exact double is
+// computed exactly), m = W·10^8 + F' is exact below 2^53, and the value W + F/10^fraction is
+// m/10^8 in one correctly rounded division of exact doubles: the value std::from_chars reads.
+// `big` gets a bit where m is 2^53 or more (not exact).
+[[gnu::always_inline]] inline __m128d two_numbers(__m128i dx, __m128i dy, double scale_x,
+                                                  double scale_y, std::uint64_t sign_x,
+                                                  std::uint64_t sign_y, int& big) {
+  const __m128i wf = _mm_madd_epi16(_mm_packs_epi32(digit_quads(dx), digit_quads(dy)),
+                                    _mm_set1_epi32(0x00012710));  // ×10000 + 1: W'x F'x W'y F'y
+  const __m128i ww_ff = _mm_shuffle_epi32(wf, _MM_SHUFFLE(3, 1, 2, 0));  // W'x W'y F'x F'y
+  const __m128d w = _mm_cvtepi32_pd(ww_ff), f = _mm_cvtepi32_pd(_mm_unpackhi_epi64(ww_ff, ww_ff));
+  const __m128d m = _mm_add_pd(_mm_mul_pd(w, _mm_set_pd(scale_y, scale_x)), f);
+  big |= _mm_movemask_pd(_mm_cmpge_pd(m, _mm_set1_pd(9007199254740992.0)));
+  const __m128d v = _mm_div_pd(m, _mm_set1_pd(1e8));
+  return _mm_or_pd(v, _mm_castsi128_pd(_mm_set_epi64x(static_cast<long long>(sign_y),
+                                                      static_cast<long long>(sign_x))));
 }
 
 // A data line of the standard layout, kFields fields (time_s, axis, the currents, the speed
 // and, with 7, the rotor angle), at p: its numbers in `value` (the slots of CurrentCsvParser),
 // its axis field in `axis`, and the bytes up to the next line; 0 where the line is not one of
-// LF- or CR LF-ended plain numbers within 63 bytes (the caller's other paths take it). All
-// separators are found first, so that the numbers are read side by side rather than one
-// after the other; the form of all of them is checked at once. 96 bytes readable at p.
+// LF- or CR LF-ended plain numbers within 63 bytes (the caller's other paths take it). The
+// separators are found first, for all 64 bytes at once; then each number's digits are placed
+// in a vector and two numbers are valued side by side (digit_quads, two_numbers), so that no
+// number waits for the end of the one before. A number field is [-]d{1,8}.d{1,8} here; the
+// form of every field is checked (its point, the lengths, each byte a digit) without a branch,
+// and a line that fails goes field by field to the general reader of numbers. 96 bytes
+// readable at p.
 template <int kFields>
 [[gnu::always_inline]] inline int separated_line(const char* p, double (&value)[8],
                                                  std::string_view& axis) {
   const ByteClasses c = byte_classes(p);
-  const int length = std::countr_zero(c.lf);  // the LF's position; 64: none
+  const int length = lowest_bit(c.lf);  // the LF's position; 63: none before it
   if (length >= 63) return 0;
   std::uint64_t commas = c.comma & ((std::uint64_t{1} << length) - 1);
   int last[kFields];  // field f ends at last[f] (a comma, the CR or the LF)
 #pragma GCC unroll 8
   for (int f = 0; f + 1 < kFields; ++f) {
-    last[f] = std::countr_zero(commas);  // 64 when they run out: refused below
+    last[f] = lowest_bit(commas);  // 63 when they run out: refused below
     commas &= commas - 1;
   }
   if (commas != 0 || last[kFields - 2] >= length) return 0;  // more fields, or fewer
   const int cr = p[length - 1] == '\r' ? 1 : 0;              // length > 0: commas precede it
   last[kFields - 1] = length - cr;
   axis = std::string_view(p + last[0] + 1, static_cast<std::size_t>(last[1] - last[0] - 1));
-  // The bytes of the numbers, and the first of each (an empty field has none).
+  // The points of the number fields (one in each, if the form is right).
   const std::uint64_t axis_bytes =
       ((std::uint64_t{1} << last[1]) - 1) & ~((std::uint64_t{2} << last[0]) - 1);
-  const std::uint64_t numbers =
-      ((std::uint64_t{1} << last[kFields - 1]) - 1) & ~c.comma & ~axis_bytes;
-  const std::uint64_t firsts = numbers & ~(numbers << 1);
-  const std::uint64_t signs = c.minus & firsts;
-  const std::uint64_t digit = c.digit & numbers;
-  std::uint64_t points = c.point & numbers;
-  // [-]digits.digits, 1 to 8 digits on each side of the point (a number without a point, and
-  // longer ones, go to the general reader of numbers).
-  std::uint64_t bad = (numbers & ~(digit | points | signs)) |          // another byte
-                      (((firsts & ~signs) | (signs << 1)) & ~digit) |  // no digit first
-                      (points & ~((digit << 1) & (digit >> 1))) |      // none beside a point
-                      runs_of_nine(digit);                             // more than 8 digits
+  std::uint64_t points = c.point & ((std::uint64_t{1} << last[kFields - 1]) - 1) & ~axis_bytes;
+  constexpr int kNumbers = kFields - 1;  // the fields but the axis
+  __m128i digits[kNumbers + 1];
+  std::uint64_t sign[kNumbers + 1];
+  double scale[kNumbers + 1];
+  unsigned lengths = 0;  // whole − 1 and fraction − 1 of every number, or-ed: in 0..7 if right
+  __m128i not_digit = _mm_setzero_si128();
 #pragma GCC unroll 8
-  for (int f = 0; f < kFields; ++f) {
-    if (f == 1) continue;  // the axis
+  for (int k = 0; k < kNumbers; ++k) {
+    const int f = k == 0 ? 0 : k + 1;
     const int first = f == 0 ? 0 : last[f - 1] + 1, e = last[f];
-    const int q = std::countr_zero(points);  // this field's point, if the form is right
+    const int q = lowest_bit(points);  // this field's point, if the form is right
     points &= points - 1;
-    bad |= static_cast<std::uint64_t>(q <= first) | static_cast<std::uint64_t>(q >= e);
-    const std::uint64_t negative = (signs >> first) & 1;
-    const int s = first + static_cast<int>(negative);
-    // The integer digits moved to the top of a word, the fraction's kept at its bottom
-    // (they are then its 8 digits padded with zeros): the value is m / 10^8. Shifts are
-    // kept defined whatever the form.
-    const int whole_shift = (64 - 8 * (q - s)) & 63, fraction_shift = (64 - 8 * (e - q - 1)) & 63;
-    std::uint64_t a, b;
-    std::memcpy(&a, p + s, 8);
-    std::memcpy(&b, p + (q & 63) + 1, 8);
-    a = (a ^ 0x3030303030303030) << whole_shift;
-    b = ((b ^ 0x3030303030303030) << fraction_shift) >> fraction_shift;
-    const std::uint64_t m = value_of_eight(a) * 100'000'000 + value_of_eight(b);
-    bad |= m > (std::uint64_t{1} << 53) ? 1 : 0;  // an exact double, or the general reader
-    // One correctly rounded division of exact doubles: the value std::from_chars reads.
-    const double v = static_cast<double>(static_cast<std::int64_t>(m)) / 1e8;
-    value[f < 6 ? f : 7] =
-        std::bit_cast<double>(std::bit_cast<std::uint64_t>(v) | (negative << 63));
+    const int negative = p[first] == '-' ? 1 : 0;  // no branch on a sign: a coin toss
+    const int s = first + negative;
+    const int whole = q - s, fraction = e - q - 1;
+    lengths |= static_cast<unsigned>((whole - 1) | (fraction - 1));
+    digits[k] = number_digits(p, s, q, whole, fraction);
+    not_digit = _mm_or_si128(not_digit, _mm_subs_epu8(digits[k], _mm_set1_epi8(9)));
+    sign[k] = static_cast<std::uint64_t>(negative) << 63;
+    scale[k] = kPow10[whole & 15];
   }
-  bad |= points;  // a second point in the last field (one elsewhere is the next field's)
-  if (bad != 0) {
+  if constexpr (kNumbers % 2 == 1) {  // an odd count: the last one paired with itself
+    digits[kNumbers] = digits[kNumbers - 1];
+    sign[kNumbers] = sign[kNumbers - 1];
+    scale[kNumbers] = scale[kNumbers - 1];
+  }
+  unsigned bad = lengths & ~7u;  // a length outside 1..8 (a negative one included)
+  bad |= points != 0 ? 1u : 0u;  // a second point in the last field (elsewhere: the next's)
+  bad |= static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(not_digit, _mm_setzero_si128())) ^
+                               0xffff);
+  int big = 0;
+  // Numbers k and k + 1 side by side; slot of number k: 0 (time), then 2.. (7 for the angle).
+  constexpr int kSlot[] = {0, 2, 3, 4, 5, 7};
+#pragma GCC unroll 4
+  for (int k = 0; k < kNumbers; k += 2) {
+    const __m128d v =
+        two_numbers(digits[k], digits[k + 1], scale[k], scale[k + 1], sign[k], sign[k + 1], big);
+    _mm_storel_pd(&value[kSlot[k]], v);
+    if (k + 1 < kNumbers) _mm_storeh_pd(&value[kSlot[k + 1]], v);  // not the odd count's copy
+  }
+  if ((bad | static_cast<unsigned>(big)) != 0) {
     for (int f = 0; f < kFields; ++f) {
       if (f == 1) continue;
       const char* const first = p + (f == 0 ? 0 : last[f - 1] + 1);

@@ -47,7 +47,8 @@ void expect_same_rows(const std::vector<CurrentRow>& a, const std::vector<Curren
     EXPECT_EQ(a[i].line, b[i].line) << what << " row " << i;
     EXPECT_EQ(a[i].axis, b[i].axis) << what << " row " << i;
     for (const auto field : {&CurrentRow::time_s, &CurrentRow::iu_a, &CurrentRow::iv_a,
-                             &CurrentRow::iw_a, &CurrentRow::speed_rad_s})
+                             &CurrentRow::iw_a, &CurrentRow::speed_rad_s,
+                             &CurrentRow::rotor_angle_rad})
       EXPECT_EQ(std::bit_cast<std::uint64_t>(a[i].*field),
                 std::bit_cast<std::uint64_t>(b[i].*field))
           << what << " row " << i;
@@ -492,6 +493,52 @@ TEST(MonitorCsvStream, TheSeparatedLineReaderAgreesWithTheGeneralOne) {
       for (std::size_t f = 0; f < expect.size(); ++f)
         EXPECT_EQ(std::bit_cast<std::uint64_t>(got[f]), std::bit_cast<std::uint64_t>(expect[f]))
             << line << " field " << f;
+    }
+  }
+}
+
+TEST(MonitorCsvStream, TheSeparatedLineReaderIsExactAtTheEdgesOfItsForm) {
+  // The line reader values [-]W.F with 1 to 8 digits on each side as (W·10^8 + F·10^(8 − n))/10^8,
+  // exact below 2^53 = 9007199254740992; at and above it the general reader takes the number.
+  // Each value is what std::from_chars reads, to the bit: 8 + 8 digits on either side of 2^53,
+  // all nines, zeros and negative zeros, leading zeros, one digit on each side; in every column,
+  // with and without the rotor angle, and the rows the same through the general path.
+  const std::vector<std::string> numbers = {
+      "90071992.54740991", "90071992.54740992", "90071992.54740993", "99999999.99999999",
+      "-99999999.99999999", "12345678.12345678", "0.0", "-0.0", "00000000.00000000",
+      "-00000000.00000001", "00000001.10000000", "9.9", "-9.99999999", "0.00000001",
+      "1.5", "-1.5", "9007199.2547409921", "4503599.62737049"};
+  for (const bool angle : {false, true}) {
+    const std::size_t columns = angle ? 6 : 5;
+    std::string text = kHeader + (angle ? ",rotor_angle_rad\n" : "\n");
+    std::vector<std::vector<std::string>> fields;
+    for (std::size_t k = 0; k < numbers.size() * columns; ++k) {
+      std::vector<std::string> f;
+      for (std::size_t c = 0; c < columns; ++c)
+        f.push_back(c == 0 ? std::to_string(k) + ".5" : numbers[(k + 7 * c) % numbers.size()]);
+      std::string line = f[0] + ",x";
+      for (std::size_t c = 1; c < columns; ++c) line += "," + f[c];
+      text += line + "\n";
+      fields.push_back(f);
+    }
+    const Parsed fast = parse(text, true), general = parse(text, true, 1);
+    ASSERT_EQ(fast.rows.size(), fields.size());
+    ASSERT_TRUE(fast.errors.empty());
+    expect_same_rows(fast.rows, general.rows, angle ? "with the angle" : "without");
+    for (std::size_t k = 0; k < fields.size(); ++k) {
+      const CurrentRow& row = fast.rows[k];
+      const double got[] = {row.time_s,         row.iu_a, row.iv_a, row.iw_a,
+                            row.speed_rad_s, row.rotor_angle_rad};
+      for (std::size_t c = 0; c < columns; ++c) {
+        const std::string& f = fields[k][c];
+        double expect = 0.0;
+        std::from_chars(f.data(), f.data() + f.size(), expect);
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(got[c]), std::bit_cast<std::uint64_t>(expect))
+            << f << " in column " << c;
+      }
+      if (!angle) {
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(row.rotor_angle_rad), 0u);
+      }
     }
   }
 }
