@@ -635,6 +635,74 @@ struct SevenDigits {
   return put_fixed7(p, seven_digits(n), e10, std::signbit(x));  // not 0 here
 }
 
+// general7's scalar part for 1e-4 <= |x| < 1e7: the 7 digits n (10^6 <= n < 10^7) of |x|
+// rounded, its decimal exponent e10 (-4..6); false where general7_any must decide (outside
+// that range, near a tie, rounded up to 10^7).
+struct SevenParts {
+  std::uint32_t n = 1'000'000;
+  int e10 = 0;
+};
+
+[[gnu::always_inline]] inline bool seven_parts(double x, SevenParts& s) {
+  double y = 0.0;
+  if (!seven_digit_scale(std::fabs(x), s.e10, y)) return false;
+  const auto whole = static_cast<std::uint32_t>(y);
+  const double fraction = y - whole;
+  s.n = static_cast<std::uint32_t>(y + 0.5);  // as in general7
+  return !(std::abs(fraction - 0.5) < 1e-6) && s.n != 10'000'000;
+}
+
+#if defined(__SSE2__)
+// The 4 digits of each 16-bit lane's v < 10000 (its value × 4, as digit_texts prepares it),
+// where each v fills four lanes: v/1000, v/100, v/10 and v by two high multiplications (the
+// second one a right shift), less ten times the lane before (SSE2; Muła's scheme, the constants
+// checked for every v < 10000 in the tests).
+[[gnu::always_inline]] inline __m128i four_digit_lanes(__m128i v4) {
+  const __m128i div = _mm_set_epi16(-32768, 13108, 5243, 8389, -32768, 13108, 5243, 8389);
+  const __m128i shift = _mm_set_epi16(-32768, 1 << 13, 1 << 11, 1 << 7, -32768, 1 << 13, 1 << 11,
+                                      1 << 7);
+  const __m128i q = _mm_mulhi_epu16(_mm_mulhi_epu16(v4, div), shift);
+  return _mm_sub_epi16(q, _mm_slli_epi64(_mm_mullo_epi16(q, _mm_set1_epi16(10)), 16));
+}
+
+// The 8 digits of each of n0..n3 < 10^8 as text, the first digit in the lowest byte: n0 and
+// n1 in the low and high half of `low`, n2 and n3 in `high`. Four numbers at once in SSE2
+// registers: n = 10000·h + l (h by a multiplication with the inverse of 10^4), then the
+// four digits of h and of l side by side.
+[[gnu::always_inline]] inline void digit_texts(std::uint32_t n0, std::uint32_t n1,
+                                               std::uint32_t n2, std::uint32_t n3, __m128i& low,
+                                               __m128i& high) {
+  const __m128i v = _mm_set_epi32(static_cast<int>(n3), static_cast<int>(n2),
+                                  static_cast<int>(n1), static_cast<int>(n0));
+  const __m128i inverse = _mm_set1_epi32(static_cast<int>(0xd1b71759));  // n/10^4 = n·it >> 45
+  const __m128i even = _mm_srli_epi64(_mm_mul_epu32(v, inverse), 45);
+  const __m128i odd = _mm_srli_epi64(_mm_mul_epu32(_mm_srli_epi64(v, 32), inverse), 45);
+  const __m128i h = _mm_or_si128(even, _mm_slli_epi64(odd, 32));
+  const __m128i l = _mm_sub_epi32(v, _mm_madd_epi16(h, _mm_set1_epi32(10000)));
+  const __m128i hl4 = _mm_slli_epi16(_mm_or_si128(h, _mm_slli_epi32(l, 16)), 2);  // h0 l0 h1 ...
+  const __m128i a = _mm_unpacklo_epi16(hl4, hl4), b = _mm_unpackhi_epi16(hl4, hl4);
+  const __m128i zeros = _mm_set1_epi8('0');
+  low = _mm_add_epi8(_mm_packus_epi16(four_digit_lanes(_mm_unpacklo_epi32(a, a)),
+                                      four_digit_lanes(_mm_unpackhi_epi32(a, a))),
+                     zeros);
+  high = _mm_add_epi8(_mm_packus_epi16(four_digit_lanes(_mm_unpacklo_epi32(b, b)),
+                                       four_digit_lanes(_mm_unpackhi_epi32(b, b))),
+                      zeros);
+}
+
+// SevenDigits of a 7-digit number from its 8-digit text (a leading '0').
+[[gnu::always_inline]] inline SevenDigits seven_of_eight(std::uint64_t text) {
+  SevenDigits d;
+  d.text = (text >> 8) | (std::uint64_t{'0'} << 56);
+  const std::uint64_t nonzero_digits = d.text ^ 0x3030303030303030;
+  const std::uint64_t flags =
+      (((nonzero_digits & 0x7f7f7f7f7f7f7f7f) + 0x7f7f7f7f7f7f7f7f) | nonzero_digits) &
+      0x8080808080808080;
+  d.count = 1 + ((63 - std::countl_zero(flags)) >> 3);
+  return d;
+}
+#endif
+
 // std::to_chars(p, ..., x) for an x with 1e-4 <= |x| < 1e7 that has a form of at most 7
 // significant digits whose fixed form is not longer than its scientific one (times logged to
 // the microsecond, say), or nullptr. Its 7-digit rounding reads back as x (one correctly
@@ -1254,6 +1322,33 @@ char* write_estimate_row(char* p, double time_s, std::string_view axis, const Fo
     p += axis.size();
   }
   *p++ = ',';
+#if defined(__SSE2__)
+  if constexpr (std::endian::native == std::endian::little) {
+    // The four numbers' digits made side by side (digit_texts) where each is in general7's
+    // range (σ, if unknown, stands as 1); else each by put_number.
+    SevenParts f, s, w, a;
+    const bool sigma = e.sigma_known;
+    if (seven_parts(e.force_n, f) && (!sigma || seven_parts(e.force_sigma_n, s)) &&
+        seven_parts(e.speed_rad_s, w) && seven_parts(e.accel_rad_s2, a)) {
+      __m128i low, high;
+      digit_texts(f.n, s.n, w.n, a.n, low, high);
+      const auto word = [](__m128i t) {
+        return static_cast<std::uint64_t>(_mm_cvtsi128_si64(t));
+      };
+      p = put_fixed7(p, seven_of_eight(word(low)), f.e10, std::signbit(e.force_n));
+      *p++ = ',';
+      if (sigma) {
+        p = put_fixed7(p, seven_of_eight(word(_mm_unpackhi_epi64(low, low))), s.e10,
+                       std::signbit(e.force_sigma_n));
+      }
+      *p++ = ',';
+      p = put_fixed7(p, seven_of_eight(word(high)), w.e10, std::signbit(e.speed_rad_s));
+      *p++ = ',';
+      return put_fixed7(p, seven_of_eight(word(_mm_unpackhi_epi64(high, high))), a.e10,
+                        std::signbit(e.accel_rad_s2));
+    }
+  }
+#endif
   p = put_number(p, e.force_n, 7);
   *p++ = ',';
   if (e.sigma_known) p = put_number(p, e.force_sigma_n, 7);  // else empty: unknown

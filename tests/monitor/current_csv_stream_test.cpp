@@ -727,6 +727,60 @@ TEST(MonitorCsvNumbers, AppendNumberIsToChars) {
   }
 }
 
+TEST(MonitorCsvNumbers, EstimateRowsAreToCharsColumnByColumn) {
+  // A row's four numbers are made side by side (their digits four at a time in SSE2 registers)
+  // where each lies in 1e-4..1e7 and is not near a tie; the text must be std::to_chars(x,
+  // general, 7) in every column whatever the mix: values of every magnitude and sign, ties and
+  // their neighbours, zeros, values just below powers of ten (rounding up to 10^7), 7-digit
+  // integers whose 4-digit groups take every value 0..9999, and σ known or not.
+  std::mt19937_64 rng(41);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const auto to_chars7 = [](double x) {
+    char buffer[64];
+    return std::string(buffer,
+                       std::to_chars(buffer, buffer + 64, x, std::chars_format::general, 7).ptr);
+  };
+  const auto value = [&](int k) {
+    switch (k % 6) {
+      case 0:  // every magnitude in and around the fast range
+        return u(rng) * std::pow(10.0, static_cast<double>(static_cast<int>(rng() % 16) - 6));
+      case 1: {  // a tie of the 7th digit and its neighbours
+        const double tie =
+            (std::floor(std::fabs(u(rng)) * 9e6) + 1e6 + 0.5) * std::pow(10.0, k % 11 - 8);
+        return std::nextafter(tie, rng() % 3 == 0 ? 0.0 : rng() % 2 ? 1e300 : tie);
+      }
+      case 2:  // just below a power of ten: rounds up to the next
+        return std::nextafter(std::pow(10.0, static_cast<double>(k % 12 - 5)), 0.0);
+      case 3:  // a 7-digit integer: its 4-digit groups in turn through 0..9999
+        return static_cast<double>(1'000'000 + (k / 6) % 10'000 * 100 + (k / 6) % 10'000 % 90) *
+               (k % 4 == 0 ? -1.0 : 1.0) * std::pow(10.0, k % 9 - 4);
+      case 4:
+        return k % 4 == 0 ? -0.0 : 0.0;
+      default:
+        return std::bit_cast<double>(rng() >> 2 | (rng() % 2 ? 0x8000000000000000 : 0));
+    }
+  };
+  for (int k = 0; k < 240'000; ++k) {
+    const ForceEstimate e{value(k), std::fabs(value(k + 1)), value(k + 3), value(k + 5), false,
+                          k % 5 != 0};
+    std::string row;
+    append_estimate_row(row, 0.5, "x", e);
+    const std::string expect = "0.5,x," + to_chars7(e.force_n) + "," +
+                               (e.sigma_known ? to_chars7(e.force_sigma_n) : "") + "," +
+                               to_chars7(e.speed_rad_s) + "," + to_chars7(e.accel_rad_s2);
+    ASSERT_EQ(row, expect) << k;
+  }
+  // Every 4-digit group of a 7-digit number (the constants of the digit lanes), in each column.
+  for (int g = 0; g < 10'000; ++g) {
+    const double a = 1'000'000.0 + g, b = 9'990'000.0 + g, c = (1000.0 + g % 1000) * 1000.0 + g / 10;
+    std::string row;
+    append_estimate_row(row, 1.0, "x", ForceEstimate{a, b, c, -a / 1000.0, false});
+    ASSERT_EQ(row, "1,x," + to_chars7(a) + "," + to_chars7(b) + "," + to_chars7(c) + "," +
+                       to_chars7(-a / 1000.0))
+        << g;
+  }
+}
+
 TEST(MonitorCsvNumbers, RowsWithTheSameTimeWriteTheSameText) {
   // Interleaved axes share their times; the writer copies a repeated time instead of
   // formatting it again: the text must be the time's own every time, also when the bits change
