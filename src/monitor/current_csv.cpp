@@ -585,15 +585,20 @@ struct SevenDigits {
   int count = 0;
 };
 
-[[gnu::always_inline]] inline SevenDigits seven_digits(std::uint32_t n) {
+// SevenDigits of a 7-digit number from its 8-digit text (a leading '0').
+[[gnu::always_inline]] inline SevenDigits seven_of_eight(std::uint64_t text) {
   SevenDigits d;
-  d.text = (eight_digits_text(n) >> 8) | (std::uint64_t{'0'} << 56);
+  d.text = (text >> 8) | (std::uint64_t{'0'} << 56);
   const std::uint64_t nonzero_digits = d.text ^ 0x3030303030303030;
   const std::uint64_t flags =
       (((nonzero_digits & 0x7f7f7f7f7f7f7f7f) + 0x7f7f7f7f7f7f7f7f) | nonzero_digits) &
       0x8080808080808080;
   d.count = 1 + ((63 - std::countl_zero(flags)) >> 3);
   return d;
+}
+
+[[gnu::always_inline]] inline SevenDigits seven_digits(std::uint32_t n) {
+  return seven_of_eight(eight_digits_text(n));
 }
 
 // The digits d × 10^(e10 − 6) in printf's fixed form, trailing zeros after the point dropped,
@@ -690,17 +695,6 @@ struct SevenParts {
                       zeros);
 }
 
-// SevenDigits of a 7-digit number from its 8-digit text (a leading '0').
-[[gnu::always_inline]] inline SevenDigits seven_of_eight(std::uint64_t text) {
-  SevenDigits d;
-  d.text = (text >> 8) | (std::uint64_t{'0'} << 56);
-  const std::uint64_t nonzero_digits = d.text ^ 0x3030303030303030;
-  const std::uint64_t flags =
-      (((nonzero_digits & 0x7f7f7f7f7f7f7f7f) + 0x7f7f7f7f7f7f7f7f) | nonzero_digits) &
-      0x8080808080808080;
-  d.count = 1 + ((63 - std::countl_zero(flags)) >> 3);
-  return d;
-}
 #endif
 
 // std::to_chars(p, ..., x) for an x with 1e-4 <= |x| < 1e7 that has a form of at most 7
