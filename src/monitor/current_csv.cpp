@@ -273,7 +273,7 @@ unsigned other_bytes(std::uint64_t x) {
   return fast_number(p, end, value);
 }
 
-#if defined(__SSE2__)
+#if defined(__SSE2__) && defined(__x86_64__)  // 64-bit moves between registers
 // The index of the lowest set bit of x, 63 if there is none (x's bit 63 is never a position of
 // a line's byte here): a plain bit scan, without the branch std::countr_zero needs for 0.
 [[gnu::always_inline]] inline int lowest_bit(std::uint64_t x) {
@@ -657,7 +657,7 @@ struct SevenParts {
   return !(std::abs(fraction - 0.5) < 1e-6) && s.n != 10'000'000;
 }
 
-#if defined(__SSE2__)
+#if defined(__SSE2__) && defined(__x86_64__)
 // The 4 digits of each 16-bit lane's v < 10000 (its value × 4, as digit_texts prepares it),
 // where each v fills four lanes: v/1000, v/100, v/10 and v by two high multiplications (the
 // second one a right shift), less ten times the lane before (SSE2; Muła's scheme, the constants
@@ -1032,7 +1032,7 @@ bool CurrentCsvParser::parse_line(std::string_view line, std::vector<CurrentRow>
 
 const char* CurrentCsvParser::separated_lines(const char* p, const char* const end,
                                               std::vector<CurrentRow>& rows) {
-#if defined(__SSE2__)
+#if defined(__SSE2__) && defined(__x86_64__)
   if constexpr (std::endian::native == std::endian::little) {
     static_assert(kTime == 0 && kAxis == 1 && kAngleSlot == 7);  // separated_line's slots
     const auto lines = [&]<int kFields>() {
@@ -1316,7 +1316,7 @@ char* write_estimate_row(char* p, double time_s, std::string_view axis, const Fo
     p += axis.size();
   }
   *p++ = ',';
-#if defined(__SSE2__)
+#if defined(__SSE2__) && defined(__x86_64__)
   if constexpr (std::endian::native == std::endian::little) {
     // The four numbers' digits made side by side (digit_texts) where each is in general7's
     // range (σ, if unknown, stands as 1); else each by put_number.
