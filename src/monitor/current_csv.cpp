@@ -624,25 +624,9 @@ struct SevenDigits {
   return p + d.count + 1;
 }
 
-// general7_any for 1e-4 <= |x| < 1e7, printf's fixed form (the columns of an estimate), in one
-// word: 7 digits and a point are 8 bytes. Anything else, to general7_any.
-[[gnu::always_inline]] inline char* general7(char* p, double x) {
-  int e10 = 0;
-  double y = 0.0;
-  if (!seven_digit_scale(std::fabs(x), e10, y)) return general7_any(p, x);
-  const auto whole = static_cast<std::uint32_t>(y);
-  const double fraction = y - whole;
-  if (std::abs(fraction - 0.5) < 1e-6) return general7_any(p, x);  // one test: predictable
-  // Rounded without a branch on the fraction (a coin toss): y + 0.5 is within 2^-29 of its
-  // exact value and more than 1e-6 from an integer, so its floor is the rounded y.
-  const auto n = static_cast<std::uint32_t>(y + 0.5);
-  if (n == 10'000'000) return general7_any(p, x);
-  return put_fixed7(p, seven_digits(n), e10, std::signbit(x));  // not 0 here
-}
-
-// general7's scalar part for 1e-4 <= |x| < 1e7: the 7 digits n (10^6 <= n < 10^7) of |x|
-// rounded, its decimal exponent e10 (-4..6); false where general7_any must decide (outside
-// that range, near a tie, rounded up to 10^7).
+// For 1e-4 <= |x| < 1e7: the 7 digits n (10^6 <= n < 10^7) of |x| rounded and its decimal
+// exponent e10 (-4..6); false where general7_any must decide (outside that range, near a tie,
+// rounded up to 10^7).
 struct SevenParts {
   std::uint32_t n = 1'000'000;
   int e10 = 0;
@@ -653,8 +637,20 @@ struct SevenParts {
   if (!seven_digit_scale(std::fabs(x), s.e10, y)) return false;
   const auto whole = static_cast<std::uint32_t>(y);
   const double fraction = y - whole;
-  s.n = static_cast<std::uint32_t>(y + 0.5);  // as in general7
-  return !(std::abs(fraction - 0.5) < 1e-6) && s.n != 10'000'000;
+  // Rounded without a branch on the fraction (a coin toss): y + 0.5 is within 2^-29 of its
+  // exact value and more than 1e-6 from an integer (else refused: one predictable test), so
+  // its floor is the rounded y.
+  if (std::abs(fraction - 0.5) < 1e-6) return false;
+  s.n = static_cast<std::uint32_t>(y + 0.5);
+  return s.n != 10'000'000;
+}
+
+// general7_any for 1e-4 <= |x| < 1e7, printf's fixed form (the columns of an estimate), in one
+// word: 7 digits and a point are 8 bytes. Anything else, to general7_any.
+[[gnu::always_inline]] inline char* general7(char* p, double x) {
+  SevenParts s;
+  if (!seven_parts(x, s)) return general7_any(p, x);
+  return put_fixed7(p, seven_digits(s.n), s.e10, std::signbit(x));  // not 0 here
 }
 
 #if defined(__SSE2__) && defined(__x86_64__)
@@ -1319,7 +1315,8 @@ char* write_estimate_row(char* p, double time_s, std::string_view axis, const Fo
 #if defined(__SSE2__) && defined(__x86_64__)
   if constexpr (std::endian::native == std::endian::little) {
     // The four numbers' digits made side by side (digit_texts) where each is in general7's
-    // range (σ, if unknown, stands as 1); else each by put_number.
+    // range (an unknown σ is not written: its lane keeps SevenParts' 10^6); else each by
+    // put_number.
     SevenParts f, s, w, a;
     const bool sigma = e.sigma_known;
     if (seven_parts(e.force_n, f) && (!sigma || seven_parts(e.force_sigma_n, s)) &&
