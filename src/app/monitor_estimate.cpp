@@ -55,7 +55,7 @@ struct EstimateJob::State {
   std::string buffer;
   std::size_t used = 0;
   std::map<std::string, std::size_t> seen_events;
-  std::set<std::string> unbanded, unknown_sigma;
+  std::set<std::string> unbanded;
   std::unique_ptr<detail::EstimateStream> stream;
 
   // `n` bytes of room at the end of the text.
@@ -67,7 +67,7 @@ struct EstimateJob::State {
     std::memcpy(room(text.size()), text.data(), text.size());
     used += text.size();
   }
-  void each(const CurrentRow& r, const std::string& axis, const ForceEstimate& e);
+  void each(const CurrentRow& r, const detail::EstimateStream::Axis& a, const ForceEstimate& e);
   void alarm_columns(double time_s, const std::string& axis, const ForceEstimate& e,
                      std::optional<AlarmSample>& alarm);
   void warn(MonitorWarning::Kind kind, const std::string& source, const std::string& axis) {
@@ -102,14 +102,21 @@ void EstimateJob::State::alarm_columns(double time_s, const std::string& axis,
   }
 }
 
-void EstimateJob::State::each(const CurrentRow& r, const std::string& axis,
+void EstimateJob::State::each(const CurrentRow& r, const detail::EstimateStream::Axis& a,
                               const ForceEstimate& e) {
+  const std::string& axis = a.name;
   // The calibration's uncertainty is unknown (the literature coefficients, §4.3 of
   // docs/models/monitor.md): said once per axis, at its first estimate.
-  if (!e.sigma_known && unknown_sigma.insert(axis).second)
+  if (!e.sigma_known && a.estimates == 1)
     warn(MonitorWarning::Kind::kUncertaintyUnknown, report.calibration, axis);
-  char* const p = room(kEstimateRowRoom + axis.size());
-  used = static_cast<std::size_t>(write_estimate_row(p, r.time_s, axis, e) - buffer.data());
+  char* p = room(kEstimateRowRoom + axis.size() + 1);  // the row and its line end
+  p = write_estimate_row(p, r.time_s, axis, e);
+  if (!with_band && !sinks.row) {  // the plain estimate
+    *p++ = '\n';
+    used = static_cast<std::size_t>(p - buffer.data());
+    return;
+  }
+  used = static_cast<std::size_t>(p - buffer.data());
   std::optional<AlarmSample> alarm;
   if (with_band) alarm_columns(r.time_s, axis, e, alarm);
   put("\n");
@@ -150,8 +157,8 @@ EstimateJob::EstimateJob(Calibration calibration, std::string calibration_name,
   s.stream = std::make_unique<detail::EstimateStream>(
       s.calibration, s.report.calibration, options.estimator, std::move(source),
       options.stop_at_bad_line, s.listener, s.report.warnings,
-      [&s](const CurrentRow& r, const std::string& axis, const ForceEstimate& e) {
-        s.each(r, axis, e);
+      [&s](const CurrentRow& r, const detail::EstimateStream::Axis& a, const ForceEstimate& e) {
+        s.each(r, a, e);
       },
       [&s] {
         if (s.sinks.csv) s.sinks.csv(std::string_view(s.buffer.data(), s.used));
@@ -173,7 +180,9 @@ EstimateReport EstimateJob::finish() {
     EstimatedAxis e;
     e.axis = a->name;
     e.filter = filter_report(*a->estimator, s.options.tooth_frequency_hz);
-    e.sigma_known = !s.unknown_sigma.count(a->name);
+    // Unknown only where it was said (an axis with estimates; every one carries the
+    // calibration's flag).
+    e.sigma_known = a->estimates == 0 || a->estimator->calibration().uncertainty_known;
     e.banded = s.monitors.count(a->name) > 0;
     e.sign_doubt_samples = a->sign_doubts;
     e.sign_doubt_first_line = a->first_doubt_line;

@@ -102,6 +102,7 @@ EstimateStream::EstimateStream(const Calibration& calibration, std::string calib
 
 EstimateStream::Axis* EstimateStream::axis(int index) {
   const auto i = static_cast<std::size_t>(index);
+  if (i < by_index_.size() && by_index_[i]) return by_index_[i].get();  // made before
   while (by_index_.size() <= i) by_index_.push_back(nullptr);
   if (!by_index_[i]) {
     const std::string& name = parser_.axes()[i];
@@ -115,6 +116,23 @@ EstimateStream::Axis* EstimateStream::axis(int index) {
   return by_index_[i].get();
 }
 
+[[gnu::always_inline]] inline ForceEstimate EstimateStream::update(const CurrentRow& r, Axis& a) {
+  AxisForceEstimator& e = *a.estimator;
+  try {
+    // Returned as update makes it (a copy of a just written estimate waits on its stores).
+    return parser_.has_rotor_angle()
+               ? e.update(r.time_s, r.iu_a, r.iv_a, r.iw_a, r.speed_rad_s, r.rotor_angle_rad)
+               : e.update(r.time_s, r.iu_a, r.iv_a, r.iw_a, r.speed_rad_s);
+  } catch (const InvalidInput& x) {
+    // The bandwidth against the log's sampling (the only check of update).
+    std::vector<std::string> problems;
+    for (const std::string& p : x.problems())
+      problems.push_back(names_.bandwidth + ": " + p + ", axis " + a.name + " at line " +
+                         std::to_string(r.line));
+    throw InvalidInput(problems, source_);
+  }
+}
+
 bool EstimateStream::estimate(const CurrentRow& r, Axis& a) {
   AxisForceEstimator& e = *a.estimator;
   if (!a.seen) {
@@ -124,19 +142,7 @@ bool EstimateStream::estimate(const CurrentRow& r, Axis& a) {
       throw measure_mismatch(names_.measure, source_, m->second, a.name, m->first,
                              e.calibration().model.measure);
   }
-  ForceEstimate estimate;
-  try {
-    estimate = e.update(
-        r.time_s, r.iu_a, r.iv_a, r.iw_a, r.speed_rad_s,
-        parser_.has_rotor_angle() ? std::optional<double>(r.rotor_angle_rad) : std::nullopt);
-  } catch (const InvalidInput& x) {
-    // The bandwidth against the log's sampling (the only check of update).
-    std::vector<std::string> problems;
-    for (const std::string& p : x.problems())
-      problems.push_back(names_.bandwidth + ": " + p + ", axis " + a.name + " at line " +
-                         std::to_string(r.line));
-    throw InvalidInput(problems, source_);
-  }
+  const ForceEstimate estimate = update(r, a);
   // Finite values so large (a current of 1e200 A) or steps so short (1e-300 s) that the
   // estimate overflows: a bad line, never a NaN or an infinity in the output; the axis starts
   // afresh at its next line (its filter state holds the overflow).
@@ -157,7 +163,8 @@ bool EstimateStream::estimate(const CurrentRow& r, Axis& a) {
     w.message = kSignDoubt;
     warn(listener_, warnings_, std::move(w));
   }
-  each_(r, a.name, estimate);
+  ++a.estimates;
+  each_(r, a, estimate);
   ++good_;
   return true;
 }
@@ -165,20 +172,21 @@ bool EstimateStream::estimate(const CurrentRow& r, Axis& a) {
 void EstimateStream::process() {
   std::vector<CsvLineError> own;  // the lines the parser passed and the estimate refuses
   for (const CurrentRow& r : rows_) {
+    Axis* const a = axis(r.axis);
+    if (a && estimate(r, *a)) continue;
     const std::string& name = parser_.axes()[static_cast<std::size_t>(r.axis)];
     std::string problem;
-    if (Axis* a = axis(r.axis); !a) {
+    if (!a) {
       std::string have;
       for (const auto& [axis, c] : calibration_) have += (have.empty() ? "" : ", ") + axis;
       problem = "axis \"" + name + "\" is not in the calibration " + calibration_name_ +
                 " (it has " + have + ")";
-    } else if (!estimate(r, *a)) {
+    } else {
       problem = "the estimate of axis " + name +
                 " is not finite: a value of the line is beyond what the estimator can take (a "
                 "current or speed near the range of a double, or a time step near 0); the axis "
                 "starts afresh at its next line";
     }
-    if (problem.empty()) continue;
     own.push_back({r.line, std::move(problem)});
     if (stop_) {
       // The first bad line (the parser stopped after these rows): the estimates before it are

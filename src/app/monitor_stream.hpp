@@ -57,7 +57,8 @@ std::map<std::string, AxisRun> read_log(LogInput& in, const std::string& force_c
 /// its bad lines are dealt with.
 class EstimateStream {
  public:
-  using Each = std::function<void(const CurrentRow&, const std::string&, const ForceEstimate&)>;
+  struct Axis;
+  using Each = std::function<void(const CurrentRow&, const Axis&, const ForceEstimate&)>;
   EstimateStream(const Calibration& calibration, std::string calibration_name,
                  const EstimatorOptions& options, std::string source, bool stop,
                  const MonitorListener& listener, std::vector<MonitorWarning>& warnings, Each each,
@@ -72,6 +73,7 @@ class EstimateStream {
     std::string name;
     std::unique_ptr<AxisForceEstimator> estimator;
     bool seen = false;
+    std::size_t estimates = 0;  // the good rows so far, this one included in `each`
     std::size_t sign_doubts = 0, first_doubt_line = 0;
     double first_doubt_time_s = 0.0;
   };
@@ -86,6 +88,9 @@ class EstimateStream {
   void process();
   // False (nothing written) if the estimate is not finite.
   bool estimate(const CurrentRow& r, Axis& a);
+  // The row through the axis' estimator (a bandwidth above the row's Nyquist frequency thrown
+  // as the front end names it).
+  ForceEstimate update(const CurrentRow& r, Axis& a);
 
   RequestNames names_;
   const Calibration& calibration_;

@@ -49,9 +49,10 @@ TeachReport teach(const TeachOptions& options, const MonitorListener& listener) 
     detail::EstimateStream stream(
         calibration, options.calibration, options.estimator, in->name(), options.stop_at_bad_line,
         listener, report.warnings,
-        [&](const CurrentRow& r, const std::string& axis, const ForceEstimate& e) {
-          run[axis].time_s.push_back(r.time_s);
-          run[axis].force_n.push_back(e.force_n);
+        [&](const CurrentRow& r, const detail::EstimateStream::Axis& a, const ForceEstimate& e) {
+          ForceRun& axis_run = run[a.name];
+          axis_run.time_s.push_back(r.time_s);
+          axis_run.force_n.push_back(e.force_n);
         },
         {});
     for (std::string_view chunk = in->read(); !chunk.empty(); chunk = in->read()) stream.feed(chunk);

@@ -110,6 +110,9 @@ AxisForceEstimator::AxisForceEstimator(const AxisCalibration& c, const Estimator
   j_ = m.inertia_kg_m2;
   inv_k_ = 1.0 / m.force_gain_m;
   id_noise_ = c.current_noise_a;
+  id_square_factor_ = m.measure == CurrentMeasure::kRms ? 1.0 / 3.0 : 2.0 / 3.0;
+  two_var_id_ = 2.0 * id_noise_ * id_noise_;
+  three_sigma_id_ = 3.0 * id_noise_;
   reset();
 }
 
@@ -148,8 +151,20 @@ void AxisForceEstimator::set_step(double dt) {
   var_current_gain_ = filtered_white_gain(r_, 0.5, 0.5);
   const double sw = cal_.speed_noise_rad_s;
   var_obs_nm2_ = sw * sw * filtered_white_gain(r_, -0.5 * x_ - j_ / dt, -0.5 * x_ + j_ / dt);
-  sigma_accel_torque_ = j_ * sw * std::sqrt(filtered_white_gain(r_, 1.0 / dt, -1.0 / dt));
+  three_sigma_accel_torque_ =
+      3.0 * (j_ * sw * std::sqrt(filtered_white_gain(r_, 1.0 / dt, -1.0 / dt)));
   set_fixed_variance();
+}
+
+void AxisForceEstimator::check_first_step(double dt) {
+  step_checked_ = true;
+  first_dt_ = dt;
+  const double nyquist_hz = 0.5 / dt;
+  if (!(options_.bandwidth_hz < nyquist_hz))
+    throw InvalidInput({"bandwidth_hz = " + format_value(options_.bandwidth_hz) +
+                        " Hz: must be below the Nyquist frequency of the samples, " +
+                        format_value(nyquist_hz) + " Hz (half the rate of the first step, " +
+                        format_value(dt) + " s)"});
 }
 
 void AxisForceEstimator::set_fixed_variance() {
@@ -159,22 +174,17 @@ void AxisForceEstimator::set_fixed_variance() {
   var_fixed_nm2_[1] = noise + tf_ * tf_ / 3.0;  // static friction anywhere in ±Tnzm
 }
 
-ForceEstimate AxisForceEstimator::update(double t, double iu, double iv, double iw, double w,
-                                         std::optional<double> rotor_angle) {
-  const double id = equivalent_current(iu, iv, iw, cal_.model.measure);
+template <bool kSigned>
+[[gnu::always_inline]] inline ForceEstimate AxisForceEstimator::estimate(
+    double t, double iu, double iv, double iw, double w, [[maybe_unused]] double rotor_angle) {
+  // equivalent_current(iu, iv, iw, measure), its factor taken once.
+  const double id_square = (iu * iu + iv * iv + iw * iw) * id_square_factor_;
+  const double id = std::sqrt(id_square);
   double dt = 0.0;
   if (started_) {
     dt = t - last_time_;
-    if (!step_checked_) {
-      step_checked_ = true;
-      first_dt_ = dt;
-      const double nyquist_hz = 0.5 / dt;
-      if (!(options_.bandwidth_hz < nyquist_hz))
-        throw InvalidInput({"bandwidth_hz = " + format_value(options_.bandwidth_hz) +
-                            " Hz: must be below the Nyquist frequency of the samples, " +
-                            format_value(nyquist_hz) + " Hz (half the rate of the first step, " +
-                            format_value(dt) + " s)"});
-    }
+    if (!step_checked_) [[unlikely]]
+      check_first_step(dt);
     if (!detail::same_step(dt, dt_)) set_step(dt);
     observer_.update(w, dt);
   } else {
@@ -194,16 +204,21 @@ ForceEstimate AxisForceEstimator::update(double t, double iu, double iv, double 
   // Id_true to that order; the size of the correction enters σ (below), since near Id ≈ σ_Id
   // the correction itself is uncertain.
   double bias = 0.0;
-  if (!rotor_angle && id_noise_ > 0.0) {
-    const double x = 2.0 * id_noise_ * id_noise_ / (id * id);  // inf at id = 0: the sqrt branch
+  if (!kSigned && id_noise_ > 0.0) {
+    // x = 2σ_Id²/Id² from Id² itself, while the square root of Id is under way (the estimate's
+    // longest chain of dependent operations runs from the currents to the force: this takes
+    // the division and the series off it).
+    const double x = two_var_id_ / id_square;  // inf at id = 0: the sqrt branch
     // id·(1 − sqrt(1 − x)) = id·(x/2 + x²/8 + x³/16 + …): the series to 1e-7 relative for x <
     // 0.01, without the square root.
-    bias = x < 0.01 ? id * x * (0.5 + x * (0.125 + 0.0625 * x))
-                    : id - std::sqrt(std::max(id * id - 2.0 * id_noise_ * id_noise_, 0.0));
+    bias = x < 0.01 ? id * (x * (0.5 + x * (0.125 + 0.0625 * x)))
+                    : id - std::sqrt(std::max(id_square - two_var_id_, 0.0));
   }
-  const double torque_current =
-      rotor_angle ? signed_equivalent_current(iu, iv, iw, *rotor_angle, cal_.model.measure)
-                  : sign_ * (id - bias);
+  double torque_current = 0.0;
+  if constexpr (kSigned)
+    torque_current = signed_equivalent_current(iu, iv, iw, rotor_angle, cal_.model.measure);
+  else
+    torque_current = sign_ * (id - bias);
   const double u = kt_ * torque_current - x_ * w - friction;
   if (!started_) {
     // The first sample: taken as steady (no acceleration), the filter at rest there.
@@ -228,18 +243,19 @@ ForceEstimate AxisForceEstimator::update(double t, double iu, double iv, double 
   e.force_n = y2_ * inv_k_;
   e.accel_rad_s2 = a2_;
   const double eps = a2_;
-  if (!rotor_angle && !e.standstill) {
+  if (!kSigned && !e.standstill) {
     // The magnitude cannot show a torque against the motion (§4.5 of docs/models/monitor.md).
     // It may be there where (a) the motor gives less than half the friction torque, or less
     // than three noise σ (this sample's, or the filtered magnitude's: a current below the
     // noise has samples above 3σ), or less than its own change over the last step (it may pass
     // through zero within a step): a load aiding the motion takes part of the friction; or (b)
     // the axis decelerates faster than friction alone can brake it (beyond three noise σ).
+    // (Each test made, or-ed without a branch: which of them holds is anyone's guess.)
     const double friction_torque = tf_ + x_ * std::abs(ws), torque = kt_ * id;
-    e.torque_sign_doubtful = torque <= 0.5 * friction_torque ||
-                             std::min(id, c2_) <= 3.0 * id_noise_ ||
-                             torque <= kt_ * std::abs(id - prev_id_) ||
-                             sign_ * j_ * eps < -friction_torque - 3.0 * sigma_accel_torque_;
+    e.torque_sign_doubtful = (torque <= 0.5 * friction_torque) |
+                             (std::min(id, c2_) <= three_sigma_id_) |
+                             (torque <= kt_ * std::abs(id - prev_id_)) |
+                             (sign_ * j_ * eps < -friction_torque - three_sigma_accel_torque_);
   }
   prev_u_ = u;
   prev_w_ = w;
@@ -247,17 +263,28 @@ ForceEstimate AxisForceEstimator::update(double t, double iu, double iv, double 
 
   // The variance: the step's constant part (var_fixed_nm2_: the filtered noise, and static
   // friction anywhere in ±Tnzm at a standstill or the friction's uncertainty in motion), then
-  // the terms that scale with the current, the speed, the acceleration and the force.
+  // the terms that scale with the current, the speed and the acceleration, and last the one of
+  // the force (the last value to be known).
   const AxisUncertainty& un = cal_.sigma;
   const double kt_u = c2_ * un.torque_constant_nm_per_a, kt_bias = kt_ * bias;
-  const double fk = e.force_n * un.force_gain_m;
-  double var = var_fixed_nm2_[e.standstill] + kt_u * kt_u + kt_bias * kt_bias + fk * fk;
+  double var = var_fixed_nm2_[e.standstill] + kt_u * kt_u + kt_bias * kt_bias;
   var += ws * ws * un.viscous_nm_s_per_rad * un.viscous_nm_s_per_rad;
   if (!e.standstill) var += 2.0 * ws * sign_ * un.friction_viscous_covariance;
   var += eps * eps * un.inertia_kg_m2 * un.inertia_kg_m2;
+  const double fk = e.force_n * un.force_gain_m;
+  var += fk * fk;
   e.force_sigma_n = std::sqrt(std::max(0.0, var)) * inv_k_;
   e.sigma_known = cal_.uncertainty_known;
   return e;
+}
+
+ForceEstimate AxisForceEstimator::update(double t, double iu, double iv, double iw, double w,
+                                         double rotor_angle) {
+  return estimate<true>(t, iu, iv, iw, w, rotor_angle);
+}
+
+ForceEstimate AxisForceEstimator::update(double t, double iu, double iv, double iw, double w) {
+  return estimate<false>(t, iu, iv, iw, w, 0.0);
 }
 
 }  // namespace cutdyn

@@ -135,7 +135,14 @@ class AxisForceEstimator {
   /// (signed_equivalent_current); without it, it is sign(ω̂)·Id and the estimate flags the
   /// samples where the torque may be negative (ForceEstimate::torque_sign_doubtful).
   ForceEstimate update(double time_s, double iu_a, double iv_a, double iw_a, double speed_rad_s,
-                       std::optional<double> rotor_angle_rad = std::nullopt);
+                       double rotor_angle_rad);
+  ForceEstimate update(double time_s, double iu_a, double iv_a, double iw_a, double speed_rad_s);
+  /// The one or the other, as `rotor_angle_rad` holds an angle or not.
+  ForceEstimate update(double time_s, double iu_a, double iv_a, double iw_a, double speed_rad_s,
+                       std::optional<double> rotor_angle_rad) {
+    return rotor_angle_rad ? update(time_s, iu_a, iv_a, iw_a, speed_rad_s, *rotor_angle_rad)
+                           : update(time_s, iu_a, iv_a, iw_a, speed_rad_s);
+  }
   void reset();
 
   const AxisCalibration& calibration() const { return cal_; }
@@ -146,6 +153,13 @@ class AxisForceEstimator {
  private:
   void set_step(double dt_s);
   void set_fixed_variance();
+  // The first step of the axis: kept, and the bandwidth checked against its Nyquist frequency.
+  [[gnu::noinline]] void check_first_step(double dt_s);
+  // update's body, with the rotor angle (kSigned) or without; one per form, so that neither
+  // tests at run time which it is.
+  template <bool kSigned>
+  ForceEstimate estimate(double time_s, double iu_a, double iv_a, double iw_a, double speed_rad_s,
+                         double rotor_angle_rad);
   AxisCalibration cal_;
   EstimatorOptions options_;
   AccelerationObserver observer_;
@@ -158,7 +172,7 @@ class AxisForceEstimator {
   double r_ = 0.0;                 // pole of Q for the step
   double var_current_gain_ = 1.0;  // variance of the filtered current term per unit white noise
   double var_obs_nm2_ = 0.0;       // variance of the filtered X·ω + J·Δω/Δt from speed noise
-  double sigma_accel_torque_ = 0.0;  // σ of J times the filtered acceleration from speed noise
+  double three_sigma_accel_torque_ = 0.0;  // 3σ of J times the filtered acceleration (speed noise)
   double var_fixed_nm2_[2] = {0.0, 0.0};  // the step's constant variance: moving, standstill
   double prev_id_ = 0.0;                  // |Id| of the previous sample
   // Filter states: load torque, |current| and acceleration (two first-order stages each).
@@ -166,6 +180,8 @@ class AxisForceEstimator {
   double prev_u_ = 0.0, prev_w_ = 0.0;
   // Per-calibration constants.
   double kt_ = 0.0, x_ = 0.0, tf_ = 0.0, j_ = 0.0, inv_k_ = 0.0, id_noise_ = 0.0;
+  double id_square_factor_ = 1.0 / 3.0;  // Id² = (iu² + iv² + iw²)·this, for the measure
+  double two_var_id_ = 0.0, three_sigma_id_ = 0.0;  // 2σ_Id², 3σ_Id
 };
 
 }  // namespace cutdyn
