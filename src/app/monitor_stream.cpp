@@ -133,7 +133,7 @@ EstimateStream::Axis* EstimateStream::axis(int index) {
   }
 }
 
-bool EstimateStream::estimate(const CurrentRow& r, Axis& a) {
+[[gnu::always_inline]] inline bool EstimateStream::estimate(const CurrentRow& r, Axis& a) {
   AxisForceEstimator& e = *a.estimator;
   if (!a.seen) {
     a.seen = true;
@@ -172,7 +172,8 @@ bool EstimateStream::estimate(const CurrentRow& r, Axis& a) {
 void EstimateStream::process() {
   std::vector<CsvLineError> own;  // the lines the parser passed and the estimate refuses
   for (const CurrentRow& r : rows_) {
-    Axis* const a = axis(r.axis);
+    const auto i = static_cast<std::size_t>(r.axis);
+    Axis* const a = i < by_index_.size() && by_index_[i] ? by_index_[i].get() : axis(r.axis);
     if (a && estimate(r, *a)) continue;
     const std::string& name = parser_.axes()[static_cast<std::size_t>(r.axis)];
     std::string problem;

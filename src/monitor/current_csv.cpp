@@ -319,8 +319,8 @@ constexpr std::uint64_t kLowBytes[16] = {
 // padded on the right: W·10^(8 − whole) and F·10^(8 − fraction)); a byte that is not a digit
 // is a value above 9 there. `whole` and `fraction` in 1..8 give the number; other counts keep
 // every read in bounds (the caller refuses them). 8 bytes readable at p + s and at p + q + 1.
-[[gnu::always_inline]] inline __m128i number_digits(const char* p, int s, int q, int whole,
-                                                    int fraction) {
+[[gnu::always_inline]] inline __m128i number_digits(const char* p, std::int64_t s, std::int64_t q,
+                                                    int whole, int fraction) {
   std::uint64_t a, b;
   std::memcpy(&a, p + s, 8);
   std::memcpy(&b, p + q + 1, 8);
@@ -391,45 +391,49 @@ template <int kFields>
       ((std::uint64_t{1} << last[1]) - 1) & ~((std::uint64_t{2} << last[0]) - 1);
   std::uint64_t points = c.point & ((std::uint64_t{1} << last[kFields - 1]) - 1) & ~axis_bytes;
   constexpr int kNumbers = kFields - 1;  // the fields but the axis
-  __m128i digits[kNumbers + 1];
-  std::uint64_t sign[kNumbers + 1];
-  double scale[kNumbers + 1];
   unsigned lengths = 0;  // whole − 1 and fraction − 1 of every number, or-ed: in 0..7 if right
   __m128i not_digit = _mm_setzero_si128();
-#pragma GCC unroll 8
-  for (int k = 0; k < kNumbers; ++k) {
+  int big = 0;
+  // Number k's digits, sign bit and 10^whole (k: 0 the time, then the fields after the axis).
+  const auto place = [&](int k, __m128i& digits, std::uint64_t& sign, double& scale) {
     const int f = k == 0 ? 0 : k + 1;
-    const int first = f == 0 ? 0 : last[f - 1] + 1, e = last[f];
-    const int q = lowest_bit(points);  // this field's point, if the form is right
+    const std::int64_t first = f == 0 ? 0 : last[f - 1] + 1, e = last[f];
+    const std::int64_t q = lowest_bit(points);  // this field's point, if the form is right
     points &= points - 1;
-    const int negative = p[first] == '-' ? 1 : 0;  // no branch on a sign: a coin toss
-    const int s = first + negative;
-    const int whole = q - s, fraction = e - q - 1;
+    const std::int64_t negative = p[first] == '-' ? 1 : 0;  // no branch on a sign: a coin toss
+    const std::int64_t s = first + negative;
+    const auto whole = static_cast<int>(q - s), fraction = static_cast<int>(e - q - 1);
     lengths |= static_cast<unsigned>((whole - 1) | (fraction - 1));
-    digits[k] = number_digits(p, s, q, whole, fraction);
-    not_digit = _mm_or_si128(not_digit, _mm_subs_epu8(digits[k], _mm_set1_epi8(9)));
-    sign[k] = static_cast<std::uint64_t>(negative) << 63;
-    scale[k] = kPow10[whole & 15];
-  }
-  if constexpr (kNumbers % 2 == 1) {  // an odd count: the last one paired with itself
-    digits[kNumbers] = digits[kNumbers - 1];
-    sign[kNumbers] = sign[kNumbers - 1];
-    scale[kNumbers] = scale[kNumbers - 1];
+    digits = number_digits(p, s, q, whole, fraction);
+    not_digit = _mm_or_si128(not_digit, _mm_subs_epu8(digits, _mm_set1_epi8(9)));
+    sign = static_cast<std::uint64_t>(negative) << 63;
+    scale = kPow10[whole & 15];
+  };
+  // Numbers k and k + 1 placed and valued side by side, pair after pair (fewer values live at
+  // once); slot of number k: 0 (time), then 2.. (7 for the angle). An odd count pairs the last
+  // number with itself.
+  constexpr int kSlot[] = {0, 2, 3, 4, 5, 7};
+#pragma GCC unroll 4
+  for (int k = 0; k < kNumbers; k += 2) {
+    __m128i dx, dy;
+    std::uint64_t sx, sy;
+    double cx, cy;
+    place(k, dx, sx, cx);
+    if (k + 1 < kNumbers) {
+      place(k + 1, dy, sy, cy);
+    } else {
+      dy = dx;
+      sy = sx;
+      cy = cx;
+    }
+    const __m128d v = two_numbers(dx, dy, cx, cy, sx, sy, big);
+    _mm_storel_pd(&value[kSlot[k]], v);
+    if (k + 1 < kNumbers) _mm_storeh_pd(&value[kSlot[k + 1]], v);  // not the odd count's copy
   }
   unsigned bad = lengths & ~7u;  // a length outside 1..8 (a negative one included)
   bad |= points != 0 ? 1u : 0u;  // a second point in the last field (elsewhere: the next's)
   bad |= static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(not_digit, _mm_setzero_si128())) ^
                                0xffff);
-  int big = 0;
-  // Numbers k and k + 1 side by side; slot of number k: 0 (time), then 2.. (7 for the angle).
-  constexpr int kSlot[] = {0, 2, 3, 4, 5, 7};
-#pragma GCC unroll 4
-  for (int k = 0; k < kNumbers; k += 2) {
-    const __m128d v =
-        two_numbers(digits[k], digits[k + 1], scale[k], scale[k + 1], sign[k], sign[k + 1], big);
-    _mm_storel_pd(&value[kSlot[k]], v);
-    if (k + 1 < kNumbers) _mm_storeh_pd(&value[kSlot[k + 1]], v);  // not the odd count's copy
-  }
   if ((bad | static_cast<unsigned>(big)) != 0) {
     for (int f = 0; f < kFields; ++f) {
       if (f == 1) continue;

@@ -250,12 +250,11 @@ template <bool kSigned>
     // noise has samples above 3σ), or less than its own change over the last step (it may pass
     // through zero within a step): a load aiding the motion takes part of the friction; or (b)
     // the axis decelerates faster than friction alone can brake it (beyond three noise σ).
-    // (Each test made, or-ed without a branch: which of them holds is anyone's guess.)
     const double friction_torque = tf_ + x_ * std::abs(ws), torque = kt_ * id;
-    e.torque_sign_doubtful = (torque <= 0.5 * friction_torque) |
-                             (std::min(id, c2_) <= three_sigma_id_) |
-                             (torque <= kt_ * std::abs(id - prev_id_)) |
-                             (sign_ * j_ * eps < -friction_torque - three_sigma_accel_torque_);
+    e.torque_sign_doubtful = torque <= 0.5 * friction_torque ||
+                             std::min(id, c2_) <= three_sigma_id_ ||
+                             torque <= kt_ * std::abs(id - prev_id_) ||
+                             sign_ * j_ * eps < -friction_torque - three_sigma_accel_torque_;
   }
   prev_u_ = u;
   prev_w_ = w;

@@ -172,7 +172,8 @@ class AxisForceEstimator {
   double r_ = 0.0;                 // pole of Q for the step
   double var_current_gain_ = 1.0;  // variance of the filtered current term per unit white noise
   double var_obs_nm2_ = 0.0;       // variance of the filtered X·ω + J·Δω/Δt from speed noise
-  double three_sigma_accel_torque_ = 0.0;  // 3σ of J times the filtered acceleration (speed noise)
+  // 3σ of J times the filtered acceleration from speed noise.
+  double three_sigma_accel_torque_ = 0.0;
   double var_fixed_nm2_[2] = {0.0, 0.0};  // the step's constant variance: moving, standstill
   double prev_id_ = 0.0;                  // |Id| of the previous sample
   // Filter states: load torque, |current| and acceleration (two first-order stages each).
