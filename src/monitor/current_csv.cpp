@@ -1288,7 +1288,33 @@ void append_number(std::string& out, double value, int digits) {
   out.append(buffer, put_number(buffer, value, digits));
 }
 
-char* write_estimate_row(char* p, double time_s, std::string_view axis, const ForceEstimate& e) {
+namespace {
+
+// The digits of an estimate's four numbers made side by side (digit_texts), where each is in
+// general7's range (an unknown σ is not written: its lane keeps SevenParts' 10^6); `fast`
+// false otherwise (each number then by put_number).
+struct RowDigits {
+  SevenParts f, s, w, a;
+  bool fast = false;
+#if defined(__SSE2__) && defined(__x86_64__)
+  __m128i low, high;
+#endif
+};
+
+[[gnu::always_inline]] inline RowDigits row_digits(const ForceEstimate& e) {
+  RowDigits d;
+#if defined(__SSE2__) && defined(__x86_64__)
+  if constexpr (std::endian::native == std::endian::little) {
+    d.fast = seven_parts(e.force_n, d.f) && (!e.sigma_known || seven_parts(e.force_sigma_n, d.s)) &&
+             seven_parts(e.speed_rad_s, d.w) && seven_parts(e.accel_rad_s2, d.a);
+    if (d.fast) digit_texts(d.f.n, d.s.n, d.w.n, d.a.n, d.low, d.high);
+  }
+#endif
+  return d;
+}
+
+[[gnu::always_inline]] inline char* put_row(char* p, double time_s, std::string_view axis,
+                                            const ForceEstimate& e, const RowDigits& d) {
   // Room: the time's 32 bytes copied, two commas and the axis, then three numbers of at most
   // 14 characters and their commas before the last, which has kNumberRoom: 32 + 2 + 45 + 48,
   // within kEstimateRowRoom.
@@ -1317,31 +1343,19 @@ char* write_estimate_row(char* p, double time_s, std::string_view axis, const Fo
   }
   *p++ = ',';
 #if defined(__SSE2__) && defined(__x86_64__)
-  if constexpr (std::endian::native == std::endian::little) {
-    // The four numbers' digits made side by side (digit_texts) where each is in general7's
-    // range (an unknown σ is not written: its lane keeps SevenParts' 10^6); else each by
-    // put_number.
-    SevenParts f, s, w, a;
-    const bool sigma = e.sigma_known;
-    if (seven_parts(e.force_n, f) && (!sigma || seven_parts(e.force_sigma_n, s)) &&
-        seven_parts(e.speed_rad_s, w) && seven_parts(e.accel_rad_s2, a)) {
-      __m128i low, high;
-      digit_texts(f.n, s.n, w.n, a.n, low, high);
-      const auto word = [](__m128i t) {
-        return static_cast<std::uint64_t>(_mm_cvtsi128_si64(t));
-      };
-      p = put_fixed7(p, seven_of_eight(word(low)), f.e10, std::signbit(e.force_n));
-      *p++ = ',';
-      if (sigma) {
-        p = put_fixed7(p, seven_of_eight(word(_mm_unpackhi_epi64(low, low))), s.e10,
-                       std::signbit(e.force_sigma_n));
-      }
-      *p++ = ',';
-      p = put_fixed7(p, seven_of_eight(word(high)), w.e10, std::signbit(e.speed_rad_s));
-      *p++ = ',';
-      return put_fixed7(p, seven_of_eight(word(_mm_unpackhi_epi64(high, high))), a.e10,
-                        std::signbit(e.accel_rad_s2));
+  if (d.fast) {
+    const auto word = [](__m128i t) { return static_cast<std::uint64_t>(_mm_cvtsi128_si64(t)); };
+    p = put_fixed7(p, seven_of_eight(word(d.low)), d.f.e10, std::signbit(e.force_n));
+    *p++ = ',';
+    if (e.sigma_known) {
+      p = put_fixed7(p, seven_of_eight(word(_mm_unpackhi_epi64(d.low, d.low))), d.s.e10,
+                     std::signbit(e.force_sigma_n));
     }
+    *p++ = ',';
+    p = put_fixed7(p, seven_of_eight(word(d.high)), d.w.e10, std::signbit(e.speed_rad_s));
+    *p++ = ',';
+    return put_fixed7(p, seven_of_eight(word(_mm_unpackhi_epi64(d.high, d.high))), d.a.e10,
+                      std::signbit(e.accel_rad_s2));
   }
 #endif
   p = put_number(p, e.force_n, 7);
@@ -1351,6 +1365,15 @@ char* write_estimate_row(char* p, double time_s, std::string_view axis, const Fo
   p = put_number(p, e.speed_rad_s, 7);
   *p++ = ',';
   return put_number(p, e.accel_rad_s2, 7);
+}
+
+}  // namespace
+
+char* write_estimate_row(char* p, double time_s, std::string_view axis, const ForceEstimate& e) {
+  // The numbers' digits first: their chain of dependent operations (scaling, rounding, digits)
+  // is the row's longest, and the time and the axis are written while it runs.
+  const RowDigits digits = row_digits(e);
+  return put_row(p, time_s, axis, e, digits);
 }
 
 void append_estimate_row(std::string& out, double time_s, std::string_view axis,
