@@ -573,12 +573,20 @@ char* general7_any(char* p, double x) {
 // [10^6, 10^7), in one correctly rounded multiplication; false outside that range, and where
 // the exponent estimate is one off near a power of ten (y then out of range).
 [[gnu::always_inline]] inline bool seven_digit_scale(double ax, int& e10, double& y) {
-  static constexpr double kNear[13] = {1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1e0, 1e1,
-                                       1e2,  1e3,  1e4,  1e5,  1e6,  1e7};  // 10^(i − 5)
+  // 10^(i − 1): the scalings for the estimate and for the exponent above it, side by side.
+  static constexpr double kScale[13] = {1e-1, 1e0, 1e1, 1e2, 1e3,  1e4, 1e5,
+                                        1e6,  1e7, 1e8, 1e9, 1e10, 1e11};
   if (!(ax >= 1e-4 && ax < 1e7)) return false;
-  e10 = decimal_exponent_estimate(ax);  // -14..23 here: -5..6
-  e10 += ax >= kNear[e10 + 6] ? 1 : 0;
-  y = ax * kPow10[6 - e10];
+  const int estimate = decimal_exponent_estimate(ax);  // e10 or e10 − 1: -5..6 here
+  // Both candidates at once, each one correctly rounded multiplication by an exact power of
+  // ten (not a comparison with 10^(estimate + 1), then the scaling: a chain twice as long):
+  // ax·10^(6 − estimate) reaches 10^7 exactly where ax·10^(5 − estimate) is the one in range,
+  // or where it rounded up to 10^7 (and the other is 10^6 rounded, or refused below). The
+  // second is 0.1·ax (inexact) only for estimate 6, where the first is ax < 10^7.
+  const double y0 = ax * kScale[7 - estimate], y1 = ax * kScale[6 - estimate];
+  const bool up = y0 >= 1e7;
+  e10 = estimate + (up ? 1 : 0);
+  y = up ? y1 : y0;
   return y >= 1e6 && y < 1e7;
 }
 

@@ -203,26 +203,33 @@ template <bool kSigned>
   // docs/models/monitor.md §1), so it is corrected to sqrt(max(Id² − 2σ_Id², 0)), whose mean is
   // Id_true to that order; the size of the correction enters σ (below), since near Id ≈ σ_Id
   // the correction itself is uncertain.
-  double bias = 0.0;
-  if (!kSigned && id_noise_ > 0.0) {
-    // x = 2σ_Id²/Id² from Id² itself, while the square root of Id is under way (the estimate's
-    // longest chain of dependent operations runs from the currents to the force: this takes
-    // the division and the series off it).
+  // The chain from the currents to the force is the estimate's longest: what does not depend
+  // on Id (the correction's factor, the sign, KT, the speed and friction terms) is made while
+  // its square root is under way, and joins it in one product and one difference.
+  double bias = 0.0, kt_current = 0.0;  // KT times the torque current
+  if constexpr (kSigned) {
+    kt_current = kt_ * signed_equivalent_current(iu, iv, iw, rotor_angle, cal_.model.measure);
+  } else if (id_noise_ > 0.0) {
     const double x = two_var_id_ / id_square;  // inf at id = 0: the sqrt branch
     // id·(1 − sqrt(1 − x)) = id·(x/2 + x²/8 + x³/16 + …): the series to 1e-7 relative for x <
     // 0.01, without the square root.
-    bias = x < 0.01 ? id * (x * (0.5 + x * (0.125 + 0.0625 * x)))
-                    : id - std::sqrt(std::max(id_square - two_var_id_, 0.0));
+    if (x < 0.01) {
+      const double q = x * (0.5 + x * (0.125 + 0.0625 * x));
+      bias = id * q;
+      kt_current = id * (kt_ * sign_ * (1.0 - q));
+    } else {
+      const double corrected = std::sqrt(std::max(id_square - two_var_id_, 0.0));
+      bias = id - corrected;
+      kt_current = kt_ * sign_ * corrected;
+    }
+  } else {
+    kt_current = id * (kt_ * sign_);
   }
-  double torque_current = 0.0;
-  if constexpr (kSigned)
-    torque_current = signed_equivalent_current(iu, iv, iw, rotor_angle, cal_.model.measure);
-  else
-    torque_current = sign_ * (id - bias);
-  const double u = kt_ * torque_current - x_ * w - friction;
+  const double rest = x_ * w + friction;  // u = KT·Id − rest
+  const double u = kt_current - rest;
   if (!started_) {
     // The first sample: taken as steady (no acceleration), the filter at rest there.
-    y1_ = y2_ = u;
+    y1_ = y2_ = u * inv_k_;
     c1_ = c2_ = id;
     a1_ = a2_ = 0.0;
     prev_id_ = id;
@@ -231,16 +238,19 @@ template <bool kSigned>
     // The mean load torque over the step: the current term by the trapezoid rule, the
     // inertia term exactly (J times the mean acceleration), then Q.
     const double accel = (w - prev_w_) * inv_dt_;
-    const double load = 0.5 * (u + prev_u_) - j_ * accel;
-    const double g = 1.0 - r_;
-    y1_ += g * (load - y1_);
-    y2_ += g * (y1_ - y2_);
+    // Q's two stages as y ← r·y + g·x, in newtons (the load over KBlf): the first,
+    // y1 ← r·y1 + (g/KBlf)·(½(KT·Id − rest) + ½u_prev − J·accel), with the terms without Id
+    // summed first, so that Id enters last.
+    const double g = 1.0 - r_, gain = g * inv_k_;
+    const double before_current = r_ * y1_ + gain * (0.5 * (prev_u_ - rest) - j_ * accel);
+    y1_ = before_current + (0.5 * gain) * kt_current;
+    y2_ = r_ * y2_ + g * y1_;
     c1_ += g * (id - c1_);
     c2_ += g * (c1_ - c2_);
     a1_ += g * (accel - a1_);
     a2_ += g * (a1_ - a2_);
   }
-  e.force_n = y2_ * inv_k_;
+  e.force_n = y2_;
   e.accel_rad_s2 = a2_;
   const double eps = a2_;
   if (!kSigned && !e.standstill) {

@@ -53,6 +53,20 @@ TEST(MonitorBand, TeachInFromReferenceRuns) {
   EXPECT_THROW(teach_band({}), InvalidInput);
 }
 
+TEST(MonitorBand, SigmaOfALargeLevelIsExact) {
+  // 10^6 N ± 0.5 N: σ = 0.5·√(20/19) N to rounding. The one-pass Σx² − n·m² cancels to 1e-13
+  // of its terms here and would leave σ wrong by about 1e-3 relative (ε·(m/σ)²); the
+  // deviations are summed instead.
+  const ForceBand band =
+      teach_band({run_of(2.0, [](double t) { return 1000.0 * reference(t) + 0.5; }),
+                  run_of(2.0, [](double t) { return 1000.0 * reference(t) - 0.5; })});
+  const std::size_t b = band.bin(1.0);
+  const double sigma = 0.5 * std::sqrt(20.0 / 19.0);
+  EXPECT_NEAR(band.mean_n[b], 1e6, 1e-9 * 1e6);
+  EXPECT_NEAR(band.sigma_n[b], sigma, 1e-9 * sigma);
+  EXPECT_EQ(band.sigma_n[band.bin(0.05)], 0.0);  // in the air: every level 0
+}
+
 // The time at which L = F0 + (F1 − F0)(1 − exp(−(t − t0)/τ)) reaches `limit`.
 double crossing(double f0, double f1, double t0, double tau, double limit) {
   return t0 - tau * std::log(1.0 - (limit - f0) / (f1 - f0));

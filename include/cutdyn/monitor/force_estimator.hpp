@@ -176,7 +176,8 @@ class AxisForceEstimator {
   double three_sigma_accel_torque_ = 0.0;
   double var_fixed_nm2_[2] = {0.0, 0.0};  // the step's constant variance: moving, standstill
   double prev_id_ = 0.0;                  // |Id| of the previous sample
-  // Filter states: load torque, |current| and acceleration (two first-order stages each).
+  // Filter states: load torque over KBlf (N), |current| and acceleration (two first-order
+  // stages each).
   double y1_ = 0.0, y2_ = 0.0, c1_ = 0.0, c2_ = 0.0, a1_ = 0.0, a2_ = 0.0;
   double prev_u_ = 0.0, prev_w_ = 0.0;
   // Per-calibration constants.
