@@ -572,20 +572,40 @@ char* general7_any(char* p, double x) {
 // For 1e-4 <= ax < 1e7: its decimal exponent e10 (-4..6) and y = ax·10^(6 − e10) in
 // [10^6, 10^7), in one correctly rounded multiplication; false outside that range, and where
 // the exponent estimate is one off near a power of ten (y then out of range).
+// For the binary exponents of [1e-4, 1e7) (2^-14 .. 2^23, from 0): the decimal exponent
+// estimate floor(e2·log10 2) (e10 or e10 − 1) and the powers of ten that scale a number of
+// either exponent to 7 digits (10^(6 − estimate) and 10^(5 − estimate), exact doubles; the
+// second 0.1 for the estimate 6, where it is never taken).
+struct SevenScale {
+  double estimated = 1.0, above = 1.0;
+  int estimate = 0;
+};
+constexpr int kSevenLowestExponent = 1023 - 14;  // the biased exponent of 2^-14 (< 1e-4)
+constexpr auto kSevenScale = [] {
+  std::array<SevenScale, 38> t{};
+  for (int i = 0; i < 38; ++i) {
+    const int estimate = ((i - 14) * 78913) >> 18;  // decimal_exponent_estimate's formula
+    t[static_cast<std::size_t>(i)] = {kPow10[6 - estimate],
+                                      estimate == 6 ? 0.1 : kPow10[5 - estimate], estimate};
+  }
+  return t;
+}();
+
+// For 1e-4 <= ax < 1e7: its decimal exponent e10 (-4..6) and y = ax·10^(6 − e10) in
+// [10^6, 10^7), in one correctly rounded multiplication; false outside that range, and where
+// y rounds to 10^7 (then to general7_any, or shortest15).
 [[gnu::always_inline]] inline bool seven_digit_scale(double ax, int& e10, double& y) {
-  // 10^(i − 1): the scalings for the estimate and for the exponent above it, side by side.
-  static constexpr double kScale[13] = {1e-1, 1e0, 1e1, 1e2, 1e3,  1e4, 1e5,
-                                        1e6,  1e7, 1e8, 1e9, 1e10, 1e11};
   if (!(ax >= 1e-4 && ax < 1e7)) return false;
-  const int estimate = decimal_exponent_estimate(ax);  // e10 or e10 − 1: -5..6 here
   // Both candidates at once, each one correctly rounded multiplication by an exact power of
-  // ten (not a comparison with 10^(estimate + 1), then the scaling: a chain twice as long):
-  // ax·10^(6 − estimate) reaches 10^7 exactly where ax·10^(5 − estimate) is the one in range,
-  // or where it rounded up to 10^7 (and the other is 10^6 rounded, or refused below). The
-  // second is 0.1·ax (inexact) only for estimate 6, where the first is ax < 10^7.
-  const double y0 = ax * kScale[7 - estimate], y1 = ax * kScale[6 - estimate];
+  // ten, their powers looked up by the binary exponent (not the estimate computed, compared
+  // with 10^(estimate + 1), then a scaling: a chain twice as long): ax·10^(6 − estimate)
+  // reaches 10^7 where ax·10^(5 − estimate) is the one in range, or where it rounded up to
+  // 10^7 (and the other is 10^6 rounded, or refused below).
+  const SevenScale& s = kSevenScale[(std::bit_cast<std::uint64_t>(ax) >> 52) -
+                                    static_cast<std::uint64_t>(kSevenLowestExponent)];
+  const double y0 = ax * s.estimated, y1 = ax * s.above;
   const bool up = y0 >= 1e7;
-  e10 = estimate + (up ? 1 : 0);
+  e10 = s.estimate + (up ? 1 : 0);
   y = up ? y1 : y0;
   return y >= 1e6 && y < 1e7;
 }
@@ -644,17 +664,23 @@ struct SevenParts {
   int e10 = 0;
 };
 
-[[gnu::always_inline]] inline bool seven_parts(double x, SevenParts& s) {
-  double y = 0.0;
-  if (!seven_digit_scale(std::fabs(x), s.e10, y)) return false;
+// |x| scaled to [10^6, 10^7) (seven_digit_scale) where its rounding to an integer is decided
+// without a branch on the fraction (a coin toss): the floor of y + 0.5 (exact: y has no bit
+// below 2^-29), since y is more than 1e-6 from a half (else refused: one predictable test),
+// and below 10^7 (y < 9999999.5; else refused: it rounds up to 10^7).
+[[gnu::always_inline]] inline bool seven_scaled(double x, int& e10, double& y) {
+  if (!seven_digit_scale(std::fabs(x), e10, y)) return false;
   const auto whole = static_cast<std::uint32_t>(y);
   const double fraction = y - whole;
-  // Rounded without a branch on the fraction (a coin toss): y + 0.5 is within 2^-29 of its
-  // exact value and more than 1e-6 from an integer (else refused: one predictable test), so
-  // its floor is the rounded y.
   if (std::abs(fraction - 0.5) < 1e-6) return false;
+  return y < 9999999.5;
+}
+
+[[gnu::always_inline]] inline bool seven_parts(double x, SevenParts& s) {
+  double y = 0.0;
+  if (!seven_scaled(x, s.e10, y)) return false;
   s.n = static_cast<std::uint32_t>(y + 0.5);
-  return s.n != 10'000'000;
+  return true;
 }
 
 // general7_any for 1e-4 <= |x| < 1e7, printf's fixed form (the columns of an estimate), in one
@@ -678,15 +704,11 @@ struct SevenParts {
   return _mm_sub_epi16(q, _mm_slli_epi64(_mm_mullo_epi16(q, _mm_set1_epi16(10)), 16));
 }
 
-// The 8 digits of each of n0..n3 < 10^8 as text, the first digit in the lowest byte: n0 and
-// n1 in the low and high half of `low`, n2 and n3 in `high`. Four numbers at once in SSE2
+// The 8 digits of each of the 32-bit lanes n0..n3 < 10^8 of v as text, the first digit in the
+// lowest byte: n0 and n1 in the low and high half of `low`, n2 and n3 in `high`. Four numbers at once in SSE2
 // registers: n = 10000·h + l (h by a multiplication with the inverse of 10^4), then the
 // four digits of h and of l side by side.
-[[gnu::always_inline]] inline void digit_texts(std::uint32_t n0, std::uint32_t n1,
-                                               std::uint32_t n2, std::uint32_t n3, __m128i& low,
-                                               __m128i& high) {
-  const __m128i v = _mm_set_epi32(static_cast<int>(n3), static_cast<int>(n2),
-                                  static_cast<int>(n1), static_cast<int>(n0));
+[[gnu::always_inline]] inline void digit_texts(__m128i v, __m128i& low, __m128i& high) {
   const __m128i inverse = _mm_set1_epi32(static_cast<int>(0xd1b71759));  // n/10^4 = n·it >> 45
   const __m128i even = _mm_srli_epi64(_mm_mul_epu32(v, inverse), 45);
   const __m128i odd = _mm_srli_epi64(_mm_mul_epu32(_mm_srli_epi64(v, 32), inverse), 45);
@@ -1299,10 +1321,10 @@ void append_number(std::string& out, double value, int digits) {
 namespace {
 
 // The digits of an estimate's four numbers made side by side (digit_texts), where each is in
-// general7's range (an unknown σ is not written: its lane keeps SevenParts' 10^6); `fast`
+// general7's range (an unknown σ is not written: its lane holds 10^6); `fast`
 // false otherwise (each number then by put_number).
 struct RowDigits {
-  SevenParts f, s, w, a;
+  int f = 0, s = 0, w = 0, a = 0;  // the decimal exponents of force, σ, speed, acceleration
   bool fast = false;
 #if defined(__SSE2__) && defined(__x86_64__)
   __m128i low, high;
@@ -1313,9 +1335,17 @@ struct RowDigits {
   RowDigits d;
 #if defined(__SSE2__) && defined(__x86_64__)
   if constexpr (std::endian::native == std::endian::little) {
-    d.fast = seven_parts(e.force_n, d.f) && (!e.sigma_known || seven_parts(e.force_sigma_n, d.s)) &&
-             seven_parts(e.speed_rad_s, d.w) && seven_parts(e.accel_rad_s2, d.a);
-    if (d.fast) digit_texts(d.f.n, d.s.n, d.w.n, d.a.n, d.low, d.high);
+    double f = 0.0, s = 1e6, w = 0.0, a = 0.0;  // an unknown σ's lane: 10^6, not written
+    d.fast = seven_scaled(e.force_n, d.f, f) &&
+             (!e.sigma_known || seven_scaled(e.force_sigma_n, d.s, s)) &&
+             seven_scaled(e.speed_rad_s, d.w, w) && seven_scaled(e.accel_rad_s2, d.a, a);
+    if (d.fast) {
+      // Rounded two at a time, where the digits are made (not each number alone, then moved).
+      const __m128d half = _mm_set1_pd(0.5);
+      digit_texts(_mm_unpacklo_epi64(_mm_cvttpd_epi32(_mm_add_pd(_mm_set_pd(s, f), half)),
+                                     _mm_cvttpd_epi32(_mm_add_pd(_mm_set_pd(a, w), half))),
+                  d.low, d.high);
+    }
   }
 #endif
   return d;
@@ -1353,16 +1383,16 @@ struct RowDigits {
 #if defined(__SSE2__) && defined(__x86_64__)
   if (d.fast) {
     const auto word = [](__m128i t) { return static_cast<std::uint64_t>(_mm_cvtsi128_si64(t)); };
-    p = put_fixed7(p, seven_of_eight(word(d.low)), d.f.e10, std::signbit(e.force_n));
+    p = put_fixed7(p, seven_of_eight(word(d.low)), d.f, std::signbit(e.force_n));
     *p++ = ',';
     if (e.sigma_known) {
-      p = put_fixed7(p, seven_of_eight(word(_mm_unpackhi_epi64(d.low, d.low))), d.s.e10,
+      p = put_fixed7(p, seven_of_eight(word(_mm_unpackhi_epi64(d.low, d.low))), d.s,
                      std::signbit(e.force_sigma_n));
     }
     *p++ = ',';
-    p = put_fixed7(p, seven_of_eight(word(d.high)), d.w.e10, std::signbit(e.speed_rad_s));
+    p = put_fixed7(p, seven_of_eight(word(d.high)), d.w, std::signbit(e.speed_rad_s));
     *p++ = ',';
-    return put_fixed7(p, seven_of_eight(word(_mm_unpackhi_epi64(d.high, d.high))), d.a.e10,
+    return put_fixed7(p, seven_of_eight(word(_mm_unpackhi_epi64(d.high, d.high))), d.a,
                       std::signbit(e.accel_rad_s2));
   }
 #endif
