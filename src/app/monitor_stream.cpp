@@ -133,15 +133,40 @@ EstimateStream::Axis* EstimateStream::axis(int index) {
   }
 }
 
+void EstimateStream::first_row(Axis& a) {
+  a.seen = true;
+  const CurrentMeasure measure = a.estimator->calibration().model.measure;
+  if (const auto m = parser_.recorded_measure(a.name); m && m->first != measure)
+    throw measure_mismatch(names_.measure, source_, m->second, a.name, m->first, measure);
+}
+
+void EstimateStream::refuse(const CurrentRow& r, const Axis* a, std::vector<CsvLineError>& own) {
+  const std::string& name = parser_.axes()[static_cast<std::size_t>(r.axis)];
+  std::string problem;
+  if (!a) {
+    std::string have;
+    for (const auto& [axis, c] : calibration_) have += (have.empty() ? "" : ", ") + axis;
+    problem = "axis \"" + name + "\" is not in the calibration " + calibration_name_ +
+              " (it has " + have + ")";
+  } else {
+    problem = "the estimate of axis " + name +
+              " is not finite: a value of the line is beyond what the estimator can take (a "
+              "current or speed near the range of a double, or a time step near 0); the axis "
+              "starts afresh at its next line";
+  }
+  own.push_back({r.line, std::move(problem)});
+  if (stop_) {
+    // The first bad line (the parser stopped after these rows): the estimates before it are
+    // out first.
+    if (flush_) flush_();
+    bad_.take(own);
+  }
+}
+
 [[gnu::always_inline]] inline bool EstimateStream::estimate(const CurrentRow& r, Axis& a) {
   AxisForceEstimator& e = *a.estimator;
-  if (!a.seen) {
-    a.seen = true;
-    if (const auto m = parser_.recorded_measure(a.name);
-        m && m->first != e.calibration().model.measure)
-      throw measure_mismatch(names_.measure, source_, m->second, a.name, m->first,
-                             e.calibration().model.measure);
-  }
+  if (!a.seen) [[unlikely]]
+    first_row(a);
   const ForceEstimate estimate = update(r, a);
   // Finite values so large (a current of 1e200 A) or steps so short (1e-300 s) that the
   // estimate overflows: a bad line, never a NaN or an infinity in the output; the axis starts
@@ -175,26 +200,7 @@ void EstimateStream::process() {
     const auto i = static_cast<std::size_t>(r.axis);
     Axis* const a = i < by_index_.size() && by_index_[i] ? by_index_[i].get() : axis(r.axis);
     if (a && estimate(r, *a)) continue;
-    const std::string& name = parser_.axes()[static_cast<std::size_t>(r.axis)];
-    std::string problem;
-    if (!a) {
-      std::string have;
-      for (const auto& [axis, c] : calibration_) have += (have.empty() ? "" : ", ") + axis;
-      problem = "axis \"" + name + "\" is not in the calibration " + calibration_name_ +
-                " (it has " + have + ")";
-    } else {
-      problem = "the estimate of axis " + name +
-                " is not finite: a value of the line is beyond what the estimator can take (a "
-                "current or speed near the range of a double, or a time step near 0); the axis "
-                "starts afresh at its next line";
-    }
-    own.push_back({r.line, std::move(problem)});
-    if (stop_) {
-      // The first bad line (the parser stopped after these rows): the estimates before it are
-      // out first.
-      if (flush_) flush_();
-      bad_.take(own);
-    }
+    refuse(r, a, own);
   }
   rows_.clear();
   if (flush_) flush_();

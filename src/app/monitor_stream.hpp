@@ -88,6 +88,11 @@ class EstimateStream {
   void process();
   // False (nothing written) if the estimate is not finite.
   bool estimate(const CurrentRow& r, Axis& a);
+  // The first row of an axis: its log's recorded measure checked against the calibration's.
+  [[gnu::noinline]] void first_row(Axis& a);
+  // Row r refused (its axis `a` not in the calibration, or null; or its estimate not finite):
+  // in `own`, and thrown at once where the stream stops at a bad line.
+  [[gnu::noinline]] void refuse(const CurrentRow& r, const Axis* a, std::vector<CsvLineError>& own);
   // The row through the axis' estimator (a bandwidth above the row's Nyquist frequency thrown
   // as the front end names it).
   ForceEstimate update(const CurrentRow& r, Axis& a);
