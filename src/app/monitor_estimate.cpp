@@ -68,6 +68,11 @@ struct EstimateJob::State {
     used += text.size();
   }
   void each(const CurrentRow& r, const detail::EstimateStream::Axis& a, const ForceEstimate& e);
+  // The stream's `each`.
+  void operator()(const CurrentRow& r, const detail::EstimateStream::Axis& a,
+                  const ForceEstimate& e) {
+    each(r, a, e);
+  }
   void alarm_columns(double time_s, const std::string& axis, const ForceEstimate& e,
                      std::optional<AlarmSample>& alarm);
   void warn(MonitorWarning::Kind kind, const std::string& source, const std::string& axis) {
@@ -102,8 +107,8 @@ void EstimateJob::State::alarm_columns(double time_s, const std::string& axis,
   }
 }
 
-void EstimateJob::State::each(const CurrentRow& r, const detail::EstimateStream::Axis& a,
-                              const ForceEstimate& e) {
+inline void EstimateJob::State::each(const CurrentRow& r, const detail::EstimateStream::Axis& a,
+                                     const ForceEstimate& e) {
   const std::string& axis = a.name;
   // The calibration's uncertainty is unknown (the literature coefficients, §4.3 of
   // docs/models/monitor.md): said once per axis, at its first estimate.
@@ -157,9 +162,6 @@ EstimateJob::EstimateJob(Calibration calibration, std::string calibration_name,
   s.stream = std::make_unique<detail::EstimateStream>(
       s.calibration, s.report.calibration, options.estimator, std::move(source),
       options.stop_at_bad_line, s.listener, s.report.warnings,
-      [&s](const CurrentRow& r, const detail::EstimateStream::Axis& a, const ForceEstimate& e) {
-        s.each(r, a, e);
-      },
       [&s] {
         if (s.sinks.csv) s.sinks.csv(std::string_view(s.buffer.data(), s.used));
         s.used = 0;
@@ -169,11 +171,11 @@ EstimateJob::EstimateJob(Calibration calibration, std::string calibration_name,
 
 EstimateJob::~EstimateJob() = default;
 
-void EstimateJob::feed(std::string_view chunk) { state_->stream->feed(chunk); }
+void EstimateJob::feed(std::string_view chunk) { state_->stream->feed(chunk, *state_); }
 
 EstimateReport EstimateJob::finish() {
   State& s = *state_;
-  s.report.samples = s.stream->finish();
+  s.report.samples = s.stream->finish(s);
   s.report.bad_lines = s.stream->bad_lines();
   s.report.signed_current = s.stream->signed_current();
   for (const detail::EstimateStream::Axis* a : s.stream->axes()) {

@@ -86,7 +86,7 @@ std::map<std::string, AxisRun> read_log(LogInput& in, const std::string& force_c
 EstimateStream::EstimateStream(const Calibration& calibration, std::string calibration_name,
                                const EstimatorOptions& options, std::string source, bool stop,
                                const MonitorListener& listener,
-                               std::vector<MonitorWarning>& warnings, Each each,
+                               std::vector<MonitorWarning>& warnings,
                                std::function<void()> flush)
     : calibration_(calibration),
       calibration_name_(std::move(calibration_name)),
@@ -95,7 +95,6 @@ EstimateStream::EstimateStream(const Calibration& calibration, std::string calib
       stop_(stop),
       listener_(listener),
       warnings_(warnings),
-      each_(std::move(each)),
       flush_(std::move(flush)),
       parser_(source_),
       bad_(source_, stop, listener, warnings) {}
@@ -116,21 +115,13 @@ EstimateStream::Axis* EstimateStream::axis(int index) {
   return by_index_[i].get();
 }
 
-[[gnu::always_inline]] inline ForceEstimate EstimateStream::update(const CurrentRow& r, Axis& a) {
-  AxisForceEstimator& e = *a.estimator;
-  try {
-    // Returned as update makes it (a copy of a just written estimate waits on its stores).
-    return parser_.has_rotor_angle()
-               ? e.update(r.time_s, r.iu_a, r.iv_a, r.iw_a, r.speed_rad_s, r.rotor_angle_rad)
-               : e.update(r.time_s, r.iu_a, r.iv_a, r.iw_a, r.speed_rad_s);
-  } catch (const InvalidInput& x) {
-    // The bandwidth against the log's sampling (the only check of update).
-    std::vector<std::string> problems;
-    for (const std::string& p : x.problems())
-      problems.push_back(names_.bandwidth + ": " + p + ", axis " + a.name + " at line " +
-                         std::to_string(r.line));
-    throw InvalidInput(problems, source_);
-  }
+void EstimateStream::bandwidth_error(const InvalidInput& x, const CurrentRow& r, const Axis& a) {
+  // The bandwidth against the log's sampling (the only check of update).
+  std::vector<std::string> problems;
+  for (const std::string& p : x.problems())
+    problems.push_back(names_.bandwidth + ": " + p + ", axis " + a.name + " at line " +
+                       std::to_string(r.line));
+  throw InvalidInput(problems, source_);
 }
 
 void EstimateStream::first_row(Axis& a) {
@@ -163,45 +154,20 @@ void EstimateStream::refuse(const CurrentRow& r, const Axis* a, std::vector<CsvL
   }
 }
 
-[[gnu::always_inline]] inline bool EstimateStream::estimate(const CurrentRow& r, Axis& a) {
-  AxisForceEstimator& e = *a.estimator;
-  if (!a.seen) [[unlikely]]
-    first_row(a);
-  const ForceEstimate estimate = update(r, a);
-  // Finite values so large (a current of 1e200 A) or steps so short (1e-300 s) that the
-  // estimate overflows: a bad line, never a NaN or an infinity in the output; the axis starts
-  // afresh at its next line (its filter state holds the overflow).
-  if (!std::isfinite(estimate.force_n) || !std::isfinite(estimate.force_sigma_n) ||
-      !std::isfinite(estimate.speed_rad_s) || !std::isfinite(estimate.accel_rad_s2)) {
-    e.reset();
-    return false;
-  }
-  if (estimate.torque_sign_doubtful && a.sign_doubts++ == 0) {
-    a.first_doubt_line = r.line;
-    a.first_doubt_time_s = r.time_s;
-    MonitorWarning w;
-    w.kind = MonitorWarning::Kind::kTorqueSign;
-    w.source = source_;
-    w.axis = a.name;
-    w.line = r.line;
-    w.time_s = r.time_s;
-    w.message = kSignDoubt;
-    warn(listener_, warnings_, std::move(w));
-  }
-  ++a.estimates;
-  each_(r, a, estimate);
-  ++good_;
-  return true;
+void EstimateStream::first_doubt(const CurrentRow& r, Axis& a) {
+  a.first_doubt_line = r.line;
+  a.first_doubt_time_s = r.time_s;
+  MonitorWarning w;
+  w.kind = MonitorWarning::Kind::kTorqueSign;
+  w.source = source_;
+  w.axis = a.name;
+  w.line = r.line;
+  w.time_s = r.time_s;
+  w.message = kSignDoubt;
+  warn(listener_, warnings_, std::move(w));
 }
 
-void EstimateStream::process() {
-  std::vector<CsvLineError> own;  // the lines the parser passed and the estimate refuses
-  for (const CurrentRow& r : rows_) {
-    const auto i = static_cast<std::size_t>(r.axis);
-    Axis* const a = i < by_index_.size() && by_index_[i] ? by_index_[i].get() : axis(r.axis);
-    if (a && estimate(r, *a)) continue;
-    refuse(r, a, own);
-  }
+void EstimateStream::end_piece(std::vector<CsvLineError>& own) {
   rows_.clear();
   if (flush_) flush_();
   if (!own.empty()) {  // in line order with the parser's
@@ -212,14 +178,7 @@ void EstimateStream::process() {
   bad_.take(errors_);  // after the good lines before it are out
 }
 
-void EstimateStream::feed(std::string_view chunk) {
-  parser_.feed(chunk, rows_, errors_, stop_);
-  process();
-}
-
-std::size_t EstimateStream::finish() {
-  parser_.finish(rows_, errors_, stop_);
-  process();
+std::size_t EstimateStream::close() {
   bad_.finish(good_);
   std::map<std::string, std::size_t> doubts;  // by axis name
   for (const Axis* a : made_)

@@ -2,7 +2,9 @@
 // runs per axis, and the estimators of a stream's axes fed row by row.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -53,21 +55,29 @@ std::map<std::string, AxisRun> read_log(LogInput& in, const std::string& force_c
                                         RecordedMeasures* measures = nullptr);
 
 /// A log fed chunk by chunk through the estimators of its axes (made as the axes appear):
-/// `each(row, axis, estimate)` per good row, `flush()` after the rows of each chunk, before
-/// its bad lines are dealt with.
+/// `each(row, axis, estimate)` per good row (a callable given to feed and finish: the caller's
+/// own type, so that its work per row is compiled into the loop over the rows), `flush()` after
+/// the rows of each chunk, before its bad lines are dealt with.
 class EstimateStream {
  public:
-  struct Axis;
-  using Each = std::function<void(const CurrentRow&, const Axis&, const ForceEstimate&)>;
   EstimateStream(const Calibration& calibration, std::string calibration_name,
                  const EstimatorOptions& options, std::string source, bool stop,
-                 const MonitorListener& listener, std::vector<MonitorWarning>& warnings, Each each,
+                 const MonitorListener& listener, std::vector<MonitorWarning>& warnings,
                  std::function<void()> flush);
   /// How the front end calls the measure and the bandwidth, for the messages.
   void set_names(const RequestNames& names) { names_ = names; }
-  void feed(std::string_view chunk);
+  template <class Each>
+  void feed(std::string_view chunk, Each& each) {
+    parser_.feed(chunk, rows_, errors_, stop_);
+    process(each);
+  }
   /// The end: the last line, the counts. Returns the good rows.
-  std::size_t finish();
+  template <class Each>
+  std::size_t finish(Each& each) {
+    parser_.finish(rows_, errors_, stop_);
+    process(each);
+    return close();
+  }
 
   struct Axis {
     std::string name;
@@ -85,17 +95,50 @@ class EstimateStream {
 
  private:
   Axis* axis(int index);
-  void process();
-  // False (nothing written) if the estimate is not finite.
-  bool estimate(const CurrentRow& r, Axis& a);
+  // The rows of a piece through their axes' estimators, then the piece's end.
+  template <class Each>
+  void process(Each& each);
+  // The row through the axis' estimator (a bandwidth above the row's Nyquist frequency thrown
+  // as the front end names it, by bandwidth_error). Returned as update makes it: a copy of a
+  // just written estimate would wait on its stores.
+  ForceEstimate update(const CurrentRow& r, Axis& a) {
+    AxisForceEstimator& e = *a.estimator;
+    try {
+      return parser_.has_rotor_angle()
+                 ? e.update(r.time_s, r.iu_a, r.iv_a, r.iw_a, r.speed_rad_s, r.rotor_angle_rad)
+                 : e.update(r.time_s, r.iu_a, r.iv_a, r.iw_a, r.speed_rad_s);
+    } catch (const InvalidInput& x) {
+      bandwidth_error(x, r, a);
+    }
+  }
+  [[noreturn, gnu::noinline]] void bandwidth_error(const InvalidInput& x, const CurrentRow& r,
+                                                   const Axis& a);
+  // Row r's estimate taken (counted, its sign doubt said), or refused if it is not finite.
+  bool accept(const CurrentRow& r, Axis& a, const ForceEstimate& estimate) {
+    // Finite values so large (a current of 1e200 A) or steps so short (1e-300 s) that the
+    // estimate overflows: a bad line, never a NaN or an infinity in the output; the axis
+    // starts afresh at its next line (its filter state holds the overflow).
+    if (!std::isfinite(estimate.force_n) || !std::isfinite(estimate.force_sigma_n) ||
+        !std::isfinite(estimate.speed_rad_s) || !std::isfinite(estimate.accel_rad_s2)) {
+      a.estimator->reset();
+      return false;
+    }
+    if (estimate.torque_sign_doubtful && a.sign_doubts++ == 0) first_doubt(r, a);
+    ++a.estimates;
+    ++good_;
+    return true;
+  }
   // The first row of an axis: its log's recorded measure checked against the calibration's.
   [[gnu::noinline]] void first_row(Axis& a);
+  // The first row of an axis whose torque sign is in doubt: kept and said.
+  [[gnu::noinline]] void first_doubt(const CurrentRow& r, Axis& a);
   // Row r refused (its axis `a` not in the calibration, or null; or its estimate not finite):
   // in `own`, and thrown at once where the stream stops at a bad line.
   [[gnu::noinline]] void refuse(const CurrentRow& r, const Axis* a, std::vector<CsvLineError>& own);
-  // The row through the axis' estimator (a bandwidth above the row's Nyquist frequency thrown
-  // as the front end names it).
-  ForceEstimate update(const CurrentRow& r, Axis& a);
+  // A piece's end: its rows handed on (flush), then its bad lines (`own`: the estimate's).
+  void end_piece(std::vector<CsvLineError>& own);
+  // finish's counts and warnings.
+  std::size_t close();
 
   RequestNames names_;
   const Calibration& calibration_;
@@ -105,7 +148,6 @@ class EstimateStream {
   bool stop_;
   const MonitorListener& listener_;
   std::vector<MonitorWarning>& warnings_;
-  Each each_;
   std::function<void()> flush_;
   CurrentCsvParser parser_;
   BadLines bad_;
@@ -115,5 +157,25 @@ class EstimateStream {
   std::vector<Axis*> made_;
   std::size_t good_ = 0;
 };
+
+template <class Each>
+void EstimateStream::process(Each& each) {
+  std::vector<CsvLineError> own;  // the lines the parser passed and the estimate refuses
+  for (const CurrentRow& r : rows_) {
+    const auto i = static_cast<std::size_t>(r.axis);
+    Axis* const a = i < by_index_.size() && by_index_[i] ? by_index_[i].get() : axis(r.axis);
+    if (a) {
+      if (!a->seen) [[unlikely]]
+        first_row(*a);
+      const ForceEstimate estimate = update(r, *a);
+      if (accept(r, *a, estimate)) {
+        each(r, static_cast<const Axis&>(*a), estimate);
+        continue;
+      }
+    }
+    refuse(r, a, own);
+  }
+  end_piece(own);
+}
 
 }  // namespace cutdyn::app::detail

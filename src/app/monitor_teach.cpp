@@ -46,17 +46,18 @@ TeachReport teach(const TeachOptions& options, const MonitorListener& listener) 
   for (const std::string& input : options.references) {
     std::map<std::string, ForceRun> run;
     const auto in = LogInput::open(input, options.texts);
-    detail::EstimateStream stream(
-        calibration, options.calibration, options.estimator, in->name(), options.stop_at_bad_line,
-        listener, report.warnings,
-        [&](const CurrentRow& r, const detail::EstimateStream::Axis& a, const ForceEstimate& e) {
-          ForceRun& axis_run = run[a.name];
-          axis_run.time_s.push_back(r.time_s);
-          axis_run.force_n.push_back(e.force_n);
-        },
-        {});
-    for (std::string_view chunk = in->read(); !chunk.empty(); chunk = in->read()) stream.feed(chunk);
-    stream.finish();
+    detail::EstimateStream stream(calibration, options.calibration, options.estimator,
+                                  in->name(), options.stop_at_bad_line, listener,
+                                  report.warnings, {});
+    auto each = [&](const CurrentRow& r, const detail::EstimateStream::Axis& a,
+                    const ForceEstimate& e) {
+      ForceRun& axis_run = run[a.name];
+      axis_run.time_s.push_back(r.time_s);
+      axis_run.force_n.push_back(e.force_n);
+    };
+    for (std::string_view chunk = in->read(); !chunk.empty(); chunk = in->read())
+      stream.feed(chunk, each);
+    stream.finish(each);
     for (auto& [axis, r] : run) runs[axis].push_back(std::move(r));
   }
   BandFile& band = report.band;
