@@ -569,9 +569,6 @@ char* general7_any(char* p, double x) {
   return g.e10 < -4 || g.e10 >= 7 ? put_scientific(p, g) : put_fixed(p, g);
 }
 
-// For 1e-4 <= ax < 1e7: its decimal exponent e10 (-4..6) and y = ax·10^(6 − e10) in
-// [10^6, 10^7), in one correctly rounded multiplication; false outside that range, and where
-// the exponent estimate is one off near a power of ten (y then out of range).
 // For the binary exponents of [1e-4, 1e7) (2^-14 .. 2^23, from 0): the decimal exponent
 // estimate floor(e2·log10 2) (e10 or e10 − 1) and the powers of ten that scale a number of
 // either exponent to 7 digits (10^(6 − estimate) and 10^(5 − estimate), exact doubles; the
@@ -705,9 +702,9 @@ struct SevenParts {
 }
 
 // The 8 digits of each of the 32-bit lanes n0..n3 < 10^8 of v as text, the first digit in the
-// lowest byte: n0 and n1 in the low and high half of `low`, n2 and n3 in `high`. Four numbers at once in SSE2
-// registers: n = 10000·h + l (h by a multiplication with the inverse of 10^4), then the
-// four digits of h and of l side by side.
+// lowest byte: n0 and n1 in the low and high half of `low`, n2 and n3 in `high`. Four numbers
+// at once in SSE2 registers: n = 10000·h + l (h by a multiplication with the inverse of 10^4),
+// then the four digits of h and of l side by side.
 [[gnu::always_inline]] inline void digit_texts(__m128i v, __m128i& low, __m128i& high) {
   const __m128i inverse = _mm_set1_epi32(static_cast<int>(0xd1b71759));  // n/10^4 = n·it >> 45
   const __m128i even = _mm_srli_epi64(_mm_mul_epu32(v, inverse), 45);
@@ -1321,8 +1318,8 @@ void append_number(std::string& out, double value, int digits) {
 namespace {
 
 // The digits of an estimate's four numbers made side by side (digit_texts), where each is in
-// general7's range (an unknown σ is not written: its lane holds 10^6); `fast`
-// false otherwise (each number then by put_number).
+// general7's range (an unknown σ is not written: its lane holds 10^6); `fast` false otherwise
+// (each number then by put_number).
 struct RowDigits {
   int f = 0, s = 0, w = 0, a = 0;  // the decimal exponents of force, σ, speed, acceleration
   bool fast = false;

@@ -225,7 +225,7 @@ template <bool kSigned>
   } else {
     kt_current = id * (kt_ * sign_);
   }
-  const double rest = x_ * w + friction;  // u = KT·Id − rest
+  const double rest = x_ * w + friction;  // u = KT·(torque current) − rest
   const double u = kt_current - rest;
   if (!started_) {
     // The first sample: taken as steady (no acceleration), the filter at rest there.
