@@ -99,19 +99,15 @@ EstimateStream::EstimateStream(const Calibration& calibration, std::string calib
       parser_(source_),
       bad_(source_, stop, listener, warnings) {}
 
-EstimateStream::Axis* EstimateStream::axis(int index) {
-  const auto i = static_cast<std::size_t>(index);
-  if (i < by_index_.size() && by_index_[i]) return by_index_[i].get();  // made before
+EstimateStream::Axis* EstimateStream::make_axis(std::size_t i) {
   while (by_index_.size() <= i) by_index_.push_back(nullptr);
-  if (!by_index_[i]) {
-    const std::string& name = parser_.axes()[i];
-    const auto it = calibration_.find(name);
-    if (it == calibration_.end()) return nullptr;
-    by_index_[i] = std::make_unique<Axis>();
-    by_index_[i]->name = name;
-    by_index_[i]->estimator = std::make_unique<AxisForceEstimator>(it->second, options_);
-    made_.push_back(by_index_[i].get());
-  }
+  const std::string& name = parser_.axes()[i];
+  const auto it = calibration_.find(name);
+  if (it == calibration_.end()) return nullptr;
+  by_index_[i] = std::make_unique<Axis>();
+  by_index_[i]->name = name;
+  by_index_[i]->estimator = std::make_unique<AxisForceEstimator>(it->second, options_);
+  made_.push_back(by_index_[i].get());
   return by_index_[i].get();
 }
 

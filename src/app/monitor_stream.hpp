@@ -94,7 +94,9 @@ class EstimateStream {
   const std::string& source() const { return source_; }
 
  private:
-  Axis* axis(int index);
+  // The axis of parser index i, which has none yet: made now, or nullptr if the calibration
+  // has no such axis (then asked again at each of its rows).
+  Axis* make_axis(std::size_t i);
   // The rows of a piece through their axes' estimators, then the piece's end.
   template <class Each>
   void process(Each& each);
@@ -163,7 +165,7 @@ void EstimateStream::process(Each& each) {
   std::vector<CsvLineError> own;  // the lines the parser passed and the estimate refuses
   for (const CurrentRow& r : rows_) {
     const auto i = static_cast<std::size_t>(r.axis);
-    Axis* const a = i < by_index_.size() && by_index_[i] ? by_index_[i].get() : axis(r.axis);
+    Axis* const a = i < by_index_.size() && by_index_[i] ? by_index_[i].get() : make_axis(i);
     if (a) {
       if (!a->seen) [[unlikely]]
         first_row(*a);

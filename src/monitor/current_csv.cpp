@@ -488,10 +488,13 @@ u128 first_bytes(u128 t, int n) {
 // Writes the 16 bytes of t at p.
 void store(char* p, u128 t) { std::memcpy(p, &t, 16); }
 
+// floor(e2·log10 2), for |e2| < 1650.
+constexpr int floor_log10_pow2(int e2) { return (e2 * 78913) >> 18; }
+
 // floor(log10(x)) or one less, for a positive normal x.
 int decimal_exponent_estimate(double x) {
-  const int e2 = static_cast<int>((std::bit_cast<std::uint64_t>(x) >> 52) & 0x7ff) - 1023;
-  return (e2 * 78913) >> 18;  // floor(e2·log10 2) for |e2| < 1650
+  return floor_log10_pow2(static_cast<int>((std::bit_cast<std::uint64_t>(x) >> 52) & 0x7ff) -
+                          1023);
 }
 
 // x·10^k in one correctly rounded operation (false if 10^|k| is not an exact double).
@@ -581,7 +584,7 @@ constexpr int kSevenLowestExponent = 1023 - 14;  // the biased exponent of 2^-14
 constexpr auto kSevenScale = [] {
   std::array<SevenScale, 38> t{};
   for (int i = 0; i < 38; ++i) {
-    const int estimate = ((i - 14) * 78913) >> 18;  // decimal_exponent_estimate's formula
+    const int estimate = floor_log10_pow2(i - 14);
     t[static_cast<std::size_t>(i)] = {kPow10[6 - estimate],
                                       estimate == 6 ? 0.1 : kPow10[5 - estimate], estimate};
   }
@@ -653,14 +656,6 @@ struct SevenDigits {
   return p + d.count + 1;
 }
 
-// For 1e-4 <= |x| < 1e7: the 7 digits n (10^6 <= n < 10^7) of |x| rounded and its decimal
-// exponent e10 (-4..6); false where general7_any must decide (outside that range, near a tie,
-// rounded up to 10^7).
-struct SevenParts {
-  std::uint32_t n = 1'000'000;
-  int e10 = 0;
-};
-
 // |x| scaled to [10^6, 10^7) (seven_digit_scale) where its rounding to an integer is decided
 // without a branch on the fraction (a coin toss): the floor of y + 0.5 (exact: y has no bit
 // below 2^-29), since y is more than 1e-6 from a half (else refused: one predictable test),
@@ -673,19 +668,14 @@ struct SevenParts {
   return y < 9999999.5;
 }
 
-[[gnu::always_inline]] inline bool seven_parts(double x, SevenParts& s) {
-  double y = 0.0;
-  if (!seven_scaled(x, s.e10, y)) return false;
-  s.n = static_cast<std::uint32_t>(y + 0.5);
-  return true;
-}
-
 // general7_any for 1e-4 <= |x| < 1e7, printf's fixed form (the columns of an estimate), in one
 // word: 7 digits and a point are 8 bytes. Anything else, to general7_any.
 [[gnu::always_inline]] inline char* general7(char* p, double x) {
-  SevenParts s;
-  if (!seven_parts(x, s)) return general7_any(p, x);
-  return put_fixed7(p, seven_digits(s.n), s.e10, std::signbit(x));  // not 0 here
+  int e10 = 0;
+  double y = 0.0;
+  if (!seven_scaled(x, e10, y)) return general7_any(p, x);  // outside, near a tie, or 10^7
+  const auto n = static_cast<std::uint32_t>(y + 0.5);
+  return put_fixed7(p, seven_digits(n), e10, std::signbit(x));  // not 0 here
 }
 
 #if defined(__SSE2__) && defined(__x86_64__)

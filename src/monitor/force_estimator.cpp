@@ -112,7 +112,6 @@ AxisForceEstimator::AxisForceEstimator(const AxisCalibration& c, const Estimator
   id_noise_ = c.current_noise_a;
   id_square_factor_ = m.measure == CurrentMeasure::kRms ? 1.0 / 3.0 : 2.0 / 3.0;
   two_var_id_ = 2.0 * id_noise_ * id_noise_;
-  three_sigma_id_ = 3.0 * id_noise_;
   reset();
 }
 
@@ -262,7 +261,7 @@ template <bool kSigned>
     // the axis decelerates faster than friction alone can brake it (beyond three noise σ).
     const double friction_torque = tf_ + x_ * std::abs(ws), torque = kt_ * id;
     e.torque_sign_doubtful = torque <= 0.5 * friction_torque ||
-                             std::min(id, c2_) <= three_sigma_id_ ||
+                             std::min(id, c2_) <= 3.0 * id_noise_ ||
                              torque <= kt_ * std::abs(id - prev_id_) ||
                              sign_ * j_ * eps < -friction_torque - three_sigma_accel_torque_;
   }

@@ -183,7 +183,7 @@ class AxisForceEstimator {
   // Per-calibration constants.
   double kt_ = 0.0, x_ = 0.0, tf_ = 0.0, j_ = 0.0, inv_k_ = 0.0, id_noise_ = 0.0;
   double id_square_factor_ = 1.0 / 3.0;  // Id² = (iu² + iv² + iw²)·this, for the measure
-  double two_var_id_ = 0.0, three_sigma_id_ = 0.0;  // 2σ_Id², 3σ_Id
+  double two_var_id_ = 0.0;  // 2σ_Id²
 };
 
 }  // namespace cutdyn
