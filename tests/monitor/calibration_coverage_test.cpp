@@ -12,6 +12,7 @@
 #include "cutdyn/monitor/calibration.hpp"
 #include "cutdyn/monitor/force_estimator.hpp"
 #include "monitor/drive_chain.hpp"
+#include "monitor/synthetic_logs.hpp"
 
 namespace cutdyn {
 namespace {
@@ -293,11 +294,11 @@ TEST(MonitorCurrentMagnitude, MeanAndVarianceMatchSamplingAndInvert) {
   }
 }
 
-TEST(MonitorCalibrationCoverage, ViscousSlightlyBelowZeroIsClampedWithAWarning) {
-  // An axis without viscous loss (X = 0) and noise: the fitted X scatters about 0; below 0
-  // within 3σ it is clamped to 0 with a warning and Tnzm refitted alone (mean of sign·y),
-  // instead of a calibration that refuses a negative X. Over 10 noisy runs at least one
-  // clamps, every X is >= 0, and Tnzm stays within 4σ.
+TEST(MonitorCalibrationCoverage, ViscousSlightlyBelowZeroIsHeldAtItsBoundWithAWarning) {
+  // An axis without viscous loss (X = 0) and noise: the free X scatters about 0; below 0 it is
+  // held at its bound 0 with a warning and Tnzm refitted alone (mean of sign·y), instead of a
+  // calibration that refuses a negative X. Over 10 noisy runs at least one is held, every X
+  // is >= 0, Tnzm stays within 4σ, and X's σ covers the truth 0 from the free estimate.
   testing::DriveAxisParameters p;
   p.viscous = 0.0;
   std::vector<double> t;
@@ -321,10 +322,51 @@ TEST(MonitorCalibrationCoverage, ViscousSlightlyBelowZeroIsClampedWithAWarning) 
     if (!f.report.warnings.empty()) {
       ++clamped;
       EXPECT_EQ(f.viscous_nm_s_per_rad, 0.0);
-      EXPECT_NE(f.report.warnings[0].find("clamped to 0"), std::string::npos);
+      EXPECT_NE(f.report.warnings[0].find("held at its bound 0"), std::string::npos);
+      EXPECT_NE(f.report.warnings[0].find("within 3σ of 0"), std::string::npos);
+      EXPECT_GT(f.viscous_sigma, 0.0);
     }
   }
   EXPECT_GE(clamped, 1);
+}
+
+TEST(MonitorCalibrationCoverage, ViscousAtItsBoundNoiseFreeAndUnderAModelError) {
+  // Noise-free logs of an axis with no viscous loss: X = 0 exactly at its bound, Tnzm exact.
+  // With a wrong inertia given (J 3× the truth: the ramps' windows pull the free X far below
+  // 0 with σ ≈ 0, where a clamp to [−3σ, 0) did nothing and the calibration aborted), the fit
+  // still holds X at 0, says the logs and the model disagree, and X's σ reaches as far as the
+  // free estimate went.
+  AxisModel truth = zheng2012_axis('x');
+  truth.viscous_nm_s_per_rad = 0.0;
+  AxisModel given = truth;
+  given.friction_nm = given.viscous_nm_s_per_rad = given.force_gain_m = 0.0;
+  const IdleFit exact = fit_idle(given, {testing::synthetic_run(truth, testing::idle_profile())});
+  ASSERT_EQ(exact.report.status, CalibrationStatus::kSuccess) << exact.report.message;
+  EXPECT_EQ(exact.viscous_nm_s_per_rad, 0.0);
+  EXPECT_NEAR(exact.friction_nm / truth.friction_nm, 1.0, 1e-9);
+  EXPECT_LT(exact.viscous_sigma, 1e-9);
+
+  // Logs whose friction falls with speed (a Stribeck branch: the torque of X = −8e-4
+  // N·m·s/rad), noise-free: the free X is −8e-4 with σ ≈ 0, where a clamp to [−3σ, 0) did
+  // nothing and the calibration aborted on the negative X.
+  AxisModel falling = truth;
+  falling.viscous_nm_s_per_rad = -8e-4;
+  const IdleFit f = fit_idle(given, {testing::synthetic_run(falling, testing::idle_profile())});
+  ASSERT_EQ(f.report.status, CalibrationStatus::kSuccess) << f.report.message;
+  EXPECT_EQ(f.viscous_nm_s_per_rad, 0.0);
+  ASSERT_EQ(f.report.warnings.size(), 1u);
+  EXPECT_NE(f.report.warnings[0].find("held at its bound 0"), std::string::npos);
+  EXPECT_NE(f.report.warnings[0].find("more than 3σ below 0"), std::string::npos)
+      << f.report.warnings[0];
+  EXPECT_NEAR(f.viscous_sigma, 8e-4, 1e-9);  // as far as the logs pulled X
+  // Tnzm is the constrained optimum: the mean of sign(ω)·y over the windows.
+  EXPECT_TRUE(std::isfinite(f.friction_nm));
+  EXPECT_GT(f.friction_sigma_nm, 0.0);
+  // The calibration it makes is valid (X >= 0): no abort downstream.
+  AxisModel calibrated = truth;
+  calibrated.friction_nm = f.friction_nm;
+  calibrated.viscous_nm_s_per_rad = f.viscous_nm_s_per_rad;
+  EXPECT_TRUE(calibrated.validate().empty());
 }
 
 }  // namespace
