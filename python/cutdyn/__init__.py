@@ -262,11 +262,12 @@ class Fit(_Fields):
 
 def fit(path: PathLike, modes: Union[int, str] = "auto",
         band: Optional[Tuple[float, float]] = None, direction: Optional[str] = None,
-        format: Optional[str] = None) -> Fit:
+        format: Optional[str] = None, units: Optional[str] = None) -> Fit:
     """Fits modes to the FRF file at ``path`` (``cutdyn fit``): ``modes`` "auto" (chosen from
     the stabilisation diagram) or a number; ``band`` (lo_hz, hi_hz); ``direction`` "x" or
     "y" (default: a UFF file's response direction, else x); ``format`` "frf", "csv" or "uff"
-    (default: from the content)."""
+    (default: from the content); ``units`` a CutPro text file's units in place of its
+    header's, e.g. "kHz, mm/N"."""
     if modes == "auto" or modes is None:
         count = 0
     elif isinstance(modes, int) and not isinstance(modes, bool) and modes >= 1:
@@ -274,7 +275,8 @@ def fit(path: PathLike, modes: Union[int, str] = "auto",
     else:
         raise CaseError(f"request: modes = {modes!r}: must be 'auto' or a whole number >= 1")
     lo, hi = (None, None) if band is None else band
-    return Fit(_cutdyn.fit(os.fspath(path), count, lo, hi, direction or "", format or ""))
+    return Fit(_cutdyn.fit(os.fspath(path), count, lo, hi, direction or "", format or "",
+                           units or ""))
 
 
 class Identify(_Fields):

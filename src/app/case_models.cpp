@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <system_error>
@@ -127,12 +128,18 @@ std::optional<MeasuredStructure> measured_structure(const io::Case& c) {
                [&] { fit = fit_modes(**table, direction); });
     s.fitted.modes.insert(s.fitted.modes.end(), fit.model.modes.begin(), fit.model.modes.end());
     std::string modes;
-    for (const FittedMode& m : fit.modes)
+    for (const FittedMode& m : fit.modes) {
       modes += fmt::format("{}{:.5g} Hz ζ {:.3g} k {:.3g} N/m", modes.empty() ? "" : ", ",
                            m.natural_hz, m.damping_ratio, m.stiffness_n_per_m);
-    s.fit_notes.push_back(fmt::format("{}: {} (fitted over {:.5g}–{:.5g} Hz, RMS error {:.2g} %)",
-                                      to_string(direction), modes.empty() ? "no mode" : modes,
-                                      fit.lo_hz, fit.hi_hz, 100.0 * fit.rms_relative_error));
+      if (std::abs(m.residue_phase_deg) >= 0.05)
+        modes += fmt::format(" φ {:.2g}°", m.residue_phase_deg);
+    }
+    // The error of the modes every time-domain method uses, not the fit's with its residual
+    // terms (docs/models/modal-fitting.md §10).
+    s.fit_notes.push_back(fmt::format(
+        "{}: {} (fitted over {:.5g}–{:.5g} Hz; the modes reproduce the table to {:.2g} % RMS)",
+        to_string(direction), modes.empty() ? "no mode" : modes, fit.lo_hz, fit.hi_hz,
+        100.0 * fit.model_rms_relative_error));
     for (const std::string& w : fit.warnings)
       s.fit_warnings.push_back(std::string("fit of the measured FRF in ") + to_string(direction) +
                                ": " + w);

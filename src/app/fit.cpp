@@ -5,6 +5,7 @@
 #include <cstdlib>
 
 #include "cutdyn/core/error.hpp"
+#include "cutdyn/core/units.hpp"
 
 namespace cutdyn::app {
 
@@ -29,6 +30,10 @@ FitJobReport run_fit(const FitRequest& request) {
   r.source = request.file.string();
   r.read = read_frf_file(request.file, request.file_options);
   const Direction direction = request.direction ? *request.direction : file_direction(r.read);
+  // The fit's model is a direct receptance (docs/frf-files.md, "Is it a receptance?").
+  if (const std::string problem = direct_receptance_problem(r.read.frf, r.read.quantity);
+      !problem.empty())
+    throw InvalidInput({problem}, r.source);
   rethrow_as(r.source, "fit", [&] { r.fit = fit_modes(r.read.frf, direction, request.fit); });
   std::vector<double> band;
   for (double f : r.read.frf.frequency_hz)
@@ -42,19 +47,19 @@ FitJobReport run_fit(const FitRequest& request) {
 std::string modes_toml(const FitJobReport& r) {
   std::string out = fmt::format(
       "# Modes fitted to {} over {:.6g}–{:.6g} Hz ({} points, {} modes{}), RMS relative error "
-      "{:.3g} %.\n",
+      "{:.3g} %;\n# these modes alone (residue phases kept, no residual terms): {:.3g} %.\n",
       r.source, r.fit.lo_hz, r.fit.hi_hz, r.fit.points, r.fit.modes.size(),
       r.fit.automatic ? " chosen from the stabilisation diagram" : "",
-      100.0 * r.fit.rms_relative_error);
-  for (const FittedMode& m : r.fit.modes) {
+      100.0 * r.fit.rms_relative_error, 100.0 * r.fit.model_rms_relative_error);
+  for (const Mode& m : r.fit.model.modes) {
     out += fmt::format(
         "\n[[modes]]\ndirection = \"{}\"\nnatural_hz = {:.17g}\ndamping_ratio = {:.17g}\n"
         "stiffness_n_per_m = {:.17g}\n",
-        to_string(r.fit.direction), m.natural_hz, m.damping_ratio, m.stiffness_n_per_m);
-    if (std::abs(m.residue_phase_deg) > 10.0)
-      out += fmt::format(
-          "# complex residue ({:.3g}° from a real mode): stiffness from its magnitude\n",
-          m.residue_phase_deg);
+        to_string(m.direction), units::rad_per_s_to_hz(m.natural_rad_s), m.damping_ratio,
+        m.stiffness_n_per_m);
+    // A complex residue is part of the mode (docs/models/modal-fitting.md §10).
+    if (m.residue_phase_rad != 0.0)
+      out += fmt::format("residue_phase_deg = {:.17g}\n", units::rad_to_deg(m.residue_phase_rad));
   }
   return out;
 }

@@ -33,14 +33,16 @@ json filter_json(const FilterReport& f) {
   return j;
 }
 
-// Modes fitted to a measured FRF: [{direction, natural_hz, damping_ratio, stiffness_n_per_m}].
+// Modes fitted to a measured FRF: [{direction, natural_hz, damping_ratio, stiffness_n_per_m,
+// residue_phase_deg}].
 json modes_json(const ModalModel& m) {
   json modes = json::array();
   for (const Mode& mode : m.modes)
     modes.push_back({{"direction", to_string(mode.direction)},
                      {"natural_hz", units::rad_per_s_to_hz(mode.natural_rad_s)},
                      {"damping_ratio", mode.damping_ratio},
-                     {"stiffness_n_per_m", mode.stiffness_n_per_m}});
+                     {"stiffness_n_per_m", mode.stiffness_n_per_m},
+                     {"residue_phase_deg", units::rad_to_deg(mode.residue_phase_rad)}});
   return modes;
 }
 
@@ -599,6 +601,7 @@ json to_json(const FitJobReport& r) {
           {"automatic", f.automatic},
           {"modes", std::move(modes)},
           {"rms_relative_error", f.rms_relative_error},
+          {"model_rms_relative_error", f.model_rms_relative_error},
           {"converged", f.converged},
           {"stabilisation", std::move(points)},
           {"notes", f.notes},

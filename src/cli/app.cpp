@@ -208,6 +208,8 @@ void add_fit_command(CLI::App& app, Commands& c) {
                   "x or y: where the modes act (default: a UFF file's response direction, else x)")
       ->check(CLI::IsMember({"x", "y"}));
   fit->add_option("--format", c.fit.format, "frf, csv or uff (default: from the content)");
+  fit->add_option("--units", c.fit.units,
+                  "CutPro text: the file's units in place of its header's, e.g. \"kHz, mm/N\"");
   add_outputs(fit, c.fit.outputs,
               "write the modes as [[modes]] tables (TOML) to paste into a case file");
 }

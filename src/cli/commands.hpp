@@ -99,6 +99,7 @@ struct FitArgs {
   std::string band;            // --band LO:HI (Hz)
   std::string direction;       // empty: the file's (UFF), else x
   std::string format;          // --format frf|csv|uff; empty: from the content
+  std::string units;           // --units "Hz, mm/N" (CutPro text); empty: the file's header
   Outputs outputs;             // --out: [[modes]] tables (TOML); --json; --plot
 };
 int run_fit(const FitArgs& args, std::ostream& out, std::ostream& err);

@@ -51,6 +51,7 @@ app::FitRequest fit_request(const FitArgs& args) {
     r.file_options.format = parse_frf_format(args.format);
     if (!r.file_options.format) v.add("--format = " + args.format + ": must be frf, csv or uff");
   }
+  if (!args.units.empty()) r.file_options.units = args.units;
   if (!args.direction.empty()) r.direction = args.direction == "y" ? Direction::kY : Direction::kX;
   v.throw_if_any("command line");
   return r;

@@ -326,9 +326,9 @@ bool has_motor(const Case& c, std::size_t i) { return i < c.drives.size() && c.d
 // The stiffness of a mode given by its mass follows the natural frequency.
 void refresh_mass_mode(Case& c, std::size_t i) {
   if (i < c.mode_mass_kg.size() && c.mode_mass_kg[i] && i < c.modal.modes.size()) {
-    const Mode& m = c.modal.modes[i];
-    c.modal.modes[i] =
-        mode_from_mass(m.direction, m.natural_rad_s, m.damping_ratio, *c.mode_mass_kg[i]);
+    Mode& m = c.modal.modes[i];
+    m.stiffness_n_per_m = mode_from_mass(m.direction, m.natural_rad_s, m.damping_ratio,
+                                         *c.mode_mass_kg[i]).stiffness_n_per_m;
   }
 }
 
@@ -419,6 +419,15 @@ std::vector<Section> make_sections() {
           .label("modal stiffness")
           .deflt("one of the two")
           .member(mode, &Mode::stiffness_n_per_m),
+      number("residue_phase_deg", kDeg, open(-90.0, 90.0))
+          .label("residue phase φ")
+          .meaning("phase of the mode's residue from a real mode's: a non-proportionally "
+                   "damped mode as `cutdyn fit` finds it in a measured FRF "
+                   "(docs/models/modal-fitting.md §10)")
+          .echo_if([](const Case& c, std::size_t i) {
+            return i < c.modal.modes.size() && c.modal.modes[i].residue_phase_rad != 0.0;
+          })
+          .member(mode, &Mode::residue_phase_rad),
       number("mass_kg", unit("kg"), kPositive)
           .label("modal mass")
           .deflt("one of the two")
@@ -480,7 +489,13 @@ std::vector<Section> make_sections() {
               [](Case& c, std::size_t i, const Value& v) -> std::string {
                 c.frfs.at(i).dataset = static_cast<int>(std::get<double>(v));
                 return {};
-              })};
+              }),
+      Row("units", Type::kText)
+          .deflt("from the file's header, else Hz and m/N")
+          .meaning("CutPro text: the file's units in place of its header's, an FRF unit "
+                   "optionally after a frequency unit, e.g. `\"kHz, mm/N\"` "
+                   "(docs/frf-files.md)")
+          .access(frf_text(&FrfTable::units), set_frf_text(&FrfTable::units))};
   frf.count = [](const Case& c) { return c.frfs.size(); };
   frf.create = refuse("");
   all.push_back(std::move(frf));

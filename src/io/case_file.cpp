@@ -796,6 +796,7 @@ void load_frf_files(Case& c) {
     FrfFileOptions options;
     if (!t.format.empty()) options.format = parse_frf_format(t.format);
     options.dataset = t.dataset;
+    if (!t.units.empty()) options.units = t.units;
     FrfReadResult read;
     try {
       read = read_frf_file(t.path, options);
@@ -804,6 +805,13 @@ void load_frf_files(Case& c) {
       for (const std::string& p : e.problems())
         problems.push_back("frf[" + std::to_string(i) + "].file = \"" + t.file + "\": " + p);
       throw InvalidInput(problems, e.where());
+    }
+    // A direct table must behave as a receptance (docs/frf-files.md, "Is it a receptance?").
+    if (t.direction != "xy") {
+      if (const std::string problem = direct_receptance_problem(read.frf, read.quantity);
+          !problem.empty())
+        throw InvalidInput({"frf[" + std::to_string(i) + "].file = \"" + t.file + "\": " + problem},
+                           t.path.string());
     }
     t.data = std::move(read.frf);
     for (const std::string& w : read.warnings)

@@ -27,13 +27,69 @@ struct LineProblems {
   }
 };
 
+// Words that name a column rather than a unit ("Freq Hz Real m/N Imag Real", the trailer
+// CutPro writes after its first numbers; "Frequency Real Imaginary" headers).
+bool is_column_label(std::string_view word) {
+  const std::string w = lower(word);
+  for (const char* label : {"f", "freq", "freq.", "frequency", "re", "real", "im", "imag",
+                            "imag.", "imaginary", "part", "value", "values", "data"})
+    if (w == label) return true;
+  return false;
+}
+
+// What an unknown word that stands where a unit stands (in brackets, or written as one,
+// letters over letters) is, for the error: a dynamic stiffness (force per length), a speed,
+// a phase or level, or a unit cutdyn does not know. Empty when the word does not look like a
+// unit at all (a header's prose).
+std::string unknown_unit_problem(std::string_view word, bool bracketed) {
+  const std::string w = lower(trim(word));
+  const auto letters_only = [](std::string_view t) {
+    if (t.empty()) return false;
+    for (char c : t)
+      if (!((c >= 'a' && c <= 'z') || c == '^' || c == '*' || c == '(' || c == ')' ||
+            (c >= '0' && c <= '9')))
+        return false;
+    return t.front() >= 'a' && t.front() <= 'z';
+  };
+  const std::size_t slash = w.find('/');
+  const bool unit_like = bracketed || (slash != std::string::npos && letters_only(w.substr(0, slash)) &&
+                                       letters_only(w.substr(slash + 1)));
+  const std::string quoted = excerpt(trim(word));
+  for (const char* speed : {"rpm", "cpm", "rev/min", "1/min", "r/min"})
+    if (w == speed)
+      return quoted + " is a speed, not a frequency unit of an FRF (Hz, kHz, rad/s or 1/s)";
+  for (const char* phase : {"deg", "degree", "degrees", "rad", "db"})
+    if (w == phase)
+      return quoted + " is a phase or level unit: cutdyn reads real and imaginary parts, not "
+                      "magnitude and phase";
+  if (!unit_like) return {};
+  if (slash != std::string::npos && parse_force_unit(w.substr(0, slash)) &&
+      parse_response_unit(w.substr(slash + 1)))
+    return quoted + " is a dynamic stiffness (force per displacement); cutdyn reads a response "
+                    "per force (receptance m/N, mobility, accelerance): export the receptance";
+  return quoted + " is not a unit cutdyn knows (a response m, mm, um, in, m/s, m/s^2 or g over "
+                  "N, kN or lbf; frequencies Hz, kHz, rad/s, 1/s); state the file's units with "
+                  "--units (cutdyn fit) or units = \"...\" ([[frf]])";
+}
+
 // The units a CutPro file states (on its header line or after the numbers of its first data
-// line): the first one recognised of each kind; a second, different one is an error.
+// line): the first one recognised of each kind; a second, different one is an error, and so
+// is a word in a unit's place that is no unit cutdyn reads.
 struct StatedUnits {
   std::optional<OrdinateUnit> ordinate;
   std::optional<double> frequency_scale;
   std::string frequency_name;
   std::size_t ordinate_line = 0;
+
+  // Takes `word` if it names a unit; refuses it if it stands for a unit cutdyn does not read;
+  // whether it was taken.
+  bool take_or_refuse(std::string_view word, bool bracketed, std::size_t line,
+                      const std::string& source) {
+    if (take(word, line, source)) return true;
+    if (const std::string problem = unknown_unit_problem(word, bracketed); !problem.empty())
+      fail_at(source, line, problem);
+    return false;
+  }
 
   // Whether `word` names a unit (and takes it).
   bool take(std::string_view word, std::size_t line, const std::string& source) {
@@ -58,16 +114,22 @@ struct StatedUnits {
     return false;
   }
 
-  // A header word may carry its unit in brackets: "real[m/N]", "Frequency(Hz)".
+  // A header word may carry its unit in brackets: "real[m/N]", "Frequency(Hz)"; after a
+  // column's label ("re", "Frequency", ...) what is in the brackets must be a unit cutdyn
+  // reads. A word of its own is taken if it is a unit, refused if it looks like one cutdyn
+  // does not read, and otherwise (prose, column labels) passed over.
   void take_from_header(std::string_view word, std::size_t line, const std::string& source) {
     const std::size_t open = word.find_first_of("[(");
-    if (open != std::string_view::npos) {
+    if (open != std::string_view::npos && open > 0) {
       const std::size_t close = word.find_last_of("])");
       if (close != std::string_view::npos && close > open + 1) {
-        if (take(word.substr(open + 1, close - open - 1), line, source)) return;
+        take_or_refuse(word.substr(open + 1, close - open - 1),
+                       is_column_label(word.substr(0, open)), line, source);
+        return;
       }
     }
-    take(word, line, source);
+    if (is_column_label(word)) return;
+    take_or_refuse(word, false, line, source);
   }
 };
 
@@ -75,7 +137,38 @@ const char* const kPartNames[3] = {"the frequency", "the real part", "the imagin
 
 }  // namespace
 
-FrfReadResult read_cutpro_text(std::string_view content, const std::string& source) {
+GivenUnits parse_given_units(std::string_view text, const std::string& source) {
+  GivenUnits g;
+  bool have_ordinate = false, have_frequency = false;
+  std::vector<std::string> problems;
+  std::string_view rest = text;
+  while (true) {
+    const std::size_t comma = rest.find(',');
+    const std::string_view piece = trim(rest.substr(0, comma));
+    if (const auto f = parse_frequency_unit(piece); f && !have_frequency) {
+      g.frequency_scale = *f;
+      g.frequency_name = std::string(piece);
+      have_frequency = true;
+    } else if (const auto u = parse_ordinate_unit(piece); u && !have_ordinate) {
+      g.ordinate = *u;
+      have_ordinate = true;
+    } else {
+      problems.push_back("units = " + excerpt(text) + ": " + excerpt(piece) +
+                         " is not a frequency unit (Hz, kHz, rad/s, 1/s) or an FRF unit (m/N, "
+                         "mm/N, (m/s)/N, g/N, ...) given once");
+    }
+    if (comma == std::string_view::npos) break;
+    rest = rest.substr(comma + 1);
+  }
+  if (problems.empty() && !have_ordinate)
+    problems.push_back("units = " + excerpt(text) +
+                       ": no FRF unit (m/N, mm/N, (m/s)/N, g/N, ...); e.g. \"Hz, mm/N\"");
+  if (!problems.empty()) throw InvalidInput(problems, source);
+  return g;
+}
+
+FrfReadResult read_cutpro_text(std::string_view content, const std::string& source,
+                               const std::optional<GivenUnits>& given) {
   FrfReadResult result;
   result.format = FrfFormat::kCutPro;
   StatedUnits units;
@@ -87,7 +180,8 @@ FrfReadResult read_cutpro_text(std::string_view content, const std::string& sour
     if (text.empty() || text.front() == '%' || text.front() == '#' || text.front() == ';') continue;
     const std::vector<std::string_view> fields = split_blanks(text);
     if (!data_started && !parse_number(fields[0])) {
-      for (std::string_view word : fields) units.take_from_header(word, line.number, source);
+      if (!given)
+        for (std::string_view word : fields) units.take_from_header(word, line.number, source);
       continue;  // a header line of words before the data
     }
     const bool first = !data_started;
@@ -114,7 +208,9 @@ FrfReadResult read_cutpro_text(std::string_view content, const std::string& sour
     }
     for (std::size_t i = 3; i < fields.size(); ++i) {
       if (first && !parse_number(fields[i])) {
-        if (!units.take(fields[i], line.number, source))
+        // The standard trailer's "Freq", "Real", ...; with units given, every word.
+        if (given || is_column_label(fields[i])) continue;
+        if (!units.take_or_refuse(fields[i], false, line.number, source))
           result.warnings.push_back(at_line(line.number, "the word " + excerpt(fields[i]) +
                                                              " after the numbers is not a unit "
                                                              "cutdyn knows; ignored"));
@@ -129,6 +225,11 @@ FrfReadResult read_cutpro_text(std::string_view content, const std::string& sour
   }
   problems.throw_if_any(source);
   if (!data_started) throw InvalidInput({"no data line (frequency, real, imaginary)"}, source);
+  if (given) {
+    units.ordinate = given->ordinate;
+    units.frequency_scale = given->frequency_scale;
+    units.frequency_name = given->frequency_name;
+  }
   const OrdinateUnit unit =
       units.ordinate.value_or(OrdinateUnit{FrfQuantity::kReceptance, 1.0, "m/N"});
   result.quantity = unit.quantity;

@@ -70,7 +70,17 @@ MeasuredFrf finish_table(const std::vector<RawPoint>& points, const OrdinateUnit
 /// Throws InvalidInput({at_line(line, what)}, source).
 [[noreturn]] void fail_at(const std::string& source, std::size_t line, std::string what);
 
-FrfReadResult read_cutpro_text(std::string_view content, const std::string& source);
+/// The units given for a file from outside (FrfFileOptions::units): the frequency factor to Hz
+/// (1 unless stated) and the ordinate's unit. Throws InvalidInput naming `units` otherwise.
+struct GivenUnits {
+  double frequency_scale = 1.0;
+  std::string frequency_name = "Hz";
+  OrdinateUnit ordinate;
+};
+GivenUnits parse_given_units(std::string_view text, const std::string& source);
+
+FrfReadResult read_cutpro_text(std::string_view content, const std::string& source,
+                               const std::optional<GivenUnits>& given = std::nullopt);
 FrfReadResult read_csv_text(std::string_view content, const std::string& source);
 FrfReadResult read_uff_text(std::string_view content, const std::string& source,
                             const FrfFileOptions& options);

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <iterator>
 #include <numbers>
@@ -43,6 +44,96 @@ const char* to_string(FrfQuantity quantity) {
       return "accelerance";
   }
   return "receptance";
+}
+
+double negative_imaginary_share(const MeasuredFrf& g) {
+  double negative = 0.0, all = 0.0;
+  for (std::size_t k = 0; k < g.frequency_hz.size(); ++k) {
+    if (!(g.frequency_hz[k] > 0.0)) continue;
+    const double im = g.receptance_m_per_n[k].imag();
+    all += im * im;
+    if (im < 0.0) negative += im * im;
+  }
+  return all > 0.0 ? negative / all : 1.0;
+}
+
+double peak_quadrature(const MeasuredFrf& g) {
+  const auto& v = g.receptance_m_per_n;
+  std::vector<std::size_t> peaks;
+  double top = 0.0;
+  for (std::size_t k = 1; k + 1 < v.size(); ++k) {
+    const double m = std::abs(v[k]);
+    if (m > 0.0 && m >= std::abs(v[k - 1]) && m >= std::abs(v[k + 1])) {
+      peaks.push_back(k);
+      top = std::max(top, m);
+    }
+  }
+  double sum = 0.0, weight = 0.0;
+  for (std::size_t k : peaks) {
+    const double m = std::abs(v[k]);
+    if (m < 0.3 * top) continue;
+    sum += m * m * (-v[k].imag() / m);
+    weight += m * m;
+  }
+  return weight > 0.0 ? sum / weight : 1.0;
+}
+
+namespace {
+
+constexpr double kLeastNegativeShare = 0.75;  // of Im G, by its square
+constexpr double kLeastPeakQuadrature = 0.5;  // −Im G/|G| at the peaks: within 60° of −90°
+
+bool plausible(const MeasuredFrf& g) {
+  return negative_imaginary_share(g) >= kLeastNegativeShare &&
+         peak_quadrature(g) >= kLeastPeakQuadrature;
+}
+
+}  // namespace
+
+std::string direct_receptance_problem(const MeasuredFrf& receptance, FrfQuantity stored) {
+  if (plausible(receptance)) return {};
+  const double share = negative_imaginary_share(receptance);
+  const double quadrature = peak_quadrature(receptance);
+  // The values as the file stored them, read as each quantity in turn.
+  const auto share_as = [&](FrfQuantity q) {
+    MeasuredFrf t;
+    for (std::size_t k = 0; k < receptance.frequency_hz.size(); ++k) {
+      const double f = receptance.frequency_hz[k];
+      if (!(f > 0.0)) continue;
+      const double w = 2.0 * std::numbers::pi * f;
+      std::complex<double> value = receptance.receptance_m_per_n[k];  // undo the conversion
+      if (stored == FrfQuantity::kMobility) value *= std::complex<double>(0.0, w);
+      if (stored == FrfQuantity::kAccelerance) value *= -w * w;
+      t.frequency_hz.push_back(f);
+      t.receptance_m_per_n.push_back(to_receptance(q, value, f));
+    }
+    return plausible(t);
+  };
+  std::string problem =
+      "as a direct receptance its imaginary part is positive over " +
+      format_value(std::round(1000.0 * (1.0 - share)) / 10.0) +
+      " % of the response (by its square) and its phase at the resonance peaks is " +
+      format_value(std::round(std::asin(std::clamp(-quadrature, -1.0, 1.0)) * 1800.0 /
+                              std::numbers::pi) /
+                   10.0) +
+      "° on average; a passive structure's direct receptance has Im G ≤ 0 at every frequency "
+      "and lags the force by about 90° at its peaks";
+  for (FrfQuantity q :
+       {FrfQuantity::kReceptance, FrfQuantity::kMobility, FrfQuantity::kAccelerance}) {
+    if (q == stored || !share_as(q)) continue;
+    return problem + ". The values behave like " +
+           (q == FrfQuantity::kAccelerance ? "an " : "a ") + to_string(q) + " (" +
+           (q == FrfQuantity::kReceptance ? "displacement" : q == FrfQuantity::kMobility
+                                                                  ? "velocity"
+                                                                  : "acceleration") +
+           " per force) stored as " + (stored == FrfQuantity::kAccelerance ? "an " : "a ") +
+           to_string(stored) + ": state the units (a unit such as " +
+           (q == FrfQuantity::kReceptance ? "m/N" : q == FrfQuantity::kMobility ? "(m/s)/N"
+                                                                                : "(m/s^2)/N") +
+           " in the header, units = \"...\" or --units, or the CSV columns of that quantity)";
+  }
+  return problem + " (a cross receptance belongs in direction = \"xy\"; or the table is mostly "
+                   "noise)";
 }
 
 std::complex<double> to_receptance(FrfQuantity quantity, std::complex<double> value, double f_hz) {
@@ -111,10 +202,19 @@ FrfReadResult parse_frf(std::string_view content, const std::string& source,
                         const FrfFileOptions& options, std::string_view extension) {
   if (content.starts_with("\xef\xbb\xbf")) content.remove_prefix(3);  // UTF-8 byte order mark
   const FrfFormat format = options.format ? *options.format : detect(content, source, extension);
+  if (options.units && format != FrfFormat::kCutPro)
+    throw InvalidInput({"units = " + io::detail::excerpt(*options.units) + ": this is a " +
+                        to_string(format) +
+                        " file, which states its own units (a CSV in its column names, a "
+                        "universal file in its records); units are given only for CutPro text"},
+                       source);
   FrfReadResult result;
   switch (format) {
     case FrfFormat::kCutPro:
-      result = io::detail::read_cutpro_text(content, source);
+      result = io::detail::read_cutpro_text(
+          content, source,
+          options.units ? std::optional(io::detail::parse_given_units(*options.units, source))
+                        : std::nullopt);
       break;
     case FrfFormat::kCsv:
       result = io::detail::read_csv_text(content, source);

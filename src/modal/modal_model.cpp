@@ -2,12 +2,23 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "cutdyn/core/error.hpp"
 
 namespace cutdyn {
 
 const char* to_string(Direction direction) { return direction == Direction::kX ? "x" : "y"; }
+
+std::pair<double, double> receptance_numerator(const Mode& m) {
+  const double wn = m.natural_rad_s, phi = m.residue_phase_rad;
+  const double gain = wn / m.stiffness_n_per_m * wn;  // ωn²/k
+  if (phi == 0.0) return {gain, 0.0};
+  const double wd = wn * std::sqrt(1.0 - m.damping_ratio * m.damping_ratio);
+  // [modal_model.hpp]: b0 = (ωn²/k)·(cos φ + (ζωn/ωd)·sin φ), b1 = (ωn²/k)·sin φ/ωd.
+  return {gain * (std::cos(phi) + m.damping_ratio * wn / wd * std::sin(phi)),
+          gain * std::sin(phi) / wd};
+}
 
 Mode mode_from_mass(Direction direction, double natural_rad_s, double damping_ratio,
                     double mass_kg) {
@@ -24,6 +35,9 @@ std::vector<std::string> ModalModel::validate() const {
     v.require(m.damping_ratio >= 0.0 && m.damping_ratio < 1.0, at + "damping_ratio",
               m.damping_ratio, "", "must be at least 0 and less than 1");
     v.require_positive(at + "stiffness_n_per_m", m.stiffness_n_per_m, "N/m");
+    v.require(std::abs(m.residue_phase_rad) < std::numbers::pi / 2, at + "residue_phase_rad",
+              m.residue_phase_rad, "rad",
+              "must lie between -pi/2 and pi/2 (beyond, the mode has a negative stiffness)");
   }
   return v.problems();
 }
@@ -44,7 +58,15 @@ std::complex<double> frf(const ModalModel& model, Direction direction, double om
   for (const Mode& m : model.modes) {
     if (m.direction != direction) continue;
     const double r = omega_rad_s / m.natural_rad_s;
-    g += 1.0 / (m.stiffness_n_per_m * std::complex<double>(1.0 - r * r, 2.0 * m.damping_ratio * r));
+    if (m.residue_phase_rad == 0.0) {
+      g += 1.0 / (m.stiffness_n_per_m * std::complex<double>(1.0 - r * r, 2.0 * m.damping_ratio * r));
+      continue;
+    }
+    const auto [b0, b1] = receptance_numerator(m);
+    const double wn = m.natural_rad_s;
+    g += std::complex<double>(b0, b1 * omega_rad_s) /
+         std::complex<double>(wn * wn - omega_rad_s * omega_rad_s,
+                              2.0 * m.damping_ratio * wn * omega_rad_s);
   }
   return g;
 }
@@ -69,7 +91,11 @@ ModalStateSpace modal_state_space(const ModalModel& model,
     ss.A(row + 1, row) = -wn * wn;
     ss.A(row + 1, row + 1) = -2.0 * m.damping_ratio * wn;
     ss.B(row + 1, used[i].second) = 1.0 / m.mass_kg();
-    ss.C(used[i].second, row) = 1.0;
+    // y = (b0·q + b1·q̇)·m with q̈ + 2ζωn·q̇ + ωn²·q = f/m (modal_model.hpp): C = (1, 0) for a
+    // real mode.
+    const auto [b0, b1] = receptance_numerator(m);
+    ss.C(used[i].second, row) = m.residue_phase_rad == 0.0 ? 1.0 : b0 * m.mass_kg();
+    ss.C(used[i].second, row + 1) = b1 * m.mass_kg();
   }
   return ss;
 }

@@ -73,7 +73,7 @@ py::dict force(const io::Case& c) {
 // The request of `cutdyn fit` from the Python arguments; every bad one named.
 app::FitRequest fit_request(const std::string& path, int modes, std::optional<double> lo_hz,
                             std::optional<double> hi_hz, const std::string& direction,
-                            const std::string& format) {
+                            const std::string& format, const std::string& units) {
   app::FitRequest r;
   r.file = path;
   Validator v;
@@ -85,6 +85,7 @@ app::FitRequest fit_request(const std::string& path, int modes, std::optional<do
     r.file_options.format = parse_frf_format(format);
     if (!r.file_options.format) v.add("format = \"" + format + "\": must be frf, csv or uff");
   }
+  if (!units.empty()) r.file_options.units = units;
   if (direction == "x" || direction == "y")
     r.direction = direction == "y" ? Direction::kY : Direction::kX;
   else if (!direction.empty())
@@ -102,8 +103,10 @@ py::array_t<std::complex<double>> complex_array(const std::vector<std::complex<d
 // `cutdyn fit`: the report and text, the [[modes]] tables its --out writes, and the measured
 // and fitted FRFs as arrays.
 py::dict fit(const std::string& path, int modes, std::optional<double> lo_hz,
-             std::optional<double> hi_hz, const std::string& direction, const std::string& format) {
-  const app::FitRequest request = fit_request(path, modes, lo_hz, hi_hz, direction, format);
+             std::optional<double> hi_hz, const std::string& direction, const std::string& format,
+             const std::string& units) {
+  const app::FitRequest request =
+      fit_request(path, modes, lo_hz, hi_hz, direction, format, units);
   const auto r = run_interruptible<app::FitJobReport>(
       [&](const std::atomic<bool>&) { return app::run_fit(request); });
   py::dict out = result_of(app::to_json(r), r);
@@ -141,7 +144,8 @@ void add_jobs(py::module_& m) {
   m.def("plan", &plan, py::arg("case"), py::arg("axial_feed_mm") = py::none());
   m.def("force", &force, py::arg("case"));
   m.def("fit", &fit, py::arg("path"), py::arg("modes") = 0, py::arg("lo_hz") = py::none(),
-        py::arg("hi_hz") = py::none(), py::arg("direction") = "", py::arg("format") = "");
+        py::arg("hi_hz") = py::none(), py::arg("direction") = "", py::arg("format") = "",
+        py::arg("units") = "");
   m.def("identify", &identify, py::arg("case"), py::arg("force_files"));
 }
 

@@ -13,8 +13,9 @@ namespace {
 using units::kPi;
 using units::kTwoPi;
 
-// Highest chatter frequency that can matter: above every mode, |G| <= Σ 1/(k_i (r_i² − 1)),
-// and w_lim >= 1/(2K|G|) exceeds depth_max once that bound drops below 1/(2K·depth_max).
+// Highest chatter frequency that can matter: above every mode, |G| <= Σ (|b0| + |b1|·ω)/(ω² −
+// ωn²) (modal_model.hpp; 1/(k_i (r_i² − 1)) for real modes), and w_lim >= 1/(2K|G|) exceeds
+// depth_max once that bound drops below 1/(2K·depth_max).
 double omega_upper_bound(const ModalModel& model, Direction direction, double coefficient,
                          double depth_max) {
   double w_top = 0.0;
@@ -25,8 +26,8 @@ double omega_upper_bound(const ModalModel& model, Direction direction, double co
     double s = 0.0;
     for (const Mode& m : model.modes) {
       if (m.direction != direction) continue;
-      const double r = w / m.natural_rad_s;
-      s += 1.0 / (m.stiffness_n_per_m * (r * r - 1.0));
+      const auto [b0, b1] = receptance_numerator(m);
+      s += (std::abs(b0) + std::abs(b1) * w) / ((w - m.natural_rad_s) * (w + m.natural_rad_s));
     }
     return s - need;
   };
@@ -36,8 +37,14 @@ double omega_upper_bound(const ModalModel& model, Direction direction, double co
   return root ? root->x : hi;
 }
 
-// ε(ω)/(2π) − ωτ/(2π) is the phase mismatch; lobes are where ωτ − ε(ω) = 2πj.
-double epsilon(std::complex<double> g) { return 3.0 * kPi + 2.0 * std::arg(g); }
+// ε(ω)/(2π) − ωτ/(2π) is the phase mismatch; lobes are where ωτ − ε(ω) = 2πj. `arg` is arg G
+// taken continuously in ω (unwrapped).
+double epsilon(double arg) { return 3.0 * kPi + 2.0 * arg; }
+
+// arg g on the branch nearest `reference` (the argument at a nearby frequency).
+double arg_near(std::complex<double> g, double reference) {
+  return reference + std::remainder(std::arg(g) - reference, kTwoPi);
+}
 
 }  // namespace
 
@@ -45,7 +52,8 @@ TlustyLobePoint tlusty_lobe_point(const ModalModel& model, Direction direction,
                                   double coefficient_pa, double omega_rad_s, int lobe) {
   const auto g = frf(model, direction, omega_rad_s);
   if (!(g.real() < 0.0)) return {std::numeric_limits<double>::infinity(), 0.0};
-  return {-1.0 / (2.0 * coefficient_pa * g.real()), (kTwoPi * lobe + epsilon(g)) / omega_rad_s};
+  return {-1.0 / (2.0 * coefficient_pa * g.real()),
+          (kTwoPi * lobe + epsilon(std::arg(g))) / omega_rad_s};
 }
 
 TlustyResult tlusty_critical_depth(const ModalModel& model, Direction direction,
@@ -62,26 +70,31 @@ TlustyResult tlusty_critical_depth(const ModalModel& model, Direction direction,
   // Grid: 16 points per 2π of delay phase and 4 per resonance half-bandwidth.
   const double step = std::min(kTwoPi / (16.0 * delay_s), 0.25 * half_bandwidth);
   const auto n = static_cast<long long>(std::ceil(w_hi / step));
-  // (ωτ − ε)/2π. Since Im G < 0 for every ω > 0 (damped modes), arg G and so the phase are
-  // continuous in ω, also where Re G changes sign; a root is a boundary only where Re G < 0.
-  const auto phase = [&](double w) {
-    return (w * delay_s - epsilon(frf(model, direction, w))) / kTwoPi;
+  // (ωτ − ε)/2π, with arg G unwrapped from `reference` (the argument at a point of the grid
+  // less than a step away). For real modes Im G < 0 at every ω > 0, and arg G is continuous as
+  // it is; a complex residue (modal_model.hpp) can take Im G through 0, where the principal
+  // argument jumps by 2π. A root is a boundary only where Re G < 0.
+  const auto phase = [&](double w, double reference) {
+    return (w * delay_s - epsilon(arg_near(frf(model, direction, w), reference))) / kTwoPi;
   };
 
   struct Bracket {
     double lo, hi;
     int lobe;
     double estimate;
+    double arg_lo;  // the unwrapped arg G at lo
   };
   std::vector<Bracket> brackets;
   double prev_w = 0.5 * step;
   auto prev_g = frf(model, direction, prev_w);
-  double prev_phase = (prev_w * delay_s - epsilon(prev_g)) / kTwoPi;
+  double prev_arg = std::arg(prev_g);
+  double prev_phase = (prev_w * delay_s - epsilon(prev_arg)) / kTwoPi;
   for (long long i = 1; i <= n; ++i) {
     const double w = (static_cast<double>(i) + 0.5) * step;
     const auto g = frf(model, direction, w);
     ++result.boundary.evaluations;
-    const double ph = (w * delay_s - epsilon(g)) / kTwoPi;
+    const double arg = arg_near(g, prev_arg);
+    const double ph = (w * delay_s - epsilon(arg)) / kTwoPi;
     if (std::floor(ph) != std::floor(prev_phase) && (g.real() < 0.0 || prev_g.real() < 0.0)) {
       // Every integer passed, in either direction.
       const double lo_j = std::min(std::floor(prev_phase), std::floor(ph)) + 1.0;
@@ -91,11 +104,12 @@ TlustyResult tlusty_critical_depth(const ModalModel& model, Direction direction,
         const double re = std::min(prev_g.real() + t * (g.real() - prev_g.real()),
                                    std::min(prev_g.real(), g.real()));
         const double estimate = -1.0 / (2.0 * coefficient_pa * re);
-        brackets.push_back({prev_w, w, static_cast<int>(j), estimate});
+        brackets.push_back({prev_w, w, static_cast<int>(j), estimate, prev_arg});
       }
     }
     prev_w = w;
     prev_g = g;
+    prev_arg = arg;
     prev_phase = ph;
   }
 
@@ -107,7 +121,7 @@ TlustyResult tlusty_critical_depth(const ModalModel& model, Direction direction,
     if (b.lobe < 0) continue;
     if (result.boundary.found && b.estimate > 1.5 * result.boundary.depth_m) break;
     const auto root =
-        brent_root([&](double w) { return phase(w) - b.lobe; }, b.lo, b.hi, 1e-13 * b.hi);
+        brent_root([&](double w) { return phase(w, b.arg_lo) - b.lobe; }, b.lo, b.hi, 1e-13 * b.hi);
     if (!root || !root->converged) {
       ++result.boundary.unresolved;
       continue;

@@ -17,6 +17,7 @@
 #include "cutdyn/io/frf_file.hpp"
 #include "cutdyn/modal/measured_frf.hpp"
 #include "cutdyn/stability/milling.hpp"
+#include "support/reference_cases.hpp"
 #include "support/textbook_zero_order.hpp"
 
 namespace cutdyn::app {
@@ -41,7 +42,11 @@ std::string modes_toml(const ModalModel& m) {
     s += "[[modes]]\ndirection = \"" + std::string(to_string(mode.direction)) +
          "\"\nnatural_hz = " + std::to_string(units::rad_per_s_to_hz(mode.natural_rad_s)) +
          "\ndamping_ratio = " + std::to_string(mode.damping_ratio) +
-         "\nstiffness_n_per_m = " + std::to_string(mode.stiffness_n_per_m) + "\n";
+         "\nstiffness_n_per_m = " + std::to_string(mode.stiffness_n_per_m) + "\n" +
+         (mode.residue_phase_rad != 0.0
+              ? "residue_phase_deg = " +
+                    std::to_string(units::rad_to_deg(mode.residue_phase_rad)) + "\n"
+              : std::string());
   return s;
 }
 
@@ -125,6 +130,81 @@ TEST_F(MeasuredFrfJobs, MillingLobesFromTheTablesAgreeWithTheModesInEveryFormat)
     else
       EXPECT_LT(worst_ratio(z, first), 1e-8) << ext;
   }
+}
+
+TEST_F(MeasuredFrfJobs, ComplexResidueTablesGiveEveryMethodOneStructure) {
+  // The four modes with complex residues (non-proportional damping, as a peer's FRF files
+  // hold them). The frequency-domain methods read the tables, full discretization and the
+  // simulation the modes fitted to them: the fit keeps the residues' phases, so every method
+  // sees the same structure, as the same modes given in [[modes]] (residue_phase_deg).
+  ModalModel truth = four_modes();
+  const double phases_deg[] = {25.0, -20.0, 6.4, -30.0};
+  for (std::size_t i = 0; i < truth.modes.size(); ++i)
+    truth.modes[i].residue_phase_rad = units::deg_to_rad(phases_deg[i]);
+  write_table(truth, Direction::kX, "x.frf", FrfFormat::kCutPro);
+  write_table(truth, Direction::kY, "y.frf", FrfFormat::kCutPro);
+  const io::Case measured =
+      case_with(std::string(kMilling) + frf_table("x", "x.frf") + frf_table("y", "y.frf"));
+  const io::Case exact = io::parse_case(std::string(kMilling) + modes_toml(truth), "modes");
+
+  // The model the time-domain methods use reproduces the tables (noise-free: to rounding).
+  const MillingProcess p = milling_process(measured, "lobes");
+  ASSERT_TRUE(p.measured);
+  for (Direction d : {Direction::kX, Direction::kY}) {
+    const MeasuredFrf& table = *p.measured->direct(d);
+    double sum = 0.0;
+    for (std::size_t k = 1; k < table.frequency_hz.size(); ++k) {
+      const auto g = table.receptance_m_per_n[k];
+      sum += std::norm((frf(p.measured->fitted, d, units::hz_to_rad_per_s(table.frequency_hz[k])) -
+                        g) / g);
+    }
+    EXPECT_LT(std::sqrt(sum / static_cast<double>(table.frequency_hz.size() - 1)), 1e-2)
+        << to_string(d);
+  }
+
+  const auto mf = lobes(measured, "multi-frequency");
+  const auto fd = lobes(measured, "full-discretization");
+  EXPECT_LT(worst_ratio(mf, lobes(exact, "multi-frequency")), 5e-3);
+  EXPECT_LT(worst_ratio(fd, lobes(exact, "full-discretization")), 1e-3);
+  EXPECT_LT(worst_ratio(lobes(measured, "zero-order"), lobes(exact, "zero-order")), 5e-3);
+  // Multi-frequency (tables) and full discretization (fitted modes) as on modal cases: within
+  // 5 % where both sit on the same lobe as their neighbours (away from cusps).
+  int compared = 0;
+  for (std::size_t i = 1; i + 1 < fd.size(); ++i) {
+    if (!fd[i].boundary.found || fd[i - 1].lobe != fd[i].lobe || fd[i + 1].lobe != fd[i].lobe)
+      continue;
+    ASSERT_TRUE(mf[i].boundary.found) << fd[i].rpm;
+    EXPECT_NEAR(mf[i].boundary.depth_m, fd[i].boundary.depth_m, 0.05 * fd[i].boundary.depth_m)
+        << fd[i].rpm;
+    ++compared;
+  }
+  EXPECT_GT(compared, 20);
+
+  // The same structure with the phases dropped (real modes, what the fit used to hand on) is
+  // a different one: its lobes are off by more than the tolerance above.
+  MillingProcess real = p;
+  for (Mode& m : real.measured->fitted.modes) m.residue_phase_rad = 0.0;
+  double worst_real = 0.0;
+  for (const LobePoint& q : fd) {
+    MillingStabilityOptions o;
+    o.method = MillingMethod::kFullDiscretization;
+    o.depth_max_m = 3e-3;
+    const MillingBoundary b = milling_critical_depth(real, q.rpm, o);
+    if (b.boundary.found && q.boundary.found)
+      worst_real = std::max(worst_real, std::abs(b.boundary.depth_m / q.boundary.depth_m - 1.0));
+  }
+  EXPECT_GT(worst_real, 0.05);
+
+  // The simulation of the measured case brackets the full discretization's boundary.
+  int simulated = 0;
+  for (std::size_t i = 10; i < fd.size() && simulated < 2; i += 17) {
+    if (!fd[i].boundary.found || fd[i].boundary.depth_m > 2.5e-3) continue;
+    const double rpm = fd[i].rpm, critical = fd[i].boundary.depth_m;
+    EXPECT_LT(testing::simulate_model(p, rpm, 0.98 * critical).growth_per_period, 0.0) << rpm;
+    EXPECT_GT(testing::simulate_model(p, rpm, 1.02 * critical).growth_per_period, 0.0) << rpm;
+    ++simulated;
+  }
+  EXPECT_EQ(simulated, 2);
 }
 
 TEST_F(MeasuredFrfJobs, ToolAndWorkpieceTablesAddAndModesAddToTables) {

@@ -4,6 +4,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <complex>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -155,6 +156,76 @@ TEST_F(FitCli, BadInputIsRefusedWithNothingWritten) {
   // command: the check is the command line's).
   expect_rejected({"fit", path("bad.frf"), "--out", path("bad.frf")}, "is an input");
   expect_rejected({"lobes", path("case.toml"), "--out", path("case.toml")}, "is an input");
+}
+
+// The example x table (1 % noise) rewritten: as a mobility in receptance columns, and with a
+// header in units cutdyn does not read.
+TEST_F(FitCli, UnitsAndQuantitiesAreNotTakenOnFaith) {
+  std::ifstream in(kFrf / "tool_x.frf");
+  std::ostringstream mobility, feet, stiffness;
+  mobility << "Frequency Real Imaginary\n";
+  feet << "Freq[Hz] re[ft/N] im[ft/N]\n";
+  stiffness << "Freq[Hz] re[N/m] im[N/m]\n";
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '%') continue;
+    std::istringstream fields(line);
+    double f = 0, re = 0, im = 0;
+    fields >> f >> re >> im;
+    const std::complex<double> y = std::complex<double>(0, 2 * 3.141592653589793 * f) *
+                                   std::complex<double>(re, im);
+    mobility << f << ' ' << y.real() << ' ' << y.imag() << '\n';
+    feet << f << ' ' << re / 0.3048 << ' ' << im / 0.3048 << '\n';
+    stiffness << f << ' ' << re << ' ' << im << '\n';
+  }
+  std::ofstream(path("mobility.frf")) << mobility.str();
+  std::ofstream(path("feet.frf")) << feet.str();
+  std::ofstream(path("stiffness.frf")) << stiffness.str();
+  // A mobility stored as receptance: refused with the evidence, nothing written, also through
+  // a case's [[frf]].
+  expect_rejected({"fit", path("mobility.frf"), "--out", path("o.toml")},
+                  "behave like a mobility (velocity per force) stored as a receptance");
+  std::ofstream(path("case.toml"))
+      << "process = \"milling\"\n[[frf]]\ndirection = \"x\"\nfile = \"mobility.frf\"\n"
+         "[cutting]\nkt_n_per_mm2 = 600\n[tool]\nteeth = 2\ndiameter_mm = 20\n";
+  expect_rejected({"lobes", path("case.toml"), "--out", path("l.csv")},
+                  "frf[0].file = \"mobility.frf\": as a direct receptance");
+  // Unknown or wrong unit words: refused naming the line, unless the units are given.
+  expect_rejected({"fit", path("feet.frf"), "--out", path("o.toml")},
+                  "line 1: \"ft/N\" is not a unit cutdyn knows");
+  expect_rejected({"fit", path("stiffness.frf"), "--out", path("o.toml")},
+                  "line 1: \"N/m\" is a dynamic stiffness");
+  expect_rejected({"fit", path("feet.frf"), "--units", "Hz, furlongs/N", "--out", path("o.toml")},
+                  "units = \"Hz, furlongs/N\"");
+  // Given as (m/s)/N, the mobility is read as what it is; feet given in mm/N is just a scale.
+  const Result y = cutdyn({"fit", path("mobility.frf"), "--units", "(m/s)/N", "--json",
+                           path("y.json")});
+  ASSERT_EQ(y.code, 0) << y.err;
+  const Result ref = cutdyn({"fit", (kFrf / "tool_x.frf").string(), "--json", path("ref.json")});
+  ASSERT_EQ(ref.code, 0) << ref.err;
+  const auto read_json = [&](const std::string& name) {
+    std::ifstream f(path(name));
+    return nlohmann::json::parse(f);
+  };
+  const auto jy = read_json("y.json"), jr = read_json("ref.json");
+  ASSERT_EQ(jy["modes"].size(), jr["modes"].size());
+  for (std::size_t i = 0; i < jr["modes"].size(); ++i) {
+    EXPECT_NEAR(jy["modes"][i]["natural_hz"].get<double>(),
+                jr["modes"][i]["natural_hz"].get<double>(),
+                1e-6 * jr["modes"][i]["natural_hz"].get<double>());
+    EXPECT_NEAR(jy["modes"][i]["stiffness_n_per_m"].get<double>(),
+                jr["modes"][i]["stiffness_n_per_m"].get<double>(),
+                1e-4 * jr["modes"][i]["stiffness_n_per_m"].get<double>());
+  }
+  EXPECT_EQ(jy["quantity"], "mobility");
+  const Result mm = cutdyn({"fit", path("feet.frf"), "--units", "Hz, mm/N", "--json",
+                            path("mm.json")});
+  ASSERT_EQ(mm.code, 0) << mm.err;
+  const auto jm = read_json("mm.json");
+  // ft → mm: the values were divided by 0.3048 m; read as mm they are 1e-3/0.3048 of the truth,
+  // so the stiffness comes out 0.3048e3 times as large.
+  EXPECT_NEAR(jm["modes"][0]["stiffness_n_per_m"].get<double>() /
+                  jr["modes"][0]["stiffness_n_per_m"].get<double>(),
+              304.8, 304.8 * 1e-4);
 }
 
 }  // namespace

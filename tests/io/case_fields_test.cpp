@@ -107,6 +107,7 @@ direction = "y"
 natural_hz = 950
 damping_ratio = 0.04
 mass_kg = 0.04
+residue_phase_deg = -12.5
 [cutting]
 kt_n_per_mm2 = 644.5
 kr_n_per_mm2 = 236.3
@@ -306,12 +307,17 @@ TEST(CaseFields, EverySectionRoundTripsThroughTheEchoAsToml) {
   const std::string measured = std::string(kFullMilling) +
                                "[[frf]]\ndirection = \"x\"\nfile = \"" CUTDYN_EXAMPLES_DIR
                                "/frf/tool_x.uff\"\nformat = \"uff\"\ndataset = 0\n";
+  // CutPro text with its units given.
+  const std::string given_units = std::string(kFullMilling) +
+                                  "[[frf]]\ndirection = \"y\"\nfile = \"" CUTDYN_EXAMPLES_DIR
+                                  "/frf/tool_y.frf\"\nunits = \"Hz, m/N\"\n";
   // T2 as an angle instead of seconds.
   std::string angle = kForceLawMilling;
   angle.replace(angle.find("t2_s = 1e-4"), 11, "t2_deg = 72");
   for (const std::string& text :
        {std::string(kFullTurning), std::string(kCoefficientTurning), std::string(kFullMilling),
-        std::string(kForceLawMilling), std::string(kPlanWithFeed), measured, angle}) {
+        std::string(kForceLawMilling), std::string(kPlanWithFeed), measured, given_units,
+        angle}) {
     const Case first = parse_case(text, "first.toml");
     EXPECT_TRUE(first.warnings.empty());
     const nlohmann::json j = to_json(first);

@@ -432,6 +432,103 @@ TEST(FrfFileText, SloppyButValidCutProIsAccepted) {
   EXPECT_HAS(odd.warnings[0], "line 1: the word \"furlongs\"");
 }
 
+TEST(FrfFileText, UnitWordsCutdynDoesNotReadAreRefusedNamingTheLine) {
+  const std::string data = "\n50 1e-8 -1e-9\n51 2e-8 -2e-9\n52 3e-8 -3e-9\n";
+  // A unit in brackets after a column's label must be one cutdyn reads.
+  EXPECT_HAS(refusal_of("Frequency[rpm] re[m/N] im[m/N]" + data),
+             "line 1: \"rpm\" is a speed, not a frequency unit of an FRF");
+  EXPECT_HAS(refusal_of("f[Hz] re[ft/N] im[ft/N]" + data),
+             "line 1: \"ft/N\" is not a unit cutdyn knows");
+  EXPECT_HAS(refusal_of("f[Hz] re[N/m] im[N/m]" + data),
+             "line 1: \"N/m\" is a dynamic stiffness (force per displacement)");
+  EXPECT_HAS(refusal_of("Freq[Hz] Mag[m/N] Phase[deg]" + data), "\"deg\" is a phase or level unit");
+  // A word of its own that is written as a unit; after the first numbers too.
+  EXPECT_HAS(refusal_of("Frequency Real Imaginary lbf/mm" + data), "\"lbf/mm\" is a dynamic stiffness");
+  EXPECT_HAS(refusal_of("50 1e-8 -1e-9 Hz ft/N\n51 2e-8 -2e-9\n52 3e-8 -3e-9\n"),
+             "line 1: \"ft/N\" is not a unit cutdyn knows");
+  // Prose in a header, with a date and words in brackets, is not a unit.
+  const FrfReadResult prose = parse_frf("tool (holder) tip 14/03/2024" + data, "prose");
+  EXPECT_TRUE(prose.warnings.empty()) << prose.warnings.front();
+  // The trailer CutPro writes after its first numbers is read silently.
+  const FrfReadResult cutpro = parse_frf(
+      "50\t1e-8\t-1e-9\tFreq Hz Real m/N Imag Real\n51 2e-8 -2e-9\n52 3e-8 -3e-9\n", "cutpro");
+  EXPECT_TRUE(cutpro.warnings.empty()) << cutpro.warnings.front();
+  EXPECT_EQ(cutpro.units, "Hz, m/N");
+
+  // Units given from outside take the header's place (and its unknown words with it).
+  FrfFileOptions given;
+  given.units = "kHz, mm/N";
+  const FrfReadResult r = parse_frf("f[rpm] re[ft/N] im[ft/N]" + data, "given", given);
+  EXPECT_EQ(r.units, "kHz, mm/N");
+  EXPECT_DOUBLE_EQ(r.frf.frequency_hz[1], 51e3);
+  EXPECT_DOUBLE_EQ(r.frf.receptance_m_per_n[2].real(), 3e-11);
+  given.units = "(m/s)/N";
+  const FrfReadResult y = parse_frf("50 1 2\n51 3 4\n52 5 6\n", "given", given);
+  EXPECT_EQ(y.quantity, FrfQuantity::kMobility);
+  EXPECT_EQ(y.frf.receptance_m_per_n[0], std::complex<double>(1, 2) / std::complex<double>(0, kTwoPi * 50));
+  given.units = "Hz, furlongs";
+  EXPECT_HAS(refusal([&] { parse_frf(data, "given", given); }),
+             "units = \"Hz, furlongs\": \"furlongs\" is not a frequency unit");
+  given.units = "Hz";
+  EXPECT_HAS(refusal([&] { parse_frf(data, "given", given); }), "no FRF unit");
+  given.units = "mm/N";
+  EXPECT_HAS(refusal([&] {
+               parse_frf("frequency_hz,real_m_per_n,imag_m_per_n\n1,2,3\n2,2,3\n3,2,3\n", "c",
+                         given);
+             }),
+             "this is a csv file, which states its own units");
+}
+
+TEST(FrfFileText, ATableThatIsNoDirectReceptanceIsToldWithTheEvidence) {
+  // The tool's y receptance (two modes), and the same values as a mobility or accelerance
+  // would store them. Each stored as what it is passes; each stored as another is named.
+  const MeasuredFrf g = sample_frf(tool_model(), Direction::kY, every(5.0, 3000.0, 5.0));
+  EXPECT_GT(negative_imaginary_share(g), 0.999);
+  EXPECT_EQ(direct_receptance_problem(g, FrfQuantity::kReceptance), "");
+  MeasuredFrf y = g, a = g;
+  for (std::size_t i = 0; i < g.frequency_hz.size(); ++i) {
+    const double w = kTwoPi * g.frequency_hz[i];
+    y.receptance_m_per_n[i] *= std::complex<double>(0, w);
+    a.receptance_m_per_n[i] *= -w * w;
+  }
+  // A mobility read as a receptance, and an accelerance.
+  EXPECT_HAS(direct_receptance_problem(y, FrfQuantity::kReceptance),
+             "The values behave like a mobility (velocity per force) stored as a receptance");
+  EXPECT_HAS(direct_receptance_problem(a, FrfQuantity::kReceptance),
+             "its imaginary part is positive over 100 %");
+  EXPECT_HAS(direct_receptance_problem(a, FrfQuantity::kReceptance),
+             "behave like an accelerance (acceleration per force)");
+  // A receptance labelled mobility: the reader divided it by iω.
+  MeasuredFrf divided = g;
+  for (std::size_t i = 0; i < g.frequency_hz.size(); ++i)
+    divided.receptance_m_per_n[i] /= std::complex<double>(0, kTwoPi * g.frequency_hz[i]);
+  EXPECT_HAS(direct_receptance_problem(divided, FrfQuantity::kMobility),
+             "behave like a receptance (displacement per force) stored as a mobility");
+  // Complex residues of ±40° (a peer's FRFs) and 3 % noise are still a receptance.
+  ModalModel complex = tool_model();
+  for (std::size_t i = 0; i < complex.modes.size(); ++i)
+    complex.modes[i].residue_phase_rad = (i % 2 ? -1.0 : 1.0) * 40.0 * kTwoPi / 360.0;
+  MeasuredFrf noisy = sample_frf(complex, Direction::kX, every(5.0, 3000.0, 5.0));
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> e(0.0, 0.03);
+  for (auto& v : noisy.receptance_m_per_n) v *= std::complex<double>(1 + e(rng), e(rng));
+  EXPECT_EQ(direct_receptance_problem(noisy, FrfQuantity::kReceptance), "");
+  // A cross receptance (modes of both signs) is not a direct one. (Where the negative modes
+  // dominate, its phase is an accelerance's and the message says so.)
+  MeasuredFrf cross = g;
+  const MeasuredFrf other = sample_frf(tool_model(), Direction::kX, every(5.0, 3000.0, 5.0));
+  for (std::size_t i = 0; i < g.frequency_hz.size(); ++i)
+    cross.receptance_m_per_n[i] -= 2.0 * other.receptance_m_per_n[i];
+  EXPECT_HAS(direct_receptance_problem(cross, FrfQuantity::kReceptance),
+             "as a direct receptance its imaginary part is positive over");
+  // Noise alone (no structure at all) is refused with the general reason.
+  MeasuredFrf noise = g;
+  std::mt19937_64 noise_rng(3);
+  for (auto& v : noise.receptance_m_per_n) v = 1e-8 * std::complex<double>(e(noise_rng), e(noise_rng));
+  EXPECT_HAS(direct_receptance_problem(noise, FrfQuantity::kReceptance),
+             "a cross receptance belongs in direction = \"xy\"; or the table is mostly noise");
+}
+
 TEST(FrfFileText, CsvMobilityAndAccelerancePairsConvertToReceptance) {
   const MeasuredFrf g = sample_frf(tool_model(), Direction::kY, every(25.0, 3000.0, 25.0));
   std::string mobility =

@@ -255,7 +255,7 @@ TEST(FrfFit, StabilisationDiagramShowsEachModeAsStablePoles) {
   }
 }
 
-TEST(FrfFit, ComplexResidueIsReportedWithItsPhaseAndWarned) {
+TEST(FrfFit, ComplexResidueIsKeptInTheModelWithItsPhase) {
   // A non-proportionally damped mode: residue A = |A|·(−i)·e^(i·20°).
   const double wn = kTwoPi * 900.0, zeta = 0.03, k = 4e7;
   const double wd = wn * std::sqrt(1 - zeta * zeta);
@@ -272,8 +272,44 @@ TEST(FrfFit, ComplexResidueIsReportedWithItsPhaseAndWarned) {
   EXPECT_NEAR(fit.modes[0].residue_phase_deg, 20.0, 1e-6);
   EXPECT_NEAR(fit.modes[0].stiffness_n_per_m / k, 1.0, 1e-6);  // from |A|
   EXPECT_NEAR(fit.modes[0].natural_hz, 900.0, 1e-6);
-  EXPECT_TRUE(has_warning(fit, "complex residue")) << fit.warnings.size();
+  // A note (the model keeps the phase, nothing is approximated), not a warning.
+  EXPECT_FALSE(has_warning(fit, "complex residue")) << fit.warnings.size();
+  ASSERT_EQ(fit.notes.size(), 1u);
+  EXPECT_NE(fit.notes[0].find("complex residue (20°"), std::string::npos) << fit.notes[0];
+  ASSERT_EQ(fit.model.modes.size(), 1u);
   EXPECT_EQ(fit.model.modes[0].direction, Direction::kY);
+  EXPECT_NEAR(fit.model.modes[0].residue_phase_rad, 20.0 * std::numbers::pi / 180, 1e-8);
+  // The model every method uses is the table: the modes alone reproduce it to rounding (the
+  // same fit with the phase dropped, a real mode, misses it by about sin 20° = 34 %).
+  EXPECT_LT(fit.model_rms_relative_error, 1e-8);
+  ModalModel real = fit.model;
+  real.modes[0].residue_phase_rad = 0.0;
+  double sum = 0.0;
+  for (std::size_t i = 0; i < frf.frequency_hz.size(); ++i) {
+    const cd g = frf.receptance_m_per_n[i];
+    sum += std::norm((cutdyn::frf(real, Direction::kY, kTwoPi * frf.frequency_hz[i]) - g) / g);
+  }
+  EXPECT_GT(std::sqrt(sum / static_cast<double>(frf.frequency_hz.size())), 0.2);
+}
+
+TEST(FrfFit, TheModesAloneMissingTheTableAreWarned) {
+  // A 2000 Hz mode (ζ = 0.08) cut away by a band 0…1200 Hz: the fit absorbs it in its residual
+  // terms, the modes alone (what the time-domain methods use) do not. Two modes in the band.
+  const ModalModel truth{{Mode{Direction::kX, kTwoPi * 500.0, 0.02, 2e7},
+                          Mode{Direction::kX, kTwoPi * 900.0, 0.03, 3e7},
+                          Mode{Direction::kX, kTwoPi * 2000.0, 0.08, 4e6}}};
+  const MeasuredFrf frf = sample_frf(truth, Direction::kX, linear_frequencies(0.0, 3000.0, 1501));
+  FrfFitOptions o;
+  o.hi_hz = 1200.0;
+  const FrfFit fit = fit_modes(frf, Direction::kX, o);
+  ASSERT_EQ(fit.modes.size(), 2u);
+  EXPECT_LT(fit.rms_relative_error, 0.02);
+  EXPECT_GT(fit.model_rms_relative_error, 0.05);
+  EXPECT_TRUE(has_warning(fit, "the modes alone reproduce the table to"));
+  // Over the whole table the same structure needs no such warning.
+  const FrfFit whole = fit_modes(frf, Direction::kX);
+  EXPECT_LT(whole.model_rms_relative_error, 1e-6);
+  EXPECT_FALSE(has_warning(whole, "the modes alone"));
 }
 
 TEST(FrfFit, NegativeStiffnessModeIsDropped) {

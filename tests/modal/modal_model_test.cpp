@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <complex>
+#include <string>
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "cutdyn/core/units.hpp"
@@ -59,6 +60,56 @@ TEST(ModalStateSpace, TransferFunctionEqualsFrf) {
     EXPECT_NEAR(std::abs(h(0, 0) - gx), 0.0, 1e-9 * std::abs(gx));
     EXPECT_NEAR(std::abs(h(1, 1) - gy), 0.0, 1e-9 * std::abs(gy));
     EXPECT_NEAR(std::abs(h(0, 1)), 0.0, 1e-25);
+  }
+}
+
+// A mode with a complex residue (non-proportional damping, modal_model.hpp): the receptance,
+// the state space and the static value against the pole-residue form
+// A/(iω − λ) + A*/(iω − λ*), A = −i·ωn²/(2·k·ωd)·e^(iφ), λ = −ζωn + iωd, computed directly.
+TEST(ComplexResidueMode, ReceptanceAndStateSpaceAreThePoleResidueForm) {
+  using cd = std::complex<double>;
+  for (double zeta : {0.005, 0.05, 0.3}) {
+    for (double phi_deg : {-80.0, -35.0, -6.4, 0.0, 12.0, 45.0, 89.0}) {
+      Mode m{Direction::kX, units::hz_to_rad_per_s(730.0), zeta, 3.0e7,
+             units::deg_to_rad(phi_deg)};
+      const double wn = m.natural_rad_s, wd = wn * std::sqrt(1.0 - zeta * zeta);
+      const cd lambda(-zeta * wn, wd);
+      const cd residue =
+          cd(0.0, -wn * wn / (2.0 * m.stiffness_n_per_m * wd)) * std::polar(1.0, m.residue_phase_rad);
+      const ModalModel model{{m}};
+      ASSERT_TRUE(model.validate().empty()) << phi_deg;
+      const auto ss = modal_state_space(model, {Direction::kX});
+      for (double w : {0.0, 0.3 * wn, 0.99 * wn, wn, 1.02 * wn, 4.0 * wn, 40.0 * wn}) {
+        const cd s(0.0, w);
+        const cd expected = residue / (s - lambda) + std::conj(residue) / (s - std::conj(lambda));
+        const cd g = frf(model, Direction::kX, w);
+        const std::string what = "ζ " + std::to_string(zeta) + ", φ " +
+                                 std::to_string(phi_deg) + "°, ω/ωn " + std::to_string(w / wn);
+        EXPECT_LT(std::abs(g - expected), 1e-12 * std::abs(expected)) << what;
+        const cd h = (ss.C.cast<cd>() *
+                      (s * Eigen::MatrixXcd::Identity(2, 2) - ss.A.cast<cd>()).inverse() *
+                      ss.B.cast<cd>())(0, 0);
+        EXPECT_LT(std::abs(h - expected), 1e-11 * std::abs(expected)) << what;
+      }
+      // The static compliance is b0/ωn² = G(0); a real mode's is 1/k.
+      const auto [b0, b1] = receptance_numerator(m);
+      EXPECT_NEAR(std::real(frf(model, Direction::kX, 0.0)), b0 / (wn * wn),
+                  1e-12 * std::abs(b0) / (wn * wn));
+      if (phi_deg == 0.0) {
+        EXPECT_EQ(b1, 0.0);
+        EXPECT_EQ(ss.C(0, 1), 0.0);
+        EXPECT_EQ(ss.C(0, 0), 1.0);
+      }
+    }
+  }
+}
+
+TEST(ComplexResidueMode, APhaseOfAQuarterTurnOrMoreIsRefused) {
+  for (double phi_deg : {90.0, -90.0, 120.0}) {
+    const ModalModel bad{{Mode{Direction::kX, 3000.0, 0.02, 1e7, units::deg_to_rad(phi_deg)}}};
+    const auto problems = bad.validate();
+    ASSERT_EQ(problems.size(), 1u) << phi_deg;
+    EXPECT_NE(problems[0].find("modes[0].residue_phase_rad"), std::string::npos) << problems[0];
   }
 }
 

@@ -69,6 +69,7 @@ struct FrfTable {
   std::string file;       // as written: relative to the case file
   std::string format;     // "frf", "csv", "uff"; empty: from the content
   std::optional<int> dataset;
+  std::string units;           // CutPro text: the file's units ("Hz, mm/N"); empty: its header's
   std::filesystem::path path;  // the file resolved
   MeasuredFrf data;            // receptance, m/N
 };

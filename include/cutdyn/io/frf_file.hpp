@@ -43,6 +43,10 @@ struct FrfFileOptions {
   /// UFF: 0-based index of the dataset to read among the file's datasets 58 (and 58b);
   /// nullopt: the first one that is a frequency response function.
   std::optional<int> dataset;
+  /// CutPro text: the file's units, taking the place of any its header states: an FRF unit
+  /// ("mm/N", "(m/s)/N", "g/N"), optionally with a frequency unit before it ("kHz, mm/N").
+  /// nullopt: from the header, else Hz and m/N. Refused for CSV and UFF (they state theirs).
+  std::optional<std::string> units;
 };
 
 /// One dataset 58 of a universal file (all of them are listed, whichever is read).
@@ -114,5 +118,23 @@ std::vector<std::string> write_frf(const std::filesystem::path& file, const Meas
 /// The receptance G (m/N) of a `quantity` value at f_hz: Y/(iω) or A/(−ω²) with ω = 2πf.
 /// Precondition: f_hz > 0 unless quantity is kReceptance.
 std::complex<double> to_receptance(FrfQuantity quantity, std::complex<double> value, double f_hz);
+
+/// The share of a receptance's imaginary part that is negative, by its square:
+/// Σ_{Im G < 0} (Im G)² / Σ (Im G)² over the points above 0 Hz (1 for a table with Im G = 0
+/// throughout). A direct receptance of a passive structure has Im G ≤ 0 at every frequency.
+double negative_imaginary_share(const MeasuredFrf& receptance);
+
+/// The mean of −Im G/|G| (the sine of the lag behind the force) at the local maxima of |G|
+/// that reach 30 % of the highest one, weighted by |G|²: near 1 for a direct receptance (it
+/// lags by 90° at a resonance), 0 for a mobility, −1 for an accelerance; 1 without a peak.
+double peak_quadrature(const MeasuredFrf& receptance);
+
+/// Why `receptance` (read from a file that stored `stored`, and converted) cannot be a direct
+/// receptance, with the evidence: its imaginary part is positive over more than a quarter of
+/// the response (negative_imaginary_share < 0.75) or its peaks lag the force by less than 30°
+/// (peak_quadrature < 0.5), and, where the stored values would pass both as another quantity
+/// (a receptance, mobility or accelerance), which one. Empty when plausible (docs/frf-files.md,
+/// "Is it a receptance?").
+std::string direct_receptance_problem(const MeasuredFrf& receptance, FrfQuantity stored);
 
 }  // namespace cutdyn

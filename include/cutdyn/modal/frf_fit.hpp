@@ -81,6 +81,9 @@ struct FrfFit {
   std::vector<FittedMode> modes;    // by increasing natural frequency
   FrfResiduals residuals;
   double rms_relative_error = 0.0;  // sqrt(mean |G_fit − G|² / |G|²) over the band
+  /// The same error of `model` alone (the modes, complex residues kept, without the residual
+  /// terms): what the time-domain methods of a case with [[frf]] tables use (§10).
+  double model_rms_relative_error = 0.0;
   int iterations = 0;               // Levenberg–Marquardt iterations of the final fit
   bool converged = false;
   std::vector<StabilisationPoint> stabilisation;
@@ -88,7 +91,9 @@ struct FrfFit {
   /// What the automatic choice did that asks nothing of the user: the poles it dropped as
   /// standing for no mode (noise, a second pole on one mode), each with its reason.
   std::vector<std::string> notes;
-  ModalModel model;  // the modes as real modes (ωn, ζ, k) acting in `direction`
+  /// The modes (ωn, ζ, k and the residue's phase φ) acting in `direction`: one structure for
+  /// every method (docs/models/modal-fitting.md §10).
+  ModalModel model;
 };
 
 /// Fits modes to `frf` over the band of `options`. Throws InvalidInput (where() = "fit",
