@@ -106,7 +106,41 @@ void BM_TextbookSweep(benchmark::State& state) {
         [&] { benchmark::DoNotOptimize(testing::textbook_zero_order_lobes(p, rpm)); });
 }
 
+// Full discretization on the modes fitted to the pair: the state space of the modes with their
+// complex residues (what every time-domain method uses since 2026-11-28) against the same modes
+// as real modes (the phases dropped, what it used before), 100 speeds each.
+LobesReport fd_lobes(const MillingProcess& p) {
+  MillingStabilityOptions o;
+  o.method = MillingMethod::kFullDiscretization;
+  o.depth_max_m = kDepthLimit;
+  LobesOptions grid;
+  grid.rpm_min = kRpmMin;
+  grid.rpm_max = kRpmMax;
+  grid.rpm_steps = 100;
+  grid.refine = false;
+  grid.threads = 1;
+  return trace_lobes(
+      [&](double rpm) {
+        const MillingBoundary b = milling_critical_depth(p, rpm, o);
+        return LobePoint{rpm, b.boundary, 1.0, b.lobe};
+      },
+      grid);
+}
+
+void BM_FullDiscretizationComplexModes(benchmark::State& state) {
+  const MillingProcess p = measured_process();
+  timed(state, "fd complex", [&] { benchmark::DoNotOptimize(fd_lobes(p)); });
+}
+
+void BM_FullDiscretizationRealModes(benchmark::State& state) {
+  MillingProcess p = measured_process();
+  for (Mode& m : p.measured->fitted.modes) m.residue_phase_rad = 0.0;
+  timed(state, "fd real", [&] { benchmark::DoNotOptimize(fd_lobes(p)); });
+}
+
 BENCHMARK(BM_CutdynFromFiles)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_FullDiscretizationComplexModes)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_FullDiscretizationRealModes)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_CutdynLobesOnly)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_TextbookSweep)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -120,6 +154,12 @@ void print_summary() {
   if (lobes && textbook)
     std::printf("  %-58s %11.2fx\n", "ratio cutdyn lobes / textbook sweep (time)",
                 lobes->seconds / textbook->seconds);
+  const auto fd_complex = result("fd complex"), fd_real = result("fd real");
+  bench::line("full discretization, complex-residue modes, 100 speeds", fd_complex);
+  bench::line("full discretization, the same as real modes, 100 speeds", fd_real);
+  if (fd_complex && fd_real)
+    std::printf("  %-58s %11.2fx\n", "ratio complex / real modes (time)",
+                fd_complex->seconds / fd_real->seconds);
   if (lobes)
     std::printf("  %-58s %.0f speeds: median %.3f %%, 95th percentile %.2f %%\n",
                 "depth difference from the textbook sweep", lobes->figures.at("compared"),

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdlib>
 
 #include "cutdyn/core/error.hpp"
@@ -60,6 +61,18 @@ std::string modes_toml(const FitJobReport& r) {
     // A complex residue is part of the mode (docs/models/modal-fitting.md §10).
     if (m.residue_phase_rad != 0.0)
       out += fmt::format("residue_phase_deg = {:.17g}\n", units::rad_to_deg(m.residue_phase_rad));
+    // The fit's uncertainty, as comments (§4.2): standard deviations and correlations.
+    const auto& fm = r.fit.modes[static_cast<std::size_t>(&m - r.fit.model.modes.data())];
+    const auto& c = fm.covariance;
+    const auto corr = [&](int i, int j) {
+      const double d = std::sqrt(c[i][i] * c[j][j]);
+      return d > 0.0 ? c[i][j] / d : 0.0;
+    };
+    out += fmt::format(
+        "# 1σ: natural_hz {:.3g}, damping_ratio {:.3g}, stiffness_n_per_m {:.3g}; correlations "
+        "f–ζ {:.2f}, f–k {:.2f}, ζ–k {:.2f}\n",
+        fm.natural_hz_sigma, fm.damping_ratio_sigma, fm.stiffness_sigma_n_per_m, corr(0, 1),
+        corr(0, 2), corr(1, 2));
   }
   return out;
 }

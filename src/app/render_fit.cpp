@@ -23,45 +23,70 @@ void write_text(std::ostream& out, const FitJobReport& r) {
                      f.automatic ? " (chosen from the stabilisation diagram)" : "", human(f.lo_hz),
                      human(f.hi_hz), f.points, human(100.0 * f.rms_relative_error, 3),
                      f.converged ? "" : " (not converged)");
+  out << fmt::format("  noise of the table (from the residuals): {} % of |G|{}{}\n",
+                     human(100.0 * f.noise.proportional, 2),
+                     f.noise.floor_m_per_n > 0.0
+                         ? " and a floor of " + human(f.noise.floor_m_per_n, 2) + " m/N"
+                         : std::string(),
+                     f.noise_weighted ? " (the fit weighted for it)" : "");
   for (const std::string& n : f.notes) out << "  note: " << n << "\n";
   if (f.modes.empty()) return;
-  out << fmt::format("\n  {:>4}  {:>12}  {:>13}  {:>17}  {:>14}\n", "mode", "natural_hz",
-                     "damping_ratio", "stiffness_n_per_m", "residue phase");
+  out << fmt::format("\n  {:>4}  {:>12}  {:>13}  {:>17}  {:>14}   1σ: {:>9}  {:>9}  {:>11}\n",
+                     "mode", "natural_hz", "damping_ratio", "stiffness_n_per_m", "residue phase",
+                     "Hz", "ζ", "N/m");
   for (std::size_t i = 0; i < f.modes.size(); ++i) {
     const FittedMode& m = f.modes[i];
-    out << fmt::format("  {:>4}  {:>12}  {:>13}  {:>17}  {:>13}°\n", i + 1, human(m.natural_hz, 6),
-                       human(m.damping_ratio, 4), human(m.stiffness_n_per_m, 4),
-                       human(m.residue_phase_deg, 3));
+    out << fmt::format("  {:>4}  {:>12}  {:>13}  {:>17}  {:>13}°       {:>9}  {:>9}  {:>11}\n",
+                       i + 1, human(m.natural_hz, 6), human(m.damping_ratio, 4),
+                       human(m.stiffness_n_per_m, 4), human(m.residue_phase_deg, 3),
+                       human(m.natural_hz_sigma, 2), human(m.damping_ratio_sigma, 2),
+                       human(m.stiffness_sigma_n_per_m, 2));
   }
 }
 
-// Magnitude (log) and phase of the measured and the fitted FRF, the modes marked.
+// The measured FRF, the fit (modes, residual terms and explicit poles outside the band) and the
+// modes alone as every time-domain method uses them (complex residues kept, no residual
+// terms; docs/models/modal-fitting.md §10): magnitude (log), phase, real and imaginary part,
+// the modes marked.
 io::PlotFigure figure(const FitJobReport& r) {
+  enum class Part { kMagnitude, kPhase, kReal, kImaginary };
   const auto series = [](const MeasuredFrf& t, const char* title, const char* style,
-                         const char* colour, bool phase) {
+                         const char* colour, Part part) {
     io::PlotSeries s{title, t.frequency_hz, {}, style, false, colour};
-    for (const std::complex<double>& g : t.receptance_m_per_n)
-      s.y.push_back(phase ? std::arg(g) * 180.0 / std::numbers::pi : std::abs(g));
+    for (const std::complex<double>& g : t.receptance_m_per_n) {
+      switch (part) {
+        case Part::kMagnitude: s.y.push_back(std::abs(g)); break;
+        case Part::kPhase: s.y.push_back(std::arg(g) * 180.0 / std::numbers::pi); break;
+        case Part::kReal: s.y.push_back(g.real()); break;
+        case Part::kImaginary: s.y.push_back(g.imag()); break;
+      }
+    }
     return io::envelope(s, 2000);
   };
+  const MeasuredFrf used = sample_frf(r.fit.model, r.fit.direction, r.fitted.frequency_hz);
   std::vector<io::PlotMark> marks;
   for (const FittedMode& m : r.fit.modes)
     marks.push_back({m.natural_hz, human(m.natural_hz, 4) + " Hz"});
-  io::PlotSpec magnitude, phase;
-  magnitude.x_label = phase.x_label = "frequency (Hz)";
-  magnitude.y_label = "receptance magnitude (m/N)";
-  magnitude.y_log = true;
-  phase.y_label = "phase (°)";
-  for (bool p : {false, true}) {
-    io::PlotSpec& panel = p ? phase : magnitude;
-    panel.series.push_back(series(r.read.frf, "measured", "lines", "#999999", p));
-    panel.series.push_back(series(r.fitted, "fitted", "lines", "#D55E00", p));
+  std::vector<io::PlotSpec> panels;
+  for (const auto& [part, label] :
+       {std::pair{Part::kMagnitude, "receptance magnitude (m/N)"}, std::pair{Part::kPhase, "phase (°)"},
+        std::pair{Part::kReal, "real part (m/N)"}, std::pair{Part::kImaginary, "imaginary part (m/N)"}}) {
+    io::PlotSpec panel;
+    panel.x_label = "frequency (Hz)";
+    panel.y_label = label;
+    panel.y_log = part == Part::kMagnitude;
+    panel.series.push_back(series(r.read.frf, "measured", "lines", "#999999", part));
+    panel.series.push_back(series(r.fitted, "fit (with residual terms)", "lines", "#D55E00", part));
+    if (!r.fit.model.modes.empty())
+      panel.series.push_back(series(used, "modes used by every method", "lines", "#0072B2", part));
     panel.x_marks = marks;
+    panels.push_back(std::move(panel));
   }
-  return {
-      fmt::format("Modal fit: {} ({} modes in {}, RMS error {} %)", r.source, r.fit.modes.size(),
-                  to_string(r.fit.direction), human(100.0 * r.fit.rms_relative_error, 3)),
-      {magnitude, phase}};
+  return {fmt::format("Modal fit: {} ({} modes in {}, RMS error {} %; the modes alone {} %)",
+                      r.source, r.fit.modes.size(), to_string(r.fit.direction),
+                      human(100.0 * r.fit.rms_relative_error, 3),
+                      human(100.0 * r.fit.model_rms_relative_error, 3)),
+          std::move(panels)};
 }
 
 }  // namespace cutdyn::app

@@ -577,12 +577,21 @@ json to_json(const io::Case& c, const IdentifyJobReport& r) {
 json to_json(const FitJobReport& r) {
   const FrfFit& f = r.fit;
   json modes = json::array();
-  for (const FittedMode& m : f.modes)
-    modes.push_back({{"natural_hz", m.natural_hz},
-                     {"damping_ratio", m.damping_ratio},
-                     {"stiffness_n_per_m", m.stiffness_n_per_m},
-                     {"residue_phase_deg", m.residue_phase_deg},
-                     {"contribution", m.contribution}});
+  const auto mode_json = [](const FittedMode& m) {
+    return json{{"natural_hz", m.natural_hz},
+                {"damping_ratio", m.damping_ratio},
+                {"stiffness_n_per_m", m.stiffness_n_per_m},
+                {"residue_phase_deg", m.residue_phase_deg},
+                {"contribution", m.contribution},
+                {"sigma",
+                 {{"natural_hz", m.natural_hz_sigma},
+                  {"damping_ratio", m.damping_ratio_sigma},
+                  {"stiffness_n_per_m", m.stiffness_sigma_n_per_m}}},
+                {"covariance", m.covariance}};
+  };
+  for (const FittedMode& m : f.modes) modes.push_back(mode_json(m));
+  json outside = json::array();
+  for (const FittedMode& m : f.outside_modes) outside.push_back(mode_json(m));
   json points = json::array();
   for (const StabilisationPoint& p : f.stabilisation)
     points.push_back({{"order", p.order},
@@ -600,6 +609,11 @@ json to_json(const FitJobReport& r) {
           {"points", f.points},
           {"automatic", f.automatic},
           {"modes", std::move(modes)},
+          {"outside_modes", std::move(outside)},
+          {"noise",
+           {{"proportional", f.noise.proportional},
+            {"floor_m_per_n", f.noise.floor_m_per_n},
+            {"weighted", f.noise_weighted}}},
           {"rms_relative_error", f.rms_relative_error},
           {"model_rms_relative_error", f.model_rms_relative_error},
           {"converged", f.converged},

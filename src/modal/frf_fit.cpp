@@ -30,6 +30,16 @@ constexpr double kModelWarning = 0.05;
 // (RMS error <= kPoorFit), by 1 % from a poor one (where a missing mode inflates the error).
 constexpr double kSignificance = 1.1;
 constexpr double kSignificancePoorFit = 1.01;
+// A split of a mode into two (§3.1) is kept when the weighted squared error falls by this many
+// times its per-number variance (χ² with 4 degrees of freedom: 100 is far beyond chance), or
+// by kSignificance in RMS; between kSplitChi2Doubt and kSplitChi2 it is a doubt, said.
+constexpr double kSplitChi2 = 100.0;
+constexpr double kSplitChi2Doubt = 30.0;
+// Levenberg–Marquardt iterations of a trial model (a split, an outside pole): it starts near
+// the fit and is kept only if it improves it clearly, which a few iterations show.
+constexpr int kTrialIterations = 20;
+// An RMS relative error below this is a table fitted to rounding (no noise to speak of).
+constexpr double kExactFit = 1e-7;
 
 std::string fixed(double value, int digits) {
   char buf[48];
@@ -84,6 +94,7 @@ BandData band_of(const MeasuredFrf& frf, const FrfFitOptions& options, FrfFit& o
   band.hi_rad_s = kTwoPi * out.hi_hz;
   const double floor = 1e-6 * peak;  // keeps a zero of the table from an infinite weight
   for (const cd& g : band.g) band.w.push_back(1.0 / std::max(std::abs(g), floor));
+  band.w_rel = band.w;
   return band;
 }
 
@@ -224,7 +235,7 @@ double rms_without(const BandData& band, const PoleResidueModel& model, std::siz
   PoleResidueModel m = model;
   m.poles.erase(m.poles.begin() + static_cast<std::ptrdiff_t>(r));
   fit_detail::fit_residues(band, m);
-  return fit_detail::rms_relative_error(band, m);
+  return fit_detail::rms_fit_error(band, m);
 }
 
 // Of two poles closer than 1 % in frequency or a quarter of the sum of their damping ratios
@@ -273,9 +284,11 @@ int pole_to_drop(const BandData& band, const PoleResidueModel& model, bool autom
     return r;
   }
   if (!automatic || model.poles.empty()) return -1;
-  const double rms = fit_detail::rms_relative_error(band, model);
+  const double rms = fit_detail::rms_fit_error(band, model);
   int worst = -1;
-  double worst_ratio = rms <= kPoorFit ? kSignificance : kSignificancePoorFit;
+  double worst_ratio = fit_detail::rms_relative_error(band, model) <= kPoorFit
+                           ? kSignificance
+                           : kSignificancePoorFit;
   for (std::size_t r = 0; r < model.poles.size(); ++r) {
     const double ratio = rms_without(band, model, r) / rms;
     if (ratio < worst_ratio) {
@@ -308,7 +321,7 @@ fit_detail::RefineStats refine_and_prune(const BandData& band, PoleResidueModel&
     stats = fit_detail::refine(band, model);
   }
   if (!automatic) {  // the modes asked are kept; say which ones the data does not need
-    const double rms = fit_detail::rms_relative_error(band, model);
+    const double rms = fit_detail::rms_fit_error(band, model);
     for (std::size_t r = 0; r < model.poles.size(); ++r) {
       const double ratio = rms_without(band, model, r) / rms;
       if (ratio < kSignificance)
@@ -373,9 +386,27 @@ FittedMode fitted_mode(const BandData& band, cd pole, cd residue) {
   m.residue_phase_deg = phase_deg(residue);
   double sum = 0.0;
   for (std::size_t k = 0; k < band.size(); ++k)
-    sum += std::norm(band.w[k] * fit_detail::mode_term(pole, residue, band.omega[k]));
+    sum += std::norm(band.w_rel[k] * fit_detail::mode_term(pole, residue, band.omega[k]));
   m.contribution = std::sqrt(sum / static_cast<double>(band.size()));
   return m;
+}
+
+// The covariance of (fn, ζ, k) from that of (σ, ωd, Re A, Im A) (§4.2): ωn = sqrt(σ² + ωd²),
+// ζ = σ/ωn, k = ωn²/(2·ωd·|A|), to first order (the Jacobian of that map).
+void set_uncertainty(FittedMode& m, const Eigen::Matrix4d& c) {
+  const double sigma = -m.pole.real(), wd = m.pole.imag(), wn = std::abs(m.pole);
+  const double a2 = std::norm(m.residue), a = std::sqrt(a2), k = m.stiffness_n_per_m;
+  Eigen::Matrix<double, 3, 4> g;
+  g << sigma / (wn * kTwoPi), wd / (wn * kTwoPi), 0.0, 0.0,                       // fn
+      wd * wd / (wn * wn * wn), -sigma * wd / (wn * wn * wn), 0.0, 0.0,          // ζ
+      sigma / (wd * a), (wd * wd - sigma * sigma) / (2.0 * wd * wd * a),         // k
+      -k * m.residue.real() / a2, -k * m.residue.imag() / a2;
+  const Eigen::Matrix3d q = g * c * g.transpose();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) m.covariance[i][j] = std::isfinite(q(i, j)) ? q(i, j) : 0.0;
+  m.natural_hz_sigma = std::sqrt(std::max(m.covariance[0][0], 0.0));
+  m.damping_ratio_sigma = std::sqrt(std::max(m.covariance[1][1], 0.0));
+  m.stiffness_sigma_n_per_m = std::sqrt(std::max(m.covariance[2][2], 0.0));
 }
 
 // The RMS relative error of `model` (the modes without the residual terms) against the table,
@@ -383,7 +414,7 @@ FittedMode fitted_mode(const BandData& band, cd pole, cd residue) {
 double model_error(const BandData& band, const ModalModel& model, Direction direction) {
   double sum = 0.0;
   for (std::size_t k = 0; k < band.size(); ++k)
-    sum += std::norm(band.w[k] * (frf(model, direction, band.omega[k]) - band.g[k]));
+    sum += std::norm(band.w_rel[k] * (frf(model, direction, band.omega[k]) - band.g[k]));
   return std::sqrt(sum / static_cast<double>(band.size()));
 }
 
@@ -410,6 +441,7 @@ void review(FrfFit& out) {
                           "° from a real mode's): kept as a non-proportionally damped mode");
   }
   if (!out.modes.empty() && out.model_rms_relative_error > kModelWarning &&
+      out.model_rms_relative_error > 1.25 * out.rms_relative_error &&
       out.rms_relative_error <= kPoorFit)
     out.warnings.push_back(
         "the modes alone reproduce the table to " + fixed(100.0 * out.model_rms_relative_error, 1) +
@@ -420,33 +452,348 @@ void review(FrfFit& out) {
 
 }  // namespace
 
-FrfFit fit_modes(const MeasuredFrf& frf, Direction direction, const FrfFitOptions& options) {
-  FrfFit out;
-  out.direction = direction;
-  out.automatic = options.modes == 0;
-  const BandData band = band_of(frf, options, out);
+namespace {
+
+// One fit over `band` with its weights: the diagram, the choice of poles, the refinement and
+// the pruning (§2–§4). `out` holds what the band's reading said; the model is returned in
+// `model`.
+FrfFit fit_pass(const BandData& band, const FrfFitOptions& options, FrfFit out,
+                PoleResidueModel& model) {
   const int target = out.automatic ? std::min(options.max_modes, out.points / 4) : options.modes;
   const int max_order = max_order_for(target, out.points);
   out.stabilisation = diagram(fit_detail::lscf_poles(band, max_order));
   Selection sel = select_poles(out.stabilisation, out.automatic ? 0 : target, max_order, out);
   if (static_cast<int>(sel.poles.size()) > target) sel.poles.resize(target);
-
-  PoleResidueModel model;
+  model = PoleResidueModel{};
   model.poles = sel.poles;
   model.residuals = residual_terms(options.residuals && out.lo_hz > 0.0, options.residuals);
   const fit_detail::RefineStats stats = refine_and_prune(band, model, out.automatic, out);
   out.iterations = stats.iterations;
   out.converged = stats.converged;
+  return out;
+}
+
+// The noise of the table about `model` (§4.1): E|G_model − G|² = c1·|G_model|² + c0 fitted to
+// the squared residuals by iteratively reweighted least squares (the variance of a squared
+// residual grows as the square of its mean), both coefficients >= 0, and scaled by the
+// degrees of freedom the fit took. Per part (real or imaginary): proportional sqrt(c1/2),
+// floor sqrt(c0/2).
+FrfNoise estimate_noise(const BandData& band, const PoleResidueModel& model) {
+  const std::size_t n = band.size();
+  std::vector<double> m(n), y(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const cd model_g = fit_detail::evaluate(model, band.omega[k]);
+    m[k] = std::norm(model_g);
+    y[k] = std::norm(model_g - band.g[k]);
+  }
+  std::vector<double> ratio;
+  for (std::size_t k = 0; k < n; ++k)
+    if (m[k] > 0.0) ratio.push_back(y[k] / m[k]);
+  double c1 = ratio.empty() ? 0.0 : median(ratio);
+  double c0 = 1e-3 * c1 * median(m) + 1e-300;
+  for (int iteration = 0; iteration < 8; ++iteration) {
+    double s11 = 0, s10 = 0, s00 = 0, t1 = 0, t0 = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      const double v = c1 * m[k] + c0;
+      if (!(v > 0.0)) continue;
+      const double u = 1.0 / (v * v);
+      s11 += u * m[k] * m[k];
+      s10 += u * m[k];
+      s00 += u;
+      t1 += u * m[k] * y[k];
+      t0 += u * y[k];
+    }
+    const double det = s11 * s00 - s10 * s10;
+    double a = det > 0.0 ? (t1 * s00 - t0 * s10) / det : 0.0;
+    double b = det > 0.0 ? (s11 * t0 - s10 * t1) / det : 0.0;
+    if (a < 0.0) {  // one coefficient at its bound 0: the other alone
+      a = 0.0;
+      b = s00 > 0.0 ? t0 / s00 : 0.0;
+    } else if (b < 0.0) {
+      b = 0.0;
+      a = s11 > 0.0 ? t1 / s11 : 0.0;
+    }
+    if (!(a + b > 0.0) || !std::isfinite(a) || !std::isfinite(b)) break;
+    c1 = a;
+    c0 = std::max(b, 1e-300);
+  }
+  const double parameters = 4.0 * static_cast<double>(model.poles.size()) +
+                            static_cast<double>(model.residuals.size());
+  const double dof = 2.0 * static_cast<double>(n);
+  const double scale = dof > parameters ? dof / (dof - parameters) : 1.0;
+  FrfNoise noise;
+  noise.proportional = std::sqrt(scale * c1 / 2.0);
+  noise.floor_m_per_n = c0 > 1e-300 ? std::sqrt(scale * c0 / 2.0) : 0.0;
+  return noise;
+}
+
+// The magnitude below which the floor's noise exceeds the proportional noise.
+double floor_magnitude(const FrfNoise& noise) {
+  return noise.floor_m_per_n / std::max(noise.proportional, 1e-4);
+}
+
+// The band reweighted for `noise` (§4.1): w = 1/sqrt(|G_model|² + g0²), g0 = floor_magnitude,
+// and the relative error measured against max(|G|, g0).
+BandData reweighted(BandData band, const PoleResidueModel& model, const FrfNoise& noise) {
+  const double g0 = floor_magnitude(noise);
+  double peak = 0.0;
+  for (const cd& g : band.g) peak = std::max(peak, std::abs(g));
+  for (std::size_t k = 0; k < band.size(); ++k) {
+    const double model_g = std::abs(fit_detail::evaluate(model, band.omega[k]));
+    band.w[k] = 1.0 / std::max(std::hypot(model_g, g0), 1e-6 * peak);
+    band.w_rel[k] = 1.0 / std::max({std::abs(band.g[k]), g0, 1e-6 * peak});
+  }
+  return band;
+}
+
+// Whether the floor matters: at 2 % of the band's points or more the model is below it.
+bool floor_matters(const BandData& band, const PoleResidueModel& model, const FrfNoise& noise) {
+  const double g0 = floor_magnitude(noise);
+  std::size_t below = 0;
+  for (std::size_t k = 0; k < band.size(); ++k)
+    if (std::abs(fit_detail::evaluate(model, band.omega[k])) < g0) ++below;
+  return static_cast<double>(below) >= 0.02 * static_cast<double>(band.size());
+}
+
+// The lowest critical depth's scale of a receptance: 1/(−min Re G) over the band (Tlusty's
+// a_lim = −1/(2·Kf·Re G), whose minimum over speeds is at the most negative Re G).
+double depth_scale(const BandData& band, const PoleResidueModel& model) {
+  double lowest = 0.0;
+  for (std::size_t k = 0; k < band.size(); ++k)
+    lowest = std::min(lowest, fit_detail::evaluate(model, band.omega[k], false).real());
+  return lowest < 0.0 ? -1.0 / lowest : 0.0;
+}
+
+// A mode just outside the band (§1.1): the residual series cannot absorb it, and it bends the
+// modes inside. A pole is tried above the band (1.15·hi) and, for a band starting above 0 Hz,
+// below it (0.85·lo), each refined with all the others; it is kept when the RMS error falls
+// by kSignificance and the pole stays outside the band with a positive stiffness. Returns how
+// many were kept (the last poles of `model`).
+int add_outside_poles(const BandData& band, PoleResidueModel& model, FrfFit& out) {
+  int kept = 0;
+  for (const double at : {1.15 * band.hi_rad_s, 0.85 * band.lo_rad_s}) {
+    if (!(at > 0.0)) continue;
+    const bool above = at > band.hi_rad_s;
+    PoleResidueModel trial = model;
+    trial.poles.push_back(cd(-0.03 * at, at * std::sqrt(1.0 - 0.03 * 0.03)));
+    fit_detail::fit_residues(band, trial);
+    {  // a quick look: the pole where it was put, only the residues fitted (linear)
+      const double before = fit_detail::rms_fit_error(band, model);
+      const double after = fit_detail::rms_fit_error(band, trial);
+      const double numbers = 2.0 * static_cast<double>(band.size());
+      if (!(after > 0.0 && numbers * (before * before - after * after) / (after * after) >
+                               kSplitChi2Doubt))
+        continue;
+    }
+    fit_detail::refine(band, trial, kTrialIterations);
+    const cd pole = trial.poles.back();
+    const double wn = std::abs(pole), zeta = -pole.real() / wn;
+    const bool outside = above ? wn > band.hi_rad_s : wn < band.lo_rad_s;
+    const double gain = fit_detail::rms_fit_error(band, model) / fit_detail::rms_fit_error(band, trial);
+    if (!(outside && zeta < 0.5 && std::abs(phase_deg(trial.residues.back())) <= 90.0 &&
+          gain >= kSignificance))
+      continue;
+    out.warnings.push_back(std::string("a mode ") + (above ? "above" : "below") +
+                           " the band, near " + mode_text(pole) +
+                           ", bends the modes inside it: modelled by an explicit pole (" +
+                           "RMS error " + fixed(100.0 * fit_detail::rms_relative_error(band, model), 2) +
+                           " % without it, " + fixed(100.0 * fit_detail::rms_relative_error(band, trial), 2) +
+                           " % with it); the modes near that edge are the less certain, and the "
+                           "pole is not one of the modes (it lies outside the table's band)");
+    model = std::move(trial);
+    ++kept;
+  }
+  return kept;
+}
+
+// Two close modes fitted as one (§3.1): each mode in turn is split into two poles ζ·ωn below
+// and above it and refined. Kept when every pole stays physical, in the band and of positive stiffness, no
+// two stand for one mode, and the RMS error falls by kSignificance; a split that fits that
+// much better but is not kept, or one that fits almost as well (3 %), is a warning with both
+// errors and the change of the lowest critical depth's scale.
+// Whether two poles about the peak of mode r fit the points near it clearly better than one
+// (§3.1): on the points within max(4ζ, 3 %) of ωn, the table less the model's other terms,
+// fitted by one pole and by two (poles and residues refined); true when the weighted squared
+// error falls by more than kSplitChi2Doubt times its per-number variance. A quick look that
+// spares the whole band's refinement where there is nothing to split.
+bool split_looks_better(const BandData& band, const PoleResidueModel& model, std::size_t r) {
+  const cd pole = model.poles[r];
+  const double wn = std::abs(pole), zeta = -pole.real() / wn, delta = std::max(zeta, 0.005);
+  PoleResidueModel others = model;
+  others.poles.erase(others.poles.begin() + static_cast<std::ptrdiff_t>(r));
+  others.residues.erase(others.residues.begin() + static_cast<std::ptrdiff_t>(r));
+  BandData local;
+  for (std::size_t k = 0; k < band.size(); ++k) {
+    if (std::abs(band.omega[k] - wn) > std::max(4.0 * zeta, 0.03) * wn) continue;
+    local.omega.push_back(band.omega[k]);
+    local.g.push_back(band.g[k] - fit_detail::evaluate(others, band.omega[k]));
+    local.w.push_back(band.w[k]);
+    local.w_rel.push_back(band.w_rel[k]);
+  }
+  if (local.size() < 16) return false;
+  local.lo_rad_s = local.omega.front();
+  local.hi_rad_s = local.omega.back();
+  PoleResidueModel one, two;
+  one.poles = {pole};
+  two.poles = {pole * (1.0 - delta), pole * (1.0 + delta)};
+  for (PoleResidueModel* m : {&one, &two}) {
+    fit_detail::fit_residues(local, *m);
+    fit_detail::refine(local, *m, kTrialIterations);
+  }
+  const double a = fit_detail::rms_fit_error(local, one), b = fit_detail::rms_fit_error(local, two);
+  const double numbers = 2.0 * static_cast<double>(local.size());
+  return b > 0.0 && (numbers - 8.0) * (a * a - b * b) / (b * b) > kSplitChi2Doubt;
+}
+
+void split_merged_modes(const BandData& band, PoleResidueModel& model, std::size_t inside,
+                        FrfFit& out) {
+  // A table fitted to rounding has nothing to split.
+  if (fit_detail::rms_relative_error(band, model) < kExactFit) return;
+  for (std::size_t r = 0; r < inside; ++r) {
+    const double rms = fit_detail::rms_fit_error(band, model);
+    const cd pole = model.poles[r];
+    const double zeta = -pole.real() / std::abs(pole), delta = std::max(zeta, 0.005);
+    if (!split_looks_better(band, model, r)) continue;
+    PoleResidueModel trial = model;
+    trial.poles[r] = pole * (1.0 - delta);
+    trial.poles.insert(trial.poles.begin() + static_cast<std::ptrdiff_t>(inside),
+                       pole * (1.0 + delta));
+    trial.residues.insert(trial.residues.begin() + static_cast<std::ptrdiff_t>(inside), cd{});
+    fit_detail::fit_residues(band, trial);
+    const double numbers = 2.0 * static_cast<double>(band.size());
+    const double parameters = 4.0 * static_cast<double>(trial.poles.size()) +
+                              static_cast<double>(trial.residuals.size());
+    // The fall of the weighted squared error from `rms` to `after`, in units of its per-number
+    // variance (a χ² with 4 degrees of freedom on noise alone).
+    const auto chi2_of = [&](double after) {
+      return (numbers - parameters) * (rms * rms - after * after) / (after * after);
+    };
+    fit_detail::refine(band, trial, kTrialIterations);
+    const double trial_rms = fit_detail::rms_fit_error(band, trial);
+    bool valid = true;
+    for (std::size_t q : {r, inside}) {
+      const double wn = std::abs(trial.poles[q]), z = -trial.poles[q].real() / wn;
+      valid = valid && wn >= band.lo_rad_s && wn <= band.hi_rad_s && z < 0.5 &&
+              std::abs(phase_deg(trial.residues[q])) <= 90.0 && std::abs(trial.residues[q]) > 0.0;
+    }
+    // Both poles of the split must stay at this peak (within 3 ζ or 2 % of ωn): a pole that
+    // wandered to another peak is that peak's split, looked at in its turn.
+    const double reach = std::max(3.0 * zeta, 0.02) * std::abs(pole);
+    if (std::abs(std::abs(trial.poles[r]) - std::abs(pole)) > reach ||
+        std::abs(std::abs(trial.poles[inside]) - std::abs(pole)) > reach)
+      continue;
+    // How much better two poles fit: the RMS ratio, and the fall of the weighted squared error
+    // in units of its per-number variance (a χ² with 4 degrees of freedom on noise alone).
+    const double gain = rms / trial_rms;
+    const double chi2 = chi2_of(trial_rms);
+    const bool better = gain >= kSignificance || chi2 > kSplitChi2;
+    const std::string at = "the peak at " + mode_text(pole);
+    const auto both = [&] {
+      const double a = depth_scale(band, model), b = depth_scale(band, trial);
+      return "RMS error " + fixed(100.0 * fit_detail::rms_relative_error(band, model), 2) +
+             " % with one mode, " + fixed(100.0 * fit_detail::rms_relative_error(band, trial), 2) +
+             " % with two; the lowest critical depth changes by " +
+             fixed(a > 0.0 ? 100.0 * (b / a - 1.0) : 0.0, 1) + " %";
+    };
+    {
+      PoleResidueModel in_band = trial;  // two poles on one mode? (the modes only)
+      in_band.poles.resize(inside + 1);
+      in_band.residues.resize(inside + 1);
+      valid = valid && duplicate_pole(band, in_band) < 0;
+    }
+    if (valid && better) {
+      out.notes.push_back(at + " holds two modes: split (" + both() + ")");
+      model = std::move(trial);
+      ++inside;
+      r = static_cast<std::size_t>(-1);  // look at every mode again
+    } else if (better) {
+      out.warnings.push_back(at + " may hold two close modes: two poles fit better but one " +
+                             "comes out unphysical; one mode kept (" + both() + ")");
+    } else if (valid && chi2 > kSplitChi2Doubt) {
+      out.warnings.push_back(at + " fits as one mode or as two almost equally (" + both() +
+                             "): the number of modes there is uncertain");
+    }
+  }
+}
+
+}  // namespace
+
+FrfFit fit_modes(const MeasuredFrf& frf, Direction direction, const FrfFitOptions& options) {
+  FrfFit base;
+  base.direction = direction;
+  base.automatic = options.modes == 0;
+  BandData band = band_of(frf, options, base);
+  PoleResidueModel model;
+  FrfFit out = fit_pass(band, options, base, model);
+  out.noise = estimate_noise(band, model);
+  // A noise floor (§4.1): the fit again with the weights of the noise, until they settle.
+  for (int pass = 0; pass < 2 && floor_matters(band, model, out.noise); ++pass) {
+    const double g0 = floor_magnitude(out.noise);
+    band = reweighted(band, model, out.noise);
+    PoleResidueModel again;
+    out = fit_pass(band, options, base, again);
+    model = std::move(again);
+    out.noise = estimate_noise(band, model);
+    out.noise_weighted = true;
+    if (std::abs(std::log(floor_magnitude(out.noise) / g0)) < std::log(1.5)) break;
+  }
+  const std::size_t inside = model.poles.size();  // the outside poles follow
+  if (options.residuals && !model.poles.empty() &&
+      fit_detail::rms_relative_error(band, model) >= kExactFit)
+    add_outside_poles(band, model, out);
+  // A floor that only a later model shows (a merged pair's error read as noise before its
+  // split): the weights of §4.1 and one more refinement.
+  const auto weigh_late_floor = [&] {
+    out.noise = estimate_noise(band, model);
+    if (out.noise_weighted || !floor_matters(band, model, out.noise)) return;
+    band = reweighted(band, model, out.noise);
+    fit_detail::refine(band, model);
+    out.noise = estimate_noise(band, model);
+    out.noise_weighted = true;
+  };
+  if (out.automatic) {
+    split_merged_modes(band, model, inside, out);
+    if (!out.noise_weighted) {
+      weigh_late_floor();
+      if (out.noise_weighted) {  // the doubts again, on the right weights
+        std::erase_if(out.warnings, [](const std::string& w) {
+          return w.find("fits as one mode or as two almost equally") != std::string::npos;
+        });
+        const auto in_band = std::count_if(model.poles.begin(), model.poles.end(), [&](cd p) {
+          return std::abs(p) >= band.lo_rad_s && std::abs(p) <= band.hi_rad_s;
+        });
+        split_merged_modes(band, model, static_cast<std::size_t>(in_band), out);
+      }
+    }
+  }
+  weigh_late_floor();
   out.residuals = reported(model.residuals);
   out.rms_relative_error = fit_detail::rms_relative_error(band, model);
-  for (std::size_t r = 0; r < model.poles.size(); ++r)
-    out.modes.push_back(fitted_mode(band, model.poles[r], model.residues[r]));
+  const Eigen::MatrixXd covariance = fit_detail::parameter_covariance(band, model);
+  for (std::size_t r = 0; r < model.poles.size(); ++r) {
+    const bool outside =
+        std::abs(model.poles[r]) < band.lo_rad_s || std::abs(model.poles[r]) > band.hi_rad_s;
+    FittedMode m = fitted_mode(band, model.poles[r], model.residues[r]);
+    set_uncertainty(m, covariance.block<4, 4>(4 * static_cast<Eigen::Index>(r),
+                                              4 * static_cast<Eigen::Index>(r)));
+    (outside ? out.outside_modes : out.modes).push_back(m);
+  }
   std::sort(out.modes.begin(), out.modes.end(),
             [](const FittedMode& a, const FittedMode& b) { return a.natural_hz < b.natural_hz; });
   for (const FittedMode& m : out.modes)
     out.model.modes.push_back(Mode{direction, m.natural_rad_s, m.damping_ratio,
                                    m.stiffness_n_per_m, m.residue_phase_deg * kTwoPi / 360.0});
   out.model_rms_relative_error = model_error(band, out.model, direction);
+  // A number of modes asked is met or refused (§3): never fewer without a word.
+  if (!out.automatic && static_cast<int>(out.modes.size()) != options.modes) {
+    std::vector<std::string> problems{
+        "modes = " + std::to_string(options.modes) + ": the band " + fixed(out.lo_hz, 0) + "…" +
+        fixed(out.hi_hz, 0) + " Hz holds " + std::to_string(out.modes.size()) +
+        " distinct physical mode(s) to fit; ask for " + std::to_string(out.modes.size()) +
+        " or fewer, or let the diagram choose (automatic)"};
+    for (const std::string& w : out.warnings) problems.push_back("modes: " + w);
+    throw InvalidInput(problems, "fit");
+  }
   review(out);
   return out;
 }
@@ -474,8 +821,14 @@ MeasuredFrf fitted_frf(const FrfFit& fit, const std::vector<double>& frequency_h
   FrfResiduals q = fit.residuals;
   for (ResidualTerm& t : model.residuals) t.value = coefficient(q, t.kind);
   for (double f : frequency_hz) {
+    // The residual terms and the explicit poles outside the band stand for modes beyond it:
+    // inside the band only.
     const bool in_band = f >= fit.lo_hz && f <= fit.hi_hz && f > 0.0;
-    out.receptance_m_per_n.push_back(fit_detail::evaluate(model, kTwoPi * f, in_band));
+    cd g = fit_detail::evaluate(model, kTwoPi * f, in_band);
+    if (in_band)
+      for (const FittedMode& m : fit.outside_modes)
+        g += fit_detail::mode_term(m.pole, m.residue, kTwoPi * f);
+    out.receptance_m_per_n.push_back(g);
   }
   return out;
 }

@@ -3,6 +3,8 @@
 // Peeters2004] and the Levenberg–Marquardt refinement [Marquardt1963].
 #pragma once
 
+#include <Eigen/Dense>
+
 #include <complex>
 #include <vector>
 
@@ -14,7 +16,8 @@ using cd = std::complex<double>;
 struct BandData {
   std::vector<double> omega;  // rad/s
   std::vector<cd> g;          // measured receptance, m/N
-  std::vector<double> w;      // 1/max(|g|, 1e-6·max|g|), N/m
+  std::vector<double> w;      // the fit's weights, N/m: w_rel, or those of the noise (§4)
+  std::vector<double> w_rel;  // 1/max(|g|, g0, 1e-6·max|g|), g0 the noise floor (0: none)
   double lo_rad_s = 0.0, hi_rad_s = 0.0;
   std::size_t size() const { return omega.size(); }
 };
@@ -45,8 +48,10 @@ struct PoleResidueModel {
 cd mode_term(cd pole, cd residue, double omega);
 /// The whole model at ω; `with_residuals` false leaves out −L/ω² and U.
 cd evaluate(const PoleResidueModel& model, double omega, bool with_residuals = true);
-/// sqrt(mean over the band of w²·|G_model − G|²).
+/// sqrt(mean over the band of w_rel²·|G_model − G|²).
 double rms_relative_error(const BandData& band, const PoleResidueModel& model);
+/// sqrt(mean over the band of w²·|G_model − G|²): what the refinement minimises.
+double rms_fit_error(const BandData& band, const PoleResidueModel& model);
 
 /// The physical poles (Im λ > 0, 0 < ζ < 0.5, ωn inside the band) of the LSCF estimate of
 /// each order 1…max_order; entry [n − 1] holds order n.
@@ -54,6 +59,11 @@ std::vector<std::vector<cd>> lscf_poles(const BandData& band, int max_order);
 
 /// Residues and residual terms of least weighted error for fixed poles (linear least squares).
 void fit_residues(const BandData& band, PoleResidueModel& model);
+
+/// The covariance of pack()'s parameters at `model` (σ, ωd, Re A, Im A per pole, then the
+/// residual terms): c²·(JᵀJ)⁻¹, J the weighted residual's Jacobian and c² = cost/(2N − p)
+/// (docs/models/modal-fitting.md §4.2).
+Eigen::MatrixXd parameter_covariance(const BandData& band, const PoleResidueModel& model);
 
 struct RefineStats {
   int iterations = 0;

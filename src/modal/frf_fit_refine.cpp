@@ -38,11 +38,24 @@ cd residual_basis(ResidualKind kind, double omega) {
   return 0.0;
 }
 
-double rms_relative_error(const BandData& band, const PoleResidueModel& model) {
+namespace {
+
+double weighted_rms(const BandData& band, const PoleResidueModel& model,
+                    const std::vector<double>& w) {
   double sum = 0.0;
   for (std::size_t k = 0; k < band.size(); ++k)
-    sum += std::norm(band.w[k] * (evaluate(model, band.omega[k]) - band.g[k]));
+    sum += std::norm(w[k] * (evaluate(model, band.omega[k]) - band.g[k]));
   return std::sqrt(sum / static_cast<double>(band.size()));
+}
+
+}  // namespace
+
+double rms_relative_error(const BandData& band, const PoleResidueModel& model) {
+  return weighted_rms(band, model, band.w_rel);
+}
+
+double rms_fit_error(const BandData& band, const PoleResidueModel& model) {
+  return weighted_rms(band, model, band.w);
 }
 
 namespace {
@@ -140,6 +153,21 @@ void fit_residues(const BandData& band, PoleResidueModel& model) {
   Eigen::VectorXd p = pack(model);
   for (std::size_t c = 0; c < cols.size(); ++c) p(cols[c]) = x(c);
   if (p.allFinite()) unpack(p, model);
+}
+
+Eigen::MatrixXd parameter_covariance(const BandData& band, const PoleResidueModel& model) {
+  Eigen::MatrixXd jac;
+  const Eigen::VectorXd e = residual(band, model, &jac);
+  const auto p = jac.cols();
+  const double dof = static_cast<double>(jac.rows() - p);
+  const double c2 = dof > 0.0 ? e.squaredNorm() / dof : 0.0;
+  // Scaled to unit columns for the conditioning, (JᵀJ)⁻¹ = D⁻¹·(JsᵀJs)⁻¹·D⁻¹.
+  const Eigen::VectorXd d = column_scale(jac);
+  const Eigen::MatrixXd js = jac * d.cwiseInverse().asDiagonal();
+  const Eigen::MatrixXd h = js.transpose().lazyProduct(js);
+  const Eigen::MatrixXd inv =
+      h.completeOrthogonalDecomposition().pseudoInverse();  // singular: the null space is 0
+  return c2 * d.cwiseInverse().asDiagonal() * inv * d.cwiseInverse().asDiagonal();
 }
 
 RefineStats refine(const BandData& band, PoleResidueModel& model, int max_iterations) {

@@ -83,13 +83,14 @@ TEST_F(FitCli, RecoversTheExampleModesInEveryFormatAndWritesThemForACase) {
 
 TEST_F(FitCli, SpuriousPolesDroppedByTheAutomaticChoiceAreNotesNotWarnings) {
   // tool_y's noise makes a pole near 1021 Hz that the automatic choice drops: said on stdout
-  // as a note, with no warning on stderr; asked for 3 modes, the third is warned about.
+  // as a note, with no warning on stderr.
   const Result r = cutdyn({"fit", (kFrf / "tool_y.csv").string(), "--direction", "y"});
   ASSERT_EQ(r.code, 0);
   EXPECT_THAT(r.out, HasSubstr("note: pole at 1020"));
   EXPECT_EQ(r.err, "");
-  const Result three = cutdyn({"fit", (kFrf / "tool_y.csv").string(), "--modes", "3"});
-  EXPECT_THAT(three.err, HasSubstr("warning"));
+  // Asked for 3 modes where the table holds 2: refused with the reason, not 2 without a word.
+  expect_rejected({"fit", (kFrf / "tool_y.csv").string(), "--modes", "3", "--out", path("o.toml")},
+                  "modes = 3: the band 50…3000 Hz holds 2 distinct physical mode(s)");
 }
 
 TEST_F(FitCli, TheDirectionIsTheUffFilesResponseDirectionUnlessGiven) {

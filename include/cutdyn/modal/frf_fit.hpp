@@ -15,6 +15,7 @@
 // refined by Levenberg–Marquardt on the relatively weighted complex error [Marquardt1963].
 #pragma once
 
+#include <array>
 #include <complex>
 #include <optional>
 #include <string>
@@ -47,6 +48,10 @@ struct FittedMode {
   /// RMS over the band of |G_r(ω)| / |G_measured(ω)|, G_r this mode's pair of terms: its share
   /// of the response on the scale of the fit error.
   double contribution = 0.0;
+  /// Standard uncertainties (1σ) from the fit's covariance (docs/models/modal-fitting.md §4.2)
+  /// and the covariance of (natural_hz, damping_ratio, stiffness_n_per_m), in those units.
+  double natural_hz_sigma = 0.0, damping_ratio_sigma = 0.0, stiffness_sigma_n_per_m = 0.0;
+  std::array<std::array<double, 3>, 3> covariance{};
 };
 
 /// A physical pole (0 < ζ < 0.5, inside the band) of the LSCF estimate at one model order.
@@ -73,17 +78,31 @@ struct FrfResiduals {
   double u2_m_s2_per_n = 0.0;
 };
 
+/// The noise of the table as the fit's residuals show it (docs/models/modal-fitting.md §4.1):
+/// each part (real, imaginary) of a point scatters with the standard deviation
+/// sqrt((proportional·|G|)² + floor²).
+struct FrfNoise {
+  double proportional = 0.0;   // relative, e.g. 0.01 for 1 %
+  double floor_m_per_n = 0.0;  // additive, m/N
+};
+
 struct FrfFit {
   Direction direction = Direction::kX;
   double lo_hz = 0.0, hi_hz = 0.0;  // the band fitted
   int points = 0;                   // table points in the band
   bool automatic = false;           // the number of modes was chosen from the diagram
   std::vector<FittedMode> modes;    // by increasing natural frequency
+  /// Explicit poles outside the band that stand for modes beyond it (§1.1): part of the fit
+  /// (and of fitted_frf inside the band), not of `modes` or `model`.
+  std::vector<FittedMode> outside_modes;
   FrfResiduals residuals;
   double rms_relative_error = 0.0;  // sqrt(mean |G_fit − G|² / |G|²) over the band
   /// The same error of `model` alone (the modes, complex residues kept, without the residual
   /// terms): what the time-domain methods of a case with [[frf]] tables use (§10).
   double model_rms_relative_error = 0.0;
+  FrfNoise noise;                   // estimated from the residuals
+  /// The fit was weighted for the noise's floor (§4.1) rather than relatively.
+  bool noise_weighted = false;
   int iterations = 0;               // Levenberg–Marquardt iterations of the final fit
   bool converged = false;
   std::vector<StabilisationPoint> stabilisation;
