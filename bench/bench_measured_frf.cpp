@@ -52,14 +52,15 @@ MillingProcess measured_process() {
   return p;
 }
 
-LobesReport cutdyn_lobes(const MillingProcess& p) {
+// `speeds` speeds from kRpmMin to kRpmMax by `method`, one thread, no refinement.
+LobesReport lobes_by(const MillingProcess& p, MillingMethod method, int speeds) {
   MillingStabilityOptions o;
-  o.method = MillingMethod::kZeroOrder;
+  o.method = method;
   o.depth_max_m = kDepthLimit;
   LobesOptions grid;
   grid.rpm_min = kRpmMin;
   grid.rpm_max = kRpmMax;
-  grid.rpm_steps = kSpeeds;
+  grid.rpm_steps = speeds;
   grid.refine = false;
   grid.threads = 1;
   return trace_lobes(
@@ -68,6 +69,10 @@ LobesReport cutdyn_lobes(const MillingProcess& p) {
         return LobePoint{rpm, b.boundary, 1.0, b.lobe};
       },
       grid);
+}
+
+LobesReport cutdyn_lobes(const MillingProcess& p) {
+  return lobes_by(p, MillingMethod::kZeroOrder, kSpeeds);
 }
 
 std::vector<double> speeds() {
@@ -110,21 +115,7 @@ void BM_TextbookSweep(benchmark::State& state) {
 // complex residues (what every time-domain method uses since 2026-11-28) against the same modes
 // as real modes (the phases dropped, what it used before), 100 speeds each.
 LobesReport fd_lobes(const MillingProcess& p) {
-  MillingStabilityOptions o;
-  o.method = MillingMethod::kFullDiscretization;
-  o.depth_max_m = kDepthLimit;
-  LobesOptions grid;
-  grid.rpm_min = kRpmMin;
-  grid.rpm_max = kRpmMax;
-  grid.rpm_steps = 100;
-  grid.refine = false;
-  grid.threads = 1;
-  return trace_lobes(
-      [&](double rpm) {
-        const MillingBoundary b = milling_critical_depth(p, rpm, o);
-        return LobePoint{rpm, b.boundary, 1.0, b.lobe};
-      },
-      grid);
+  return lobes_by(p, MillingMethod::kFullDiscretization, 100);
 }
 
 void BM_FullDiscretizationComplexModes(benchmark::State& state) {
