@@ -52,7 +52,10 @@ std::string modes_toml(const FitJobReport& r) {
       r.source, r.fit.lo_hz, r.fit.hi_hz, r.fit.points, r.fit.modes.size(),
       r.fit.automatic ? " chosen from the stabilisation diagram" : "",
       100.0 * r.fit.rms_relative_error, 100.0 * r.fit.model_rms_relative_error);
-  for (const Mode& m : r.fit.model.modes) {
+  // model.modes[i] is modes[i] as a Mode (same order).
+  for (std::size_t i = 0; i < r.fit.model.modes.size(); ++i) {
+    const Mode& m = r.fit.model.modes[i];
+    const FittedMode& fm = r.fit.modes[i];
     out += fmt::format(
         "\n[[modes]]\ndirection = \"{}\"\nnatural_hz = {:.17g}\ndamping_ratio = {:.17g}\n"
         "stiffness_n_per_m = {:.17g}\n",
@@ -62,11 +65,10 @@ std::string modes_toml(const FitJobReport& r) {
     if (m.residue_phase_rad != 0.0)
       out += fmt::format("residue_phase_deg = {:.17g}\n", units::rad_to_deg(m.residue_phase_rad));
     // The fit's uncertainty, as comments (§4.2): standard deviations and correlations.
-    const auto& fm = r.fit.modes[static_cast<std::size_t>(&m - r.fit.model.modes.data())];
     const auto& c = fm.covariance;
-    const auto corr = [&](int i, int j) {
-      const double d = std::sqrt(c[i][i] * c[j][j]);
-      return d > 0.0 ? c[i][j] / d : 0.0;
+    const auto corr = [&](int a, int b) {
+      const double d = std::sqrt(c[a][a] * c[b][b]);
+      return d > 0.0 ? c[a][b] / d : 0.0;
     };
     out += fmt::format(
         "# 1σ: natural_hz {:.3g}, damping_ratio {:.3g}, stiffness_n_per_m {:.3g}; correlations "

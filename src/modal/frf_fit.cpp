@@ -567,10 +567,9 @@ double depth_scale(const BandData& band, const PoleResidueModel& model) {
 // A mode just outside the band (§1.1): the residual series cannot absorb it, and it bends the
 // modes inside. A pole is tried above the band (1.15·hi) and, for a band starting above 0 Hz,
 // below it (0.85·lo), each refined with all the others; it is kept when the RMS error falls
-// by kSignificance and the pole stays outside the band with a positive stiffness. Returns how
-// many were kept (the last poles of `model`).
-int add_outside_poles(const BandData& band, PoleResidueModel& model, FrfFit& out) {
-  int kept = 0;
+// by kSignificance and the pole stays outside the band with a positive stiffness (appended to
+// `model`'s poles).
+void add_outside_poles(const BandData& band, PoleResidueModel& model, FrfFit& out) {
   for (const double at : {1.15 * band.hi_rad_s, 0.85 * band.lo_rad_s}) {
     if (!(at > 0.0)) continue;
     const bool above = at > band.hi_rad_s;
@@ -601,9 +600,7 @@ int add_outside_poles(const BandData& band, PoleResidueModel& model, FrfFit& out
                            " % with it); the modes near that edge are the less certain, and the "
                            "pole is not one of the modes (it lies outside the table's band)");
     model = std::move(trial);
-    ++kept;
   }
-  return kept;
 }
 
 // Two close modes fitted as one (§3.1): each mode in turn is split into two poles ζ·ωn below
