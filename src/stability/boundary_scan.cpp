@@ -5,6 +5,8 @@
 #include <limits>
 #include <optional>
 
+#include <Eigen/Eigenvalues>
+
 #include "cutdyn/core/detail/roots.hpp"
 
 namespace cutdyn {
@@ -18,6 +20,37 @@ struct Sample {
   Eigen::VectorXcd values;
 };
 
+// Eigenvalues of a 2×2 matrix in closed form: the roots of λ² − tr·λ + det = 0, the larger
+// by the sign of the square root that avoids cancellation, the other as det/λ1 (accurate when
+// the two differ by orders of magnitude, as at a resonance of one direction). The zero-order
+// method's K is 2×2 for milling, and the scan solves it at every sample: the closed form costs a
+// small fraction of the general Schur iteration it replaces and agrees with it to rounding
+// (tests/stability/boundary_scan_test.cpp).
+void eigenvalues_2x2(const Eigen::MatrixXcd& k, Eigen::VectorXcd& out) {
+  const cplx a = k(0, 0), b = k(0, 1), c = k(1, 0), d = k(1, 1);
+  const cplx half = 0.5 * (a + d);
+  const cplx root = std::sqrt(0.25 * (a - d) * (a - d) + b * c);
+  const cplx big = std::real(std::conj(half) * root) >= 0.0 ? half + root : half - root;
+  out.resize(2);
+  out(0) = big;
+  // det/λ1 as det·conj(λ1)/|λ1|²: the library's complex division guards against overflow
+  // the entries of K cannot reach, at several times the cost.
+  const double size = std::norm(big);
+  out(1) = size == 0.0 ? cplx{} : (a * d - b * c) * std::conj(big) / size;
+}
+
+// An eigenvector of a 2×2 matrix for its eigenvalue λ: the larger of the two null vectors
+// the rows of K − λI give, normalised.
+Eigen::VectorXcd eigenvector_2x2(const Eigen::MatrixXcd& k, cplx lambda) {
+  const cplx a = k(0, 0) - lambda, b = k(0, 1), c = k(1, 0), d = k(1, 1) - lambda;
+  Eigen::Vector2cd from_first(b, -a), from_second(d, -c);
+  Eigen::VectorXcd v = from_first.squaredNorm() >= from_second.squaredNorm() ? from_first
+                                                                             : from_second;
+  const double n = v.norm();
+  if (n == 0.0) return Eigen::Vector2cd(1.0, 0.0);  // K = λI: every vector is one
+  return v / n;
+}
+
 class Evaluator {
  public:
   Evaluator(const MatrixFunction& f, long long& count) : f_(f), count_(count) {}
@@ -26,6 +59,12 @@ class Evaluator {
   Eigen::VectorXcd values(double theta) {
     ++count_;
     if (!f_(theta, k_)) return {};
+    if (k_.rows() == 1) return k_.col(0);
+    if (k_.rows() == 2) {
+      Eigen::VectorXcd v;
+      eigenvalues_2x2(k_, v);
+      return v;
+    }
     solver_.compute(k_, false);
     return solver_.eigenvalues();
   }
@@ -34,6 +73,14 @@ class Evaluator {
   std::pair<cplx, Eigen::VectorXcd> nearest(double theta, cplx target, bool vector = true) {
     ++count_;
     f_(theta, k_);
+    if (k_.rows() == 1) return {k_(0, 0), Eigen::VectorXcd::Ones(1)};
+    if (k_.rows() == 2) {
+      Eigen::VectorXcd v;
+      eigenvalues_2x2(k_, v);
+      const cplx best = std::abs(v(0) - target) <= std::abs(v(1) - target) ? v(0) : v(1);
+      if (!vector) return {best, {}};
+      return {best, eigenvector_2x2(k_, best)};
+    }
     solver_.compute(k_, vector);
     Eigen::Index best = 0;
     solver_.eigenvalues().unaryExpr([&](cplx v) { return std::abs(v - target); }).minCoeff(&best);

@@ -93,10 +93,19 @@ std::vector<DelayTerm> DelayedSystem::delay_terms() const {
 }
 
 Eigen::MatrixXcd DelayedSystem::frequency_response(double omega_rad_s) const {
-  if (measured_response) return measured_response(omega_rad_s);
+  Eigen::MatrixXcd g;
+  frequency_response(omega_rad_s, g);
+  return g;
+}
+
+void DelayedSystem::frequency_response(double omega_rad_s, Eigen::MatrixXcd& g) const {
+  if (measured_response) {
+    measured_response(omega_rad_s, g);
+    return;
+  }
   Eigen::MatrixXcd m = -A0.cast<std::complex<double>>();
   m.diagonal().array() += std::complex<double>(0.0, omega_rad_s);
-  return C.cast<std::complex<double>>() * m.partialPivLu().solve(E.cast<std::complex<double>>());
+  g = C.cast<std::complex<double>>() * m.partialPivLu().solve(E.cast<std::complex<double>>());
 }
 
 }  // namespace cutdyn

@@ -149,8 +149,10 @@ DelayedSystem milling_system(const MillingProcess& model, double rpm, double dep
   s.E = ss.B;
   s.C = ss.C;
   if (model.measured) {
-    s.measured_response = [given = model.modal, measured = *model.measured](double w) {
-      return combined_receptance(given, measured, {Direction::kX, Direction::kY}, w);
+    s.measured_response = [given = model.modal, measured = *model.measured,
+                           directions = std::vector<Direction>{Direction::kX, Direction::kY}](double w,
+                                                                  Eigen::MatrixXcd& g) {
+      combined_receptance(given, measured, directions, w, g);
     };
   }
   const double spindle = units::rpm_to_rad_per_s(rpm);  // Ωs

@@ -142,23 +142,25 @@ class HillMatrix {
   void build(double w, int lo, int hi, Eigen::MatrixXcd& K) {
     const int n = hi - lo + 1;
     G_.resize(static_cast<std::size_t>(n));
-    regen_.assign(terms_.size(), std::vector<cplx>(static_cast<std::size_t>(n)));
+    regen_.resize(terms_.size());
+    for (std::vector<cplx>& r : regen_) r.resize(static_cast<std::size_t>(n));
     for (int p = lo; p <= hi; ++p) {
       const double wp = w + p * omega_;
       const auto i = static_cast<std::size_t>(p - lo);
-      G_[i] = system_.frequency_response(wp);
+      system_.frequency_response(wp, G_[i]);
       for (std::size_t k = 0; k < terms_.size(); ++k)
-        regen_[k][i] = std::exp(cplx(0.0, -wp * terms_[k].delay_s)) - 1.0;
+        regen_[k][i] = std::polar(1.0, -wp * terms_[k].delay_s) - 1.0;
     }
     K.resize(r_ * n, r_ * n);
-    Eigen::MatrixXcd sum(r_, r_);
+    sum_.resize(r_, r_);
     for (int p = lo; p <= hi; ++p) {
       for (int q = lo; q <= hi; ++q) {
-        sum.setZero();
+        sum_.setZero();
         for (std::size_t k = 0; k < terms_.size(); ++k)
-          sum += h_[k][static_cast<std::size_t>(p - q + max_index_)] *
-                 regen_[k][static_cast<std::size_t>(q - lo)];
-        K.block((p - lo) * r_, (q - lo) * r_, r_, r_) = G_[static_cast<std::size_t>(p - lo)] * sum;
+          sum_ += h_[k][static_cast<std::size_t>(p - q + max_index_)] *
+                  regen_[k][static_cast<std::size_t>(q - lo)];
+        K.block((p - lo) * r_, (q - lo) * r_, r_, r_).noalias() =
+            G_[static_cast<std::size_t>(p - lo)] * sum_;
       }
     }
   }
@@ -173,6 +175,7 @@ class HillMatrix {
   std::vector<std::vector<Eigen::MatrixXcd>> h_;
   std::vector<Eigen::MatrixXcd> G_;
   std::vector<std::vector<cplx>> regen_;
+  Eigen::MatrixXcd sum_;  // Σ_k H_k(p − q)·(e^(−iω_q τ_k) − 1), reused
 };
 
 // Real eigenvalues λ >= min_eigenvalue of K: boundary points at the scan's ends, where K is

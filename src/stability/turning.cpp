@@ -17,8 +17,10 @@ DelayedSystem turning_system(const TurningProcess& model, double rpm) {
   s.E = ss.B;
   s.C = ss.C;
   if (model.measured) {
-    s.measured_response = [given = model.modal, measured = *model.measured](double w) {
-      return combined_receptance(given, measured, {Direction::kX}, w);
+    s.measured_response = [given = model.modal, measured = *model.measured,
+                           directions = std::vector<Direction>{Direction::kX}](double w,
+                                                                  Eigen::MatrixXcd& g) {
+      combined_receptance(given, measured, directions, w, g);
     };
   }
   s.delay_s = 60.0 / rpm;  // [Chikishev2018, eq. 6]: one revolution

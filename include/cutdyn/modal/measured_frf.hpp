@@ -45,6 +45,8 @@ struct MeasuredStructure {
   /// Receptance matrix over `directions` at ω (rad/s): the tables interpolated, zero outside
   /// each table's band.
   Eigen::MatrixXcd at(const std::vector<Direction>& directions, double omega_rad_s) const;
+  /// The same, written into g (resized, its storage reused).
+  void at(const std::vector<Direction>& directions, double omega_rad_s, Eigen::MatrixXcd& g) const;
   const MeasuredFrf* direct(Direction d) const { return d == Direction::kX ? ptr(xx) : ptr(yy); }
   /// The highest frequency any table reaches (Hz).
   double max_hz() const;
@@ -57,6 +59,10 @@ struct MeasuredStructure {
 /// (a structure measured in part and modelled in part).
 Eigen::MatrixXcd combined_receptance(const ModalModel& given, const MeasuredStructure& measured,
                                      const std::vector<Direction>& directions, double omega_rad_s);
+/// The same, written into g (resized, its storage reused).
+void combined_receptance(const ModalModel& given, const MeasuredStructure& measured,
+                         const std::vector<Direction>& directions, double omega_rad_s,
+                         Eigen::MatrixXcd& g);
 
 /// The modes of `given` and those fitted to `measured` (if any): what the time-domain methods
 /// take of a structure measured in part or in whole.

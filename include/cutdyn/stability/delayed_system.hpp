@@ -63,14 +63,17 @@ struct DelayedSystem {
   std::vector<DelayTerm> delay_terms() const;
   /// Problems as "field = value: rule"; empty when valid.
   std::vector<std::string> validate() const;
-  /// A measured structure's receptance (r×r) at ω: when set, the frequency-domain methods
-  /// take it instead of the state space's, which then holds modes fitted to it (for the
-  /// time-domain methods, and for the frequency grids).
-  std::function<Eigen::MatrixXcd(double omega_rad_s)> measured_response;
+  /// A measured structure's receptance at ω, written into g (resized to r×r): when set, the
+  /// frequency-domain methods take it instead of the state space's, which then holds modes
+  /// fitted to it (for the time-domain methods, and for the frequency grids). Written in place
+  /// because a scan asks for it hundreds of times per speed.
+  std::function<void(double omega_rad_s, Eigen::MatrixXcd& g)> measured_response;
 
   /// Frequency response of the structure alone: measured_response when set, else
   /// C·(iωI − A0)⁻¹·E (r×r).
   Eigen::MatrixXcd frequency_response(double omega_rad_s) const;
+  /// The same, written into g (its storage reused).
+  void frequency_response(double omega_rad_s, Eigen::MatrixXcd& g) const;
 };
 
 }  // namespace cutdyn
