@@ -248,7 +248,8 @@ class Fit(_Fields):
     """Modes fitted to a measured FRF (``cutdyn fit``): ``modes`` (natural_hz, damping_ratio,
     stiffness_n_per_m …) as in the JSON; ``modes_toml``, the [[modes]] tables ``--out``
     writes; the arrays ``frequency_hz`` and ``receptance_m_per_n`` (complex128) of the file,
-    and ``fitted_frequency_hz``, ``fitted_receptance_m_per_n`` of the fitted model in the
+    ``coherence`` where the file gives one, and ``fitted_frequency_hz``,
+    ``fitted_receptance_m_per_n`` of the fitted model in the
     band."""
 
     modes_toml: str

@@ -28,7 +28,9 @@ void write_text(std::ostream& out, const FitJobReport& r) {
                      f.noise.floor_m_per_n > 0.0
                          ? " and a floor of " + human(f.noise.floor_m_per_n, 2) + " m/N"
                          : std::string(),
-                     f.noise_weighted ? " (the fit weighted for it)" : "");
+                     f.noise_weighted       ? " (the fit weighted for it)"
+                     : f.coherence_weighted ? " (the fit weighted by the coherence)"
+                                            : "");
   for (const std::string& n : f.notes) out << "  note: " << n << "\n";
   if (f.modes.empty()) return;
   out << fmt::format("\n  {:>4}  {:>12}  {:>13}  {:>17}  {:>14}   1σ: {:>9}  {:>9}  {:>11}\n",
@@ -47,7 +49,7 @@ void write_text(std::ostream& out, const FitJobReport& r) {
 // The measured FRF, the fit (modes, residual terms and explicit poles outside the band) and the
 // modes alone as every time-domain method uses them (complex residues kept, no residual
 // terms; docs/models/modal-fitting.md §10): magnitude (log), phase, real and imaginary part,
-// the modes marked.
+// the modes marked; and the table's coherence where it has one.
 io::PlotFigure figure(const FitJobReport& r) {
   enum class Part { kMagnitude, kPhase, kReal, kImaginary };
   const auto series = [](const MeasuredFrf& t, const char* title, const char* style,
@@ -79,6 +81,19 @@ io::PlotFigure figure(const FitJobReport& r) {
     panel.series.push_back(series(r.fitted, "fit (with residual terms)", "lines", "#D55E00", part));
     if (!r.fit.model.modes.empty())
       panel.series.push_back(series(used, "modes used by every method", "lines", "#0072B2", part));
+    panel.x_marks = marks;
+    panels.push_back(std::move(panel));
+  }
+  if (!r.read.frf.coherence.empty()) {  // what the fit weighed by (§4.3)
+    io::PlotSpec panel;
+    panel.x_label = "frequency (Hz)";
+    panel.y_label = "coherence γ²";
+    panel.y_min = 0.0;
+    panel.y_max = 1.0;
+    panel.series.push_back(io::envelope(
+        io::PlotSeries{"coherence", r.read.frf.frequency_hz, r.read.frf.coherence, "lines", false,
+                       "#009E73"},
+        2000));
     panel.x_marks = marks;
     panels.push_back(std::move(panel));
   }

@@ -32,7 +32,8 @@ struct LineProblems {
 bool is_column_label(std::string_view word) {
   const std::string w = lower(word);
   for (const char* label : {"f", "freq", "freq.", "frequency", "re", "real", "im", "imag",
-                            "imag.", "imaginary", "part", "value", "values", "data"})
+                            "imag.", "imaginary", "part", "value", "values", "data", "coh",
+                            "coh.", "coherence", "gamma^2", "γ²"})
     if (w == label) return true;
   return false;
 }
@@ -133,7 +134,8 @@ struct StatedUnits {
   }
 };
 
-const char* const kPartNames[3] = {"the frequency", "the real part", "the imaginary part"};
+const char* const kPartNames[4] = {"the frequency", "the real part", "the imaginary part",
+                                   "the coherence"};
 
 }  // namespace
 
@@ -175,6 +177,7 @@ FrfReadResult read_cutpro_text(std::string_view content, const std::string& sour
   std::vector<RawPoint> points;
   LineProblems problems;
   bool data_started = false;
+  std::size_t columns = 3;  // 4 with a coherence column
   for (const TextLine& line : split_lines(content)) {
     const std::string_view text = trim(line.text);
     if (text.empty() || text.front() == '%' || text.front() == '#' || text.front() == ';') continue;
@@ -186,10 +189,13 @@ FrfReadResult read_cutpro_text(std::string_view content, const std::string& sour
     }
     const bool first = !data_started;
     data_started = true;
-    std::array<double, 3> v{};
+    // A fourth number on the first data line is the coherence γ² (0…1), and every line then
+    // has it; words after the numbers are the trailer's labels and units.
+    if (first) columns = fields.size() > 3 && parse_number(fields[3]) ? 4 : 3;
+    std::array<double, 4> v{};
     std::size_t numbers = 0;
     bool bad = false;
-    for (std::size_t i = 0; i < fields.size() && i < 3; ++i) {
+    for (std::size_t i = 0; i < fields.size() && i < columns; ++i) {
       const auto x = parse_number(fields[i]);
       if (!x) {
         problems.add(line.number, excerpt(fields[i]) + " is not a number (" + kPartNames[i] + ")");
@@ -200,13 +206,16 @@ FrfReadResult read_cutpro_text(std::string_view content, const std::string& sour
       ++numbers;
     }
     if (bad) continue;
-    if (numbers < 3) {
+    const char* expected =
+        columns == 4 ? "4: frequency (Hz), real and imaginary part (m/N), coherence (as the first "
+                       "data line)"
+                     : "3: frequency (Hz), real and imaginary part (m/N)";
+    if (numbers < columns) {
       problems.add(line.number, std::to_string(numbers) + (numbers == 1 ? " value" : " values") +
-                                    "; a data line has 3: frequency (Hz), real and imaginary part "
-                                    "(m/N)");
+                                    "; a data line has " + std::string(expected));
       continue;
     }
-    for (std::size_t i = 3; i < fields.size(); ++i) {
+    for (std::size_t i = columns; i < fields.size(); ++i) {
       if (first && !parse_number(fields[i])) {
         // The standard trailer's "Freq", "Real", ...; with units given, every word.
         if (given || is_column_label(fields[i])) continue;
@@ -216,12 +225,14 @@ FrfReadResult read_cutpro_text(std::string_view content, const std::string& sour
                                                              "cutdyn knows; ignored"));
         continue;
       }
-      problems.add(line.number, std::to_string(fields.size()) +
-                                    " fields; a data line has 3: frequency (Hz), real and "
-                                    "imaginary part (m/N)");
+      problems.add(line.number,
+                   std::to_string(fields.size()) + " fields; a data line has " +
+                       std::string(expected));
       break;
     }
-    points.push_back({v[0], {v[1], v[2]}, line.number});
+    RawPoint point{v[0], {v[1], v[2]}, line.number, std::nullopt};
+    if (columns == 4) point.coherence = v[3];
+    points.push_back(point);
   }
   problems.throw_if_any(source);
   if (!data_started) throw InvalidInput({"no data line (frequency, real, imaginary)"}, source);
@@ -254,6 +265,7 @@ constexpr CsvPair kCsvPairs[3] = {
     {FrfQuantity::kMobility, "real_m_per_s_per_n", "imag_m_per_s_per_n", "m/s/N"},
     {FrfQuantity::kAccelerance, "real_m_per_s2_per_n", "imag_m_per_s2_per_n", "m/s^2/N"}};
 constexpr const char* kFrequencyColumn = "frequency_hz";
+constexpr const char* kCoherenceColumn = "coherence";  // optional: γ², 0…1
 
 std::vector<std::string_view> split_commas(std::string_view line) {
   std::vector<std::string_view> fields;
@@ -273,6 +285,7 @@ std::vector<std::string_view> split_commas(std::string_view line) {
 struct CsvColumns {
   int index[3] = {-1, -1, -1};
   const CsvPair* pair = nullptr;
+  int coherence = -1;  // its column, or -1
 };
 
 CsvColumns csv_columns(const TextLine& line, const std::string& source) {
@@ -296,6 +309,7 @@ CsvColumns csv_columns(const TextLine& line, const std::string& source) {
   };
   CsvColumns c;
   c.index[0] = find(kFrequencyColumn);
+  c.coherence = find(kCoherenceColumn);
   std::vector<std::string> missing;
   if (c.index[0] < 0) missing.push_back(kFrequencyColumn);
   std::string complete;
@@ -363,7 +377,23 @@ FrfReadResult read_csv_text(std::string_view content, const std::string& source)
         bad = false;
       }
     }
-    if (!bad) points.push_back({v[0], {v[1], v[2]}, line.number});
+    if (bad) continue;
+    RawPoint point{v[0], {v[1], v[2]}, line.number, std::nullopt};
+    if (columns->coherence >= 0) {
+      const auto i = static_cast<std::size_t>(columns->coherence);
+      const auto x = i < fields.size() ? parse_number(fields[i]) : std::nullopt;
+      if (i >= fields.size())
+        problems.add(line.number, std::to_string(fields.size()) + " fields, no " +
+                                      kCoherenceColumn + " (column " + std::to_string(i + 1) +
+                                      " of the header)");
+      else if (!x)
+        problems.add(line.number, std::string(kCoherenceColumn) + " = " + excerpt(fields[i]) +
+                                      " is not a number");
+      else
+        point.coherence = *x;
+      if (!x) continue;
+    }
+    points.push_back(point);
   }
   problems.throw_if_any(source);
   if (!columns) throw InvalidInput({"no header line and no data"}, source);
@@ -393,13 +423,19 @@ std::string one_line(const std::string& text) {
 std::string format_cutpro(const MeasuredFrf& frf, const FrfWriteOptions& options) {
   std::string out;
   if (!options.description.empty()) out += "% " + one_line(options.description) + "\n";
-  out += "% receptance: frequency (Hz), real part (m/N), imaginary part (m/N)\n";
+  const bool coherence = !frf.coherence.empty();
+  out += "% receptance: frequency (Hz), real part (m/N), imaginary part (m/N)";
+  out += coherence ? ", coherence\n" : "\n";
   for (std::size_t i = 0; i < frf.frequency_hz.size(); ++i) {
     append_shortest(out, frf.frequency_hz[i]);
     out += '\t';
     append_shortest(out, frf.receptance_m_per_n[i].real());
     out += '\t';
     append_shortest(out, frf.receptance_m_per_n[i].imag());
+    if (coherence) {
+      out += '\t';
+      append_shortest(out, frf.coherence[i]);
+    }
     out += '\n';
   }
   return out;
@@ -408,13 +444,19 @@ std::string format_cutpro(const MeasuredFrf& frf, const FrfWriteOptions& options
 std::string format_csv(const MeasuredFrf& frf, const FrfWriteOptions& options) {
   std::string out;
   if (!options.description.empty()) out += "# " + one_line(options.description) + "\n";
-  out += "frequency_hz,real_m_per_n,imag_m_per_n\n";
+  const bool coherence = !frf.coherence.empty();
+  out += coherence ? "frequency_hz,real_m_per_n,imag_m_per_n,coherence\n"
+                   : "frequency_hz,real_m_per_n,imag_m_per_n\n";
   for (std::size_t i = 0; i < frf.frequency_hz.size(); ++i) {
     append_shortest(out, frf.frequency_hz[i]);
     out += ',';
     append_shortest(out, frf.receptance_m_per_n[i].real());
     out += ',';
     append_shortest(out, frf.receptance_m_per_n[i].imag());
+    if (coherence) {
+      out += ',';
+      append_shortest(out, frf.coherence[i]);
+    }
     out += '\n';
   }
   return out;

@@ -218,6 +218,15 @@ MeasuredFrf finish_table(const std::vector<RawPoint>& points, const OrdinateUnit
                           " needs ω > 0); leave that point out");
       continue;
     }
+    if (p.coherence) {
+      const double c = *p.coherence;
+      if (!(c >= 0.0 && c <= 1.0)) {
+        problem(p.line, "coherence " + format_value(c) +
+                            " is not 0 to 1 (the ordinary coherence γ², not a percentage or dB)");
+        continue;
+      }
+      out.coherence.push_back(c);
+    }
     out.frequency_hz.push_back(f);
     out.receptance_m_per_n.push_back(to_receptance(unit.quantity, p.value * unit.scale, f));
   }

@@ -58,11 +58,13 @@ struct RawPoint {
   double frequency = 0.0;
   std::complex<double> value;
   std::size_t line = 0;
+  std::optional<double> coherence;  // γ², where the file gives it (for every point or none)
 };
 
 /// The receptance table of `points` (frequency · frequency_scale in Hz, value ·
 /// unit.scale converted from unit.quantity), after the checks every format shares: finite
-/// numbers, frequencies at least 0 and increasing, at least 3 points, no conversion at 0 Hz.
+/// numbers, frequencies at least 0 and increasing, at least 3 points, no conversion at 0 Hz,
+/// coherences (where given) from 0 to 1.
 /// Throws InvalidInput(problems, source) naming the lines.
 MeasuredFrf finish_table(const std::vector<RawPoint>& points, const OrdinateUnit& unit,
                          double frequency_scale, const std::string& source);

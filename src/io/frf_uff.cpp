@@ -9,6 +9,7 @@
 // exponents and labels; record 12 the values (6E13.5 single, 4E20.12 double even,
 // E13.5,2E20.12 double uneven) [Sdrc1999, dataset 58]. 58b: the same 11 records, then the
 // values as raw bytes of the order and float format the id line gives [Sdrc1999, 58b].
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -329,7 +330,8 @@ struct DataForm {
   std::size_t line = 0;
 };
 
-DataForm data_form(const TextLine& rec7, const std::string& source) {
+// `real_allowed`: a real ordinate (data type 2 or 4) is read too (the coherence's).
+DataForm data_form(const TextLine& rec7, const std::string& source, bool real_allowed = false) {
   auto v = line_numbers(rec7.text, {10, 10, 10, 13, 13, 13});
   if (!v || v->size() < 3)
     fail_at(source, rec7.number,
@@ -354,14 +356,15 @@ DataForm data_form(const TextLine& rec7, const std::string& source) {
         source, rec7.number,
         "record 7: abscissa spacing " + format_value((*v)[2]) + " must be 0 (uneven) or 1 (even)");
   f.even = (*v)[2] == 1.0;
-  if (f.type == 2 || f.type == 4)
+  if ((f.type == 2 || f.type == 4) && !real_allowed)
     fail_at(source, rec7.number,
             "record 7: the ordinate is real (data type " + std::to_string(f.type) +
                 "); an FRF is complex (5 or 6)");
-  if (f.type != 5 && f.type != 6)
+  if (f.type != 5 && f.type != 6 && !(real_allowed && (f.type == 2 || f.type == 4)))
     fail_at(source, rec7.number,
-            "record 7: ordinate data type " + std::to_string(f.type) +
-                " must be 5 (complex single) or 6 (complex double)");
+            "record 7: ordinate data type " + std::to_string(f.type) + " must be " +
+                (real_allowed ? "2 or 4 (real single or double) or " : "") +
+                "5 (complex single) or 6 (complex double)");
   if (f.even) {
     if (v->size() < 5)
       fail_at(source, rec7.number,
@@ -376,13 +379,22 @@ DataForm data_form(const TextLine& rec7, const std::string& source) {
   return f;
 }
 
-// ASCII values, with the line of each.
+bool is_complex(const DataForm& form) { return form.type == 5 || form.type == 6; }
+bool is_single(const DataForm& form) { return form.type == 2 || form.type == 5; }
+// Numbers per point: the abscissa (uneven spacing) and one (real) or two (complex) ordinates.
+std::size_t values_per_point(const DataForm& form) {
+  return (form.even ? 0 : 1) + (is_complex(form) ? 2 : 1);
+}
+
+// ASCII values, with the line of each: single precision 6E13.5 per line; double precision
+// 4E20.12 (even), or per point E13.5 and the ordinates in E20.12 (uneven) [Sdrc1999, 58].
 void ascii_values(const Dataset58& d, const DataForm& form, const std::string& source,
                   std::vector<double>& values, std::vector<std::size_t>& lines) {
   const std::vector<std::size_t> widths =
-      form.type == 5
-          ? std::vector<std::size_t>{13}
-          : (form.even ? std::vector<std::size_t>{20} : std::vector<std::size_t>{13, 20, 20});
+      is_single(form) ? std::vector<std::size_t>{13}
+      : form.even     ? std::vector<std::size_t>{20}
+      : is_complex(form) ? std::vector<std::size_t>{13, 20, 20}
+                         : std::vector<std::size_t>{13, 20};
   for (const TextLine& line : d.data) {
     if (const std::size_t b = first_binary_byte(line.text); b != std::string_view::npos)
       fail_at(source, line.number,
@@ -405,10 +417,12 @@ void binary_values(const Dataset58& d, const DataForm& form, const std::string& 
     fail_at(source, d.id_line,
             "58b floating-point format " + std::to_string(d.float_format) +
                 " is not read (only 2, IEEE 754; 1 is DEC VMS, 3 IBM 370)");
-  const std::size_t per = form.even ? 2 : 3, n = form.points;
-  const std::size_t size = form.type == 5 ? 4 : 8;
-  const bool float_abscissa = form.type == 6 && !form.even && d.bytes.size() == 20 * n;
-  const std::size_t expected = float_abscissa ? 20 * n : per * n * size;
+  const std::size_t per = values_per_point(form), n = form.points;
+  const std::size_t size = is_single(form) ? 4 : 8;
+  const std::size_t float_abscissa_bytes = (4 + 8 * (per - 1)) * n;
+  const bool float_abscissa =
+      !is_single(form) && !form.even && d.bytes.size() == float_abscissa_bytes;
+  const std::size_t expected = float_abscissa ? float_abscissa_bytes : per * n * size;
   if (d.bytes.size() != expected)
     fail_at(source, d.id_line,
             std::to_string(n) + " points of data type " + std::to_string(form.type) +
@@ -424,7 +438,7 @@ void binary_values(const Dataset58& d, const DataForm& form, const std::string& 
                       : std::bit_cast<double>(bits);
   };
   for (std::size_t at = 0; at < d.bytes.size();) {
-    const std::size_t width = (float_abscissa && values.size() % 3 == 0) ? 4 : size;
+    const std::size_t width = (float_abscissa && values.size() % per == 0) ? 4 : size;
     values.push_back(get(at, width));
     at += width;
   }
@@ -515,7 +529,7 @@ std::vector<RawPoint> points_of(const Dataset58& d, const DataForm& form,
     binary_values(d, form, source, values);
   else
     ascii_values(d, form, source, values, lines);
-  const std::size_t per = form.even ? 2 : 3;
+  const std::size_t per = values_per_point(form);
   if (values.size() != per * form.points)
     fail_at(source, form.line,
             "record 7 announces " + std::to_string(form.points) + " points (" +
@@ -526,7 +540,8 @@ std::vector<RawPoint> points_of(const Dataset58& d, const DataForm& form,
     const double* v = values.data() + per * i;
     RawPoint& p = points[i];
     p.frequency = form.even ? form.minimum + static_cast<double>(i) * form.increment : v[0];
-    p.value = form.even ? std::complex<double>(v[0], v[1]) : std::complex<double>(v[1], v[2]);
+    const double* y = form.even ? v : v + 1;
+    p.value = std::complex<double>(y[0], is_complex(form) ? y[1] : 0.0);
     p.line = d.info.binary ? d.id_line : lines[per * i];
   }
   return points;
@@ -580,6 +595,51 @@ const Dataset58& choose(const std::vector<Dataset58>& found, const std::vector<s
   return *first;
 }
 
+// The coherence of the FRF `d` (docs/frf-files.md, "Coherence"): the first dataset 58 of
+// function type 6 with the same response and reference DOF; its values are set on `points`
+// when it has the same frequencies, and a warning says why it is not used otherwise.
+void attach_coherence(const std::vector<Dataset58>& found, const Dataset58& d,
+                      double frequency_scale, std::vector<RawPoint>& points,
+                      const std::string& source, std::vector<std::string>& warnings) {
+  const auto same_dof = [&](const UffDatasetInfo& c) {
+    return c.response_node == d.info.response_node &&
+           c.response_direction == d.info.response_direction &&
+           c.reference_node == d.info.reference_node &&
+           c.reference_direction == d.info.reference_direction;
+  };
+  const auto it = std::find_if(found.begin(), found.end(), [&](const Dataset58& c) {
+    return c.info.function_type == 6 && same_dof(c.info);
+  });
+  if (it == found.end()) return;
+  const Dataset58& c = *it;
+  const std::string name = "the coherence (dataset 58 index " + std::to_string(c.info.index) +
+                           ", line " + std::to_string(c.info.line) + ")";
+  const DataForm form = data_form(c.records[6], source, /*real_allowed=*/true);
+  std::vector<std::string> ignored;
+  std::string abscissa_name;
+  const double scale = abscissa_scale(axis_record(c.records[7]), source, ignored, abscissa_name);
+  const std::vector<RawPoint> values = points_of(c, form, source);
+  bool same = values.size() == points.size();
+  for (std::size_t i = 0; same && i < values.size(); ++i) {
+    const double a = values[i].frequency * scale, b = points[i].frequency * frequency_scale;
+    same = std::abs(a - b) <= 1e-6 * std::max(std::abs(b), 1.0);
+  }
+  if (!same) {
+    warnings.push_back(name + " has " + std::to_string(values.size()) +
+                       " points at other frequencies than the FRF's " +
+                       std::to_string(points.size()) + ": not used");
+    return;
+  }
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const double gamma2 = values[i].value.real();
+    if (!(gamma2 >= 0.0 && gamma2 <= 1.0))
+      fail_at(source, values[i].line,
+              name + ": " + format_value(gamma2) + " at " +
+                  format_value(values[i].frequency * scale) + " Hz is not 0 to 1");
+    points[i].coherence = gamma2;
+  }
+}
+
 }  // namespace
 
 FrfReadResult read_uff_text(std::string_view content, const std::string& source,
@@ -604,7 +664,9 @@ FrfReadResult read_uff_text(std::string_view content, const std::string& source,
                                           unit164, source, result.warnings);
   result.quantity = unit.quantity;
   result.units = abscissa_name + ", " + unit.name;
-  result.frf = finish_table(points_of(d, form, source), unit, fscale, source);
+  std::vector<RawPoint> points = points_of(d, form, source);
+  attach_coherence(found, d, fscale, points, source, result.warnings);
+  result.frf = finish_table(points, unit, fscale, source);
   return result;
 }
 

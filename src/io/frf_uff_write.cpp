@@ -5,6 +5,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #include "frf_detail.hpp"
 
@@ -34,13 +35,16 @@ void append_binary(std::string& out, double x, bool single) {
   for (int k = 0; k < (single ? 4 : 8); ++k) out += static_cast<char>((bits >> (8 * k)) & 0xffu);
 }
 
-// Record 12 as text: per line 6 E13.5 (single), 4 E20.12 (double, even) or one point as
-// E13.5, 2E20.12 (double, uneven).
+// Record 12 as text: per line 6 E13.5 (single), 4 E20.12 (double, even), or per point the
+// abscissa as E13.5 and the ordinates as E20.12 (double, uneven).
 void append_ascii_values(std::string& out, const std::vector<double>& values, bool single,
-                         bool even) {
-  const std::size_t per_line = single ? 6 : (even ? 4 : 3);
+                         bool even, bool complex) {
+  // Per point: the abscissa (uneven) and one or two ordinates; double precision uneven puts
+  // one complex point or two real points on a line [Sdrc1999, 58].
+  const std::size_t per_point = (even ? 0 : 1) + (complex ? 2 : 1);
+  const std::size_t per_line = single ? 6 : (even ? 4 : (complex ? 3 : 4));
   for (std::size_t i = 0; i < values.size(); ++i) {
-    const bool abscissa = !even && i % 3 == 0;
+    const bool abscissa = !even && i % per_point == 0;
     if (single || abscissa)
       fmt::format_to(std::back_inserter(out), "{:13.5E}", values[i]);
     else
@@ -49,30 +53,45 @@ void append_ascii_values(std::string& out, const std::vector<double>& values, bo
   }
 }
 
+// What differs between the FRF's dataset and its coherence's.
+struct Function {
+  int type;       // record 6: 4 FRF, 6 coherence
+  bool complex;   // record 7's data type: complex (5, 6) or real (2, 4)
+  const char* id; // ID line 1 suffix
+};
+
 void append_header(std::string& out, const MeasuredFrf& frf, const FrfWriteOptions& o, bool even,
-                   double minimum, double increment, std::size_t bytes) {
+                   double minimum, double increment, std::size_t bytes, const Function& fn) {
   out += "    -1\n";
   if (o.uff_binary)
     out += fmt::format("{:>6}b{:6}{:6}{:12}{:12}{:6}{:6}{:12}{:12}\n", 58, 1, 2, 11, bytes, 0, 0, 0,
                        0);
   else
     out += "    58\n";
-  std::string id = o.description.empty() ? std::string("NONE") : o.description.substr(0, 80);
+  std::string id = o.description.empty() ? std::string(fn.type == 4 ? "NONE" : "Coherence")
+                                         : o.description.substr(0, 80 - std::strlen(fn.id)) + fn.id;
   for (char& c : id)
     if (c == '\n' || c == '\r') c = ' ';
   out += id + "\nNONE\nNONE\nNONE\nNONE\n";
-  // Record 6: FRF, single point excitation, response and reference DOF.
-  out += fmt::format("{:5}{:10}{:5}{:10} {:<10}{:10}{:4} {:<10}{:10}{:4}\n", 4, 1, 0, 0, "NONE",
+  // Record 6: the function, single point excitation, response and reference DOF.
+  out += fmt::format("{:5}{:10}{:5}{:10} {:<10}{:10}{:4} {:<10}{:10}{:4}\n", fn.type, 1, 0, 0, "NONE",
                      o.uff_response_node, o.uff_response_direction, "NONE", o.uff_reference_node,
                      o.uff_reference_direction);
   // Record 7: data form.
-  out += fmt::format("{:10}{:10}{:10}{:13.5E}{:13.5E}{:13.5E}\n", o.uff_single_precision ? 5 : 6,
+  const int data_type = (fn.complex ? 5 : 2) + (o.uff_single_precision ? 0 : (fn.complex ? 1 : 2));
+  out += fmt::format("{:10}{:10}{:10}{:13.5E}{:13.5E}{:13.5E}\n", data_type,
                      frf.frequency_hz.size(), even ? 1 : 0, even ? minimum : 0.0,
                      even ? increment : 0.0, 0.0);
-  // Records 8-11: frequency in Hz; displacement in m over force in N; no z axis.
+  // Records 8-11: frequency in Hz; displacement in m over force in N (the coherence: a
+  // number); no z axis.
   out += fmt::format("{:10}{:5}{:5}{:5} {:<20} {}\n", 18, 0, 0, 0, "Frequency", "Hz");
-  out += fmt::format("{:10}{:5}{:5}{:5} {:<20} {}\n", 8, 1, 0, 0, "Displacement", "m");
-  out += fmt::format("{:10}{:5}{:5}{:5} {:<20} {}\n", 13, 0, 1, 0, "Force", "N");
+  if (fn.type == 4) {
+    out += fmt::format("{:10}{:5}{:5}{:5} {:<20} {}\n", 8, 1, 0, 0, "Displacement", "m");
+    out += fmt::format("{:10}{:5}{:5}{:5} {:<20} {}\n", 13, 0, 1, 0, "Force", "N");
+  } else {
+    out += fmt::format("{:10}{:5}{:5}{:5} {:<20} {}\n", 0, 0, 0, 0, "Coherence", "NONE");
+    out += fmt::format("{:10}{:5}{:5}{:5} {:<20} {}\n", 0, 0, 0, 0, "NONE", "NONE");
+  }
   out += fmt::format("{:10}{:5}{:5}{:5} {:<20} {}\n", 0, 0, 0, 0, "NONE", "NONE");
 }
 
@@ -101,27 +120,49 @@ FrfText format_uff(const MeasuredFrf& frf, const FrfWriteOptions& options) {
   const bool even = options.uff_spacing == UffSpacing::kEven ||
                     (options.uff_spacing == UffSpacing::kAutomatic && spaced);
   const bool single = options.uff_single_precision;
-  std::vector<double> values;
-  values.reserve(f.size() * 3);
-  double moved = 0.0, previous = 0.0;
-  for (std::size_t i = 0; i < f.size(); ++i) {
-    if (!even) {
-      // The abscissa is single precision in ASCII (E13.5); a 58b stores it in the
-      // ordinate's precision.
-      const double x = options.uff_binary
-                           ? (single ? static_cast<double>(static_cast<float>(f[i])) : f[i])
-                           : as_e13(f[i]);
-      if (i > 0 && !(x > previous))
-        throw InvalidInput({"frequency_hz[" + std::to_string(i) + "] = " + format_value(f[i]) +
-                            " Hz: equal to the one before once stored with the UFF abscissa's "
-                            "precision; write another format"});
-      moved = std::max(moved, std::abs(x - f[i]));
-      previous = x;
-      values.push_back(f[i]);
+  // The abscissa (uneven spacing) and the ordinates of each point.
+  const auto values_of = [&](bool complex, double& moved) {
+    std::vector<double> values;
+    values.reserve(f.size() * 3);
+    double previous = 0.0;
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      if (!even) {
+        // The abscissa is single precision in ASCII (E13.5); a 58b stores it in the
+        // ordinate's precision.
+        const double x = options.uff_binary
+                             ? (single ? static_cast<double>(static_cast<float>(f[i])) : f[i])
+                             : as_e13(f[i]);
+        if (i > 0 && !(x > previous))
+          throw InvalidInput({"frequency_hz[" + std::to_string(i) + "] = " + format_value(f[i]) +
+                              " Hz: equal to the one before once stored with the UFF abscissa's "
+                              "precision; write another format"});
+        moved = std::max(moved, std::abs(x - f[i]));
+        previous = x;
+        values.push_back(f[i]);
+      }
+      if (complex) {
+        values.push_back(frf.receptance_m_per_n[i].real());
+        values.push_back(frf.receptance_m_per_n[i].imag());
+      } else {
+        values.push_back(frf.coherence[i]);
+      }
     }
-    values.push_back(frf.receptance_m_per_n[i].real());
-    values.push_back(frf.receptance_m_per_n[i].imag());
-  }
+    return values;
+  };
+  double moved = 0.0;
+  const auto append_dataset = [&](const Function& fn) {
+    const std::vector<double> values = values_of(fn.complex, moved);
+    const std::size_t bytes = values.size() * (single ? 4 : 8);
+    append_header(result.text, frf, options, even, minimum, increment, bytes, fn);
+    if (options.uff_binary) {
+      for (double x : values) append_binary(result.text, x, single);
+    } else {
+      append_ascii_values(result.text, values, single, even, fn.complex);
+    }
+    result.text += "    -1\n";
+  };
+  append_dataset({4, true, ""});
+  if (!frf.coherence.empty()) append_dataset({6, false, " (coherence)"});
   if (even) {
     for (std::size_t i = 0; i < f.size(); ++i)
       moved = std::max(moved, std::abs(minimum + static_cast<double>(i) * increment - f[i]));
@@ -130,14 +171,6 @@ FrfText format_uff(const MeasuredFrf& frf, const FrfWriteOptions& options) {
     result.warnings.push_back(
         "the UFF abscissa holds 6 significant digits: frequencies moved by up to " +
         format_value(moved) + " Hz");
-  const std::size_t bytes = values.size() * (single ? 4 : 8);
-  append_header(result.text, frf, options, even, minimum, increment, bytes);
-  if (options.uff_binary) {
-    for (double x : values) append_binary(result.text, x, single);
-  } else {
-    append_ascii_values(result.text, values, single, even);
-  }
-  result.text += "    -1\n";
   return result;
 }
 

@@ -40,6 +40,12 @@ constexpr double kSplitChi2Doubt = 30.0;
 constexpr int kTrialIterations = 20;
 // An RMS relative error below this is a table fitted to rounding (no noise to speak of).
 constexpr double kExactFit = 1e-7;
+// Coherence (§4.3): a point's relative noise is taken as sqrt((1 − γ²)/γ²), with γ² held
+// within [kLowCoherence, kHighCoherence] (γ² = 1 would give a weight without bound, γ² = 0
+// a zero one); a table whose γ² is above kHighCoherence everywhere (one average, or a
+// synthetic table) says nothing about its noise, which is then estimated from the data.
+constexpr double kHighCoherence = 0.9999;
+constexpr double kLowCoherence = 0.01;
 
 std::string fixed(double value, int digits) {
   char buf[48];
@@ -48,6 +54,35 @@ std::string fixed(double value, int digits) {
 }
 
 // ---- input ------------------------------------------------------------------------------
+
+// The weights of the table's coherence (§4.3): each point's noise relative to |G| is
+// sqrt((1 − γ²)/γ²) [Bendat & Piersol: the random error of the H1 estimate is that over
+// sqrt(2·averages)], so w = 1/(|G|·sqrt((1 − γ²)/γ²)); the number of averages only scales
+// every weight alike and is left to the noise the residuals show.
+void weigh_by_coherence(const MeasuredFrf& frf, double lo, double hi, BandData& band,
+                        FrfFit& out) {
+  std::vector<double> gamma2;
+  for (std::size_t i = 0; i < frf.frequency_hz.size(); ++i)
+    if (frf.frequency_hz[i] >= lo && frf.frequency_hz[i] <= hi) gamma2.push_back(frf.coherence[i]);
+  const double lowest = *std::min_element(gamma2.begin(), gamma2.end());
+  if (lowest > kHighCoherence) {
+    out.notes.push_back("the coherence is above " + format_value(kHighCoherence) +
+                        " at every point (one average?): it tells nothing of the noise, which "
+                        "is estimated from the table instead");
+    return;
+  }
+  std::size_t poor = 0;
+  for (std::size_t k = 0; k < band.size(); ++k) {
+    const double c = std::clamp(gamma2[k], kLowCoherence, kHighCoherence);
+    if (gamma2[k] < 0.5) ++poor;
+    band.coherence_noise.push_back(std::sqrt((1.0 - c) / c));
+    band.w[k] = band.w_rel[k] / band.coherence_noise[k];
+  }
+  out.coherence_weighted = true;
+  out.notes.push_back("weighted by the table's coherence (lowest γ² " + fixed(lowest, 3) + "; " +
+                      std::to_string(poor) + " of " + std::to_string(band.size()) +
+                      " points below 0.5)");
+}
 
 BandData band_of(const MeasuredFrf& frf, const FrfFitOptions& options, FrfFit& out) {
   Validator v;
@@ -95,6 +130,7 @@ BandData band_of(const MeasuredFrf& frf, const FrfFitOptions& options, FrfFit& o
   const double floor = 1e-6 * peak;  // keeps a zero of the table from an infinite weight
   for (const cd& g : band.g) band.w.push_back(1.0 / std::max(std::abs(g), floor));
   band.w_rel = band.w;
+  if (!frf.coherence.empty()) weigh_by_coherence(frf, lo, hi, band, out);
   return band;
 }
 
@@ -546,6 +582,19 @@ BandData reweighted(BandData band, const PoleResidueModel& model, const FrfNoise
   return band;
 }
 
+// The band reweighted by its coherence about `model` (§4.3): w = 1/(|G_model|·sqrt((1 − γ²)/γ²)),
+// the magnitude from the model rather than the noisy table (at a point the noise dominates,
+// 1/|G_k| would weigh by the noise itself).
+BandData coherence_reweighted(BandData band, const PoleResidueModel& model) {
+  double peak = 0.0;
+  for (const cd& g : band.g) peak = std::max(peak, std::abs(g));
+  for (std::size_t k = 0; k < band.size(); ++k) {
+    const double model_g = std::abs(fit_detail::evaluate(model, band.omega[k]));
+    band.w[k] = 1.0 / (std::max(model_g, 1e-6 * peak) * band.coherence_noise[k]);
+  }
+  return band;
+}
+
 // Whether the floor matters: at 2 % of the band's points or more the model is below it.
 bool floor_matters(const BandData& band, const PoleResidueModel& model, const FrfNoise& noise) {
   const double g0 = floor_magnitude(noise);
@@ -722,9 +771,17 @@ FrfFit fit_modes(const MeasuredFrf& frf, Direction direction, const FrfFitOption
   BandData band = band_of(frf, options, base);
   PoleResidueModel model;
   FrfFit out = fit_pass(band, options, base, model);
+  if (base.coherence_weighted) {
+    // The coherence's weights on the model's magnitude (§4.3): the fit again.
+    band = coherence_reweighted(band, model);
+    PoleResidueModel again;
+    out = fit_pass(band, options, base, again);
+    model = std::move(again);
+  }
   out.noise = estimate_noise(band, model);
   // A noise floor (§4.1): the fit again with the weights of the noise, until they settle.
-  for (int pass = 0; pass < 2 && floor_matters(band, model, out.noise); ++pass) {
+  for (int pass = 0; pass < 2 && !base.coherence_weighted && floor_matters(band, model, out.noise);
+       ++pass) {
     const double g0 = floor_magnitude(out.noise);
     band = reweighted(band, model, out.noise);
     PoleResidueModel again;
@@ -742,7 +799,8 @@ FrfFit fit_modes(const MeasuredFrf& frf, Direction direction, const FrfFitOption
   // split): the weights of §4.1 and one more refinement.
   const auto weigh_late_floor = [&] {
     out.noise = estimate_noise(band, model);
-    if (out.noise_weighted || !floor_matters(band, model, out.noise)) return;
+    if (out.noise_weighted || out.coherence_weighted || !floor_matters(band, model, out.noise))
+      return;
     band = reweighted(band, model, out.noise);
     fit_detail::refine(band, model);
     out.noise = estimate_noise(band, model);

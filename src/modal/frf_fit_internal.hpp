@@ -18,6 +18,8 @@ struct BandData {
   std::vector<cd> g;          // measured receptance, m/N
   std::vector<double> w;      // the fit's weights, N/m: w_rel, or those of the noise (§4)
   std::vector<double> w_rel;  // 1/max(|g|, g0, 1e-6·max|g|), g0 the noise floor (0: none)
+  /// sqrt((1 − γ²)/γ²) of each point where the table has a coherence (§4.3), else empty.
+  std::vector<double> coherence_noise;
   double lo_rad_s = 0.0, hi_rad_s = 0.0;
   std::size_t size() const { return omega.size(); }
 };

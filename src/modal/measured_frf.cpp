@@ -17,6 +17,15 @@ std::vector<std::string> MeasuredFrf::validate() const {
           std::to_string(receptance_m_per_n.size()) + ")");
     return v.problems();
   }
+  if (!coherence.empty() && coherence.size() != frequency_hz.size()) {
+    v.add("coherence: " + std::to_string(coherence.size()) + " values for " +
+          std::to_string(frequency_hz.size()) + " frequencies (one per frequency, or none)");
+    return v.problems();
+  }
+  for (std::size_t i = 0; i < coherence.size(); ++i) {
+    v.require(coherence[i] >= 0.0 && coherence[i] <= 1.0, "coherence[" + std::to_string(i) + "]",
+              coherence[i], "", "must be 0 to 1 (the ordinary coherence γ²)");
+  }
   if (frequency_hz.size() < 3) {
     v.add("frequency_hz: at least 3 points are required (" + std::to_string(frequency_hz.size()) +
           " given)");

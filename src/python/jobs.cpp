@@ -114,6 +114,7 @@ py::dict fit(const std::string& path, int modes, std::optional<double> lo_hz,
   py::dict columns;
   columns["frequency_hz"] = array_of(r.read.frf.frequency_hz);
   columns["receptance_m_per_n"] = complex_array(r.read.frf.receptance_m_per_n);
+  if (!r.read.frf.coherence.empty()) columns["coherence"] = array_of(r.read.frf.coherence);
   columns["fitted_frequency_hz"] = array_of(r.fitted.frequency_hz);
   columns["fitted_receptance_m_per_n"] = complex_array(r.fitted.receptance_m_per_n);
   out["columns"] = columns;

@@ -229,5 +229,37 @@ TEST_F(FitCli, UnitsAndQuantitiesAreNotTakenOnFaith) {
               304.8, 304.8 * 1e-4);
 }
 
+// A coherence column is read and used: the text and the JSON say the fit weighed by it, the
+// modes are the example's; a coherence of 95 (a percentage) is refused naming the line.
+TEST_F(FitCli, ACoherenceColumnWeighsTheFitAndABadOneIsRefused) {
+  std::ifstream in(kFrf / "tool_x.csv");
+  std::ostringstream with, percent;
+  with << "frequency_hz,real_m_per_n,imag_m_per_n,coherence\n";
+  percent << "frequency_hz,real_m_per_n,imag_m_per_n,coherence\n";
+  int n = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#' || line[0] == 'f') continue;
+    // Lower coherence on every fifth line: an uneven noise the weights can tell.
+    with << line << "," << (n % 5 == 0 ? "0.9" : "0.995") << "\n";
+    percent << line << "," << (n == 7 ? "95" : "0.99") << "\n";
+    ++n;
+  }
+  std::ofstream(path("coh.csv")) << with.str();
+  std::ofstream(path("percent.csv")) << percent.str();
+  const Result r = cutdyn({"fit", path("coh.csv"), "--json", path("coh.json")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("(the fit weighted by the coherence)"));
+  EXPECT_THAT(r.out, HasSubstr("weighted by the table's coherence (lowest γ² 0.900"));
+  std::ifstream j(path("coh.json"));
+  const auto json = nlohmann::json::parse(j);
+  EXPECT_EQ(json["noise"]["coherence_weighted"], true);
+  ASSERT_EQ(json["modes"].size(), 2u);
+  EXPECT_NEAR(json["modes"][0]["natural_hz"].get<double>(), 520.0, 0.005 * 520.0);
+  EXPECT_NEAR(json["modes"][1]["stiffness_n_per_m"].get<double>(), 4.5e7, 0.03 * 4.5e7);
+  expect_rejected({"fit", path("percent.csv"), "--out", path("o.toml")},
+                  "line 9: coherence 95 is not 0 to 1 (the ordinary coherence γ², not a "
+                  "percentage or dB)");
+}
+
 }  // namespace
 }  // namespace cutdyn::cli

@@ -198,6 +198,80 @@ TEST_F(FrfFileRoundTrip, Uff58bBinaryIsExactInDouble) {
   expect_close(read_frf(dir_ / "s.uff"), g, 1e-7, "58b single (float: 6e-8 relative)");
 }
 
+// The coherence goes through every format and back: text and CSV bit for bit, UFF double to
+// its 12 digits, single to its 6, binary exactly; ASCII and 58b, even and uneven spacing.
+TEST_F(FrfFileRoundTrip, CoherenceSurvivesEveryFormat) {
+  MeasuredFrf g = sample_frf(tool_model(), Direction::kX, linear_frequencies(10.0, 3000.0, 300));
+  for (std::size_t i = 0; i < g.frequency_hz.size(); ++i)
+    g.coherence.push_back(0.5 + 0.49 * std::cos(0.01 * static_cast<double>(i * i)));
+  for (FrfFormat format : {FrfFormat::kCutPro, FrfFormat::kCsv}) {
+    const fs::path file = dir_ / (std::string("c.") + to_string(format));
+    write_frf(file, g, format);
+    const FrfReadResult r = read_frf_file(file);
+    EXPECT_TRUE(r.warnings.empty()) << to_string(format);
+    EXPECT_EQ(r.frf.coherence, g.coherence) << to_string(format);
+    EXPECT_EQ(r.frf.receptance_m_per_n, g.receptance_m_per_n);
+  }
+  for (bool binary : {false, true}) {
+    for (bool single : {false, true}) {
+      for (UffSpacing spacing : {UffSpacing::kEven, UffSpacing::kUneven}) {
+        const std::string what = std::string(binary ? "58b" : "58") + (single ? " single" : " double") +
+                                 (spacing == UffSpacing::kEven ? " even" : " uneven");
+        // Uneven ASCII stores the abscissa with 6 digits: frequencies that have no more.
+        MeasuredFrf t = g;
+        for (double& f : t.frequency_hz) f = std::round(f * 10.0) / 10.0;
+        write_frf(dir_ / "c.uff", t, FrfFormat::kUff, uff(spacing, single, binary));
+        const FrfReadResult r = read_frf_file(dir_ / "c.uff");
+        ASSERT_EQ(r.uff_datasets.size(), 2u) << what;
+        EXPECT_EQ(r.uff_datasets[1].function_type, 6) << what;
+        ASSERT_EQ(r.frf.coherence.size(), t.coherence.size()) << what;
+        // E13.5 keeps 6 digits (5e-6 relative), a float 6e-8, E20.12 13 digits; a double is exact.
+        const double digits =
+            single ? (binary ? 1e-7 : 5e-6) : (binary ? 0.0 : 1e-12);
+        for (std::size_t i = 0; i < t.coherence.size(); ++i)
+          EXPECT_NEAR(r.frf.coherence[i], t.coherence[i], digits * t.coherence[i]) << what << " " << i;
+      }
+    }
+  }
+}
+
+TEST(FrfFileText, CoherenceColumnsAreReadAndCheckedNamingTheLine) {
+  // CutPro text: a fourth number on the first data line is the coherence, on every line.
+  const FrfReadResult text = parse_frf("% f re im coh\n100 -1e-8 -2e-8 0.9\n110 -1e-8 -3e-8 0.95\n"
+                                       "120 -1e-8 -2e-8 0.5\n", "t");
+  EXPECT_EQ(text.frf.coherence, (std::vector<double>{0.9, 0.95, 0.5}));
+  EXPECT_TRUE(text.warnings.empty());
+  // CutPro's trailer after four numbers.
+  EXPECT_EQ(parse_frf("1 -1 -2 0.9 Freq Hz Real m/N Imag Real Coherence\n2 -1 -2 1\n3 -1 -2 0\n",
+                      "t")
+                .frf.coherence.size(),
+            3u);
+  EXPECT_HAS(refusal_of("100 1 2 0.9\n110 1 2\n120 1 2 0.9\n"),
+             "line 2: 3 values; a data line has 4: frequency (Hz), real and imaginary part (m/N), "
+             "coherence");
+  EXPECT_HAS(refusal_of("100 1 2 0.9\n110 1 2 1.5\n120 1 2 0.9\n"),
+             "line 2: coherence 1.5 is not 0 to 1");
+  EXPECT_HAS(refusal_of("100 1 2 0.9\n110 1 2 -0.1\n120 1 2 nan\n"),
+             "line 3: coherence nan is not 0 to 1");
+  EXPECT_HAS(refusal_of("100 1 2 0.9\n110 1 2 95\n120 1 2 0.9\n"), "not a percentage");
+  EXPECT_HAS(refusal_of("100 1 2 0.9\n110 1 2 x\n120 1 2 0.9\n"),
+             "line 2: \"x\" is not a number (the coherence)");
+  // CSV: an optional coherence column, anywhere.
+  const FrfReadResult csv = parse_frf(
+      "coherence,frequency_hz,real_m_per_n,imag_m_per_n\n0.99,1,-1,-2\n0.5,2,-1,-2\n0,3,-1,-2\n",
+      "t");
+  EXPECT_EQ(csv.frf.coherence, (std::vector<double>{0.99, 0.5, 0.0}));
+  EXPECT_HAS(refusal_of("frequency_hz,real_m_per_n,imag_m_per_n,coherence\n1,2,3,0.9\n2,2,3\n"
+                        "3,2,3,0.9\n"),
+             "line 3: 3 fields, no coherence (column 4 of the header)");
+  EXPECT_HAS(refusal_of("frequency_hz,real_m_per_n,imag_m_per_n,coherence\n1,2,3,0.9\n2,2,3,-3\n"
+                        "3,2,3,0.9\n"),
+             "line 3: coherence -3 is not 0 to 1");
+  EXPECT_HAS(refusal_of("frequency_hz,real_m_per_n,imag_m_per_n,coherence\n1,2,3,0.9\n2,2,3,hi\n"
+                        "3,2,3,0.9\n"),
+             "line 3: coherence = \"hi\" is not a number");
+}
+
 // ---- hand-made files: UFF as test systems write it ------------------------------------
 
 // Records 1-11 of a dataset 58.
@@ -248,8 +322,9 @@ TEST(FrfFileUff, ImpactTestExportWithHeaderUnitsCoherenceAndCrlf) {
       "  1.00000000000000000D+00  1.00000000000000000D+00  1.00000000000000000D+00\n"
       "  2.73149999999999977D+02\n    -1\n"
       "    -1\n    58\n" +
-      uff58_header(6, 5, 3, true, 100.0, 50.0, 18, "Hz", 0, "NONE", 0, "NONE") +
-      "  9.90000E-01  0.00000E+00  9.80000E-01  0.00000E+00  9.70000E-01  0.00000E+00\n    -1\n"
+      uff58_header(6, 5, 4, true, 100.0, 50.0, 18, "Hz", 0, "NONE", 0, "NONE") +
+      "  9.90000E-01  0.00000E+00  9.80000E-01  0.00000E+00  9.70000E-01  0.00000E+00\n"
+      "  9.60000E-01  0.00000E+00\n    -1\n"
       "    -1\n    58\n" +
       uff58_header(4, 5, 4, true, 100.0, 50.0, 18, "Hz", 12, "m/s^2", 13, "N") +
       " -1.00000E+01  2.00000E+00 -2.50000E+01 -5.00000E-01  3.00000E+00 -4.00000E+00\n"
@@ -265,6 +340,8 @@ TEST(FrfFileUff, ImpactTestExportWithHeaderUnitsCoherenceAndCrlf) {
   const std::vector<std::complex<double>> a = {
       {-10.0, 2.0}, {-25.0, -0.5}, {3.0, -4.0}, {1.25, 0.6}};
   ASSERT_EQ(r.frf.frequency_hz, (std::vector<double>{100.0, 150.0, 200.0, 250.0}));
+  // The coherence of the same DOF at the same frequencies (stored complex, as some systems do).
+  EXPECT_EQ(r.frf.coherence, (std::vector<double>{0.99, 0.98, 0.97, 0.96}));
   for (std::size_t i = 0; i < 4; ++i) {
     const double w = kTwoPi * r.frf.frequency_hz[i];
     EXPECT_LE(std::abs(r.frf.receptance_m_per_n[i] - a[i] / (-w * w)),
@@ -280,6 +357,36 @@ TEST(FrfFileUff, ImpactTestExportWithHeaderUnitsCoherenceAndCrlf) {
   const FrfReadResult text = parse_frf("1 1 2\n2 1 2\n3 1 2\n", "t", dataset(1));
   ASSERT_EQ(text.warnings.size(), 1u);
   EXPECT_HAS(text.warnings[0], "this is a frf file, ignored");
+}
+
+// A coherence of the same DOF at other frequencies is not used, with a warning; one of another
+// DOF is not the FRF's; a value out of 0…1 is refused at its line.
+TEST(FrfFileUff, CoherenceOfAnotherGridOrDofIsNotTakenAndBadValuesAreRefused) {
+  const std::string frf = "    -1\n    58\n" +
+                          uff58_header(4, 6, 3, true, 10, 10, 18, "Hz", 8, "m", 13, "N") +
+                          "  1.000000000000E-08  2.000000000000E-08  3.000000000000E-08  "
+                          "4.000000000000E-08\n  5.000000000000E-08  6.000000000000E-08\n    -1\n";
+  const auto coherence = [](double minimum, const std::string& values) {
+    return "    -1\n    58\n" +
+           uff58_header(6, 4, 3, true, minimum, 10, 18, "Hz", 0, "NONE", 0, "NONE") + values +
+           "    -1\n";
+  };
+  const std::string good = "  9.000000000000E-01  8.000000000000E-01  7.000000000000E-01\n";
+  const FrfReadResult same = parse_frf(coherence(10, good) + frf, "t");
+  EXPECT_EQ(same.frf.coherence, (std::vector<double>{0.9, 0.8, 0.7}));
+  const FrfReadResult shifted = parse_frf(coherence(20, good) + frf, "t");
+  EXPECT_TRUE(shifted.frf.coherence.empty());
+  ASSERT_EQ(shifted.warnings.size(), 1u);
+  EXPECT_HAS(shifted.warnings[0], "the coherence (dataset 58 index 0, line 1) has 3 points at "
+                                  "other frequencies than the FRF's 3: not used");
+  std::string other_dof = coherence(10, good);
+  other_dof.replace(other_dof.find("         7   2"), 14, "         8   2");
+  const FrfReadResult other = parse_frf(other_dof + frf, "t");
+  EXPECT_TRUE(other.frf.coherence.empty());
+  EXPECT_TRUE(other.warnings.empty());
+  EXPECT_HAS(refusal_of(coherence(10, "  9.000000000000E-01  1.800000000000E+00  7.000000000000E-01\n") +
+                        frf),
+             "line 14: the coherence (dataset 58 index 0, line 1): 1.8 at 20 Hz is not 0 to 1");
 }
 
 TEST(FrfFileUff, AccelerationInGAndMobilityInMillimetresConvertToReceptance) {
@@ -682,7 +789,7 @@ TEST_F(FrfFileRefusalOfFiles, MissingEmptyBinaryAndDirectoriesAreClear) {
   std::ofstream(dir_ / "g.frf", std::ios::binary) << garbage;
   EXPECT_HAS(refusal([&] { read_frf(dir_ / "g.frf"); }), "line 1: not a text file (byte 0x03");
   // Writing: an invalid table, a folder that does not exist.
-  const MeasuredFrf two{{1.0, 2.0}, {{1, 0}, {1, 0}}};
+  const MeasuredFrf two{{1.0, 2.0}, {{1, 0}, {1, 0}}, {}};
   EXPECT_HAS(refusal([&] { write_frf(dir_ / "two.frf", two, FrfFormat::kCutPro); }), "at least 3");
   FrfWriteOptions z;
   z.uff_response_direction = 7;

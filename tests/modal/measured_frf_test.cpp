@@ -74,9 +74,9 @@ TEST(MeasuredFrf, ValidationNamesEachBadPoint) {
   const auto problems = bad.validate();
   ASSERT_GE(problems.size(), 3u);
   EXPECT_NE(problems[0].find("frequency_hz[1]"), std::string::npos) << problems[0];
-  const MeasuredFrf too_few{{1.0, 2.0}, {{0, 0}, {0, 0}}};
+  const MeasuredFrf too_few{{1.0, 2.0}, {{0, 0}, {0, 0}}, {}};
   EXPECT_FALSE(too_few.validate().empty());
-  const MeasuredFrf unequal{{1.0, 2.0, 3.0}, {{0, 0}}};
+  const MeasuredFrf unequal{{1.0, 2.0, 3.0}, {{0, 0}}, {}};
   EXPECT_FALSE(unequal.validate().empty());
 }
 

@@ -103,6 +103,9 @@ struct FrfFit {
   FrfNoise noise;                   // estimated from the residuals
   /// The fit was weighted for the noise's floor (§4.1) rather than relatively.
   bool noise_weighted = false;
+  /// The fit was weighted by the table's coherence (§4.3), which then stands for the noise's
+  /// shape (the floor's weights of §4.1 are not applied).
+  bool coherence_weighted = false;
   int iterations = 0;               // Levenberg–Marquardt iterations of the final fit
   bool converged = false;
   std::vector<StabilisationPoint> stabilisation;

@@ -18,6 +18,10 @@ namespace cutdyn {
 struct MeasuredFrf {
   std::vector<double> frequency_hz;                      // strictly increasing, >= 0, finite
   std::vector<std::complex<double>> receptance_m_per_n;  // one per frequency, finite
+  /// The ordinary coherence γ² (0…1) of each point when the measurement gave it, else empty:
+  /// how much of the response the force explains there, which sets the point's noise (the fit
+  /// weighs by it: docs/models/modal-fitting.md §4.3).
+  std::vector<double> coherence;
 
   /// Problems as "frequency_hz[i] = value Hz: rule"; empty when valid (at least 3 points).
   std::vector<std::string> validate() const;
