@@ -138,6 +138,7 @@ void BM_DenseGridFull(benchmark::State& state) {
   const auto dim = static_cast<double>(fd_transition_matrix(s, fd_grid(s, fo), 0.0).rows());
   r.figures["threads"] = threads;
   r.figures["speeds_off"] = off;
+  r.figures["points"] = static_cast<double>(report.points.size());
   r.figures["worst_mm"] = 1e3 * worst;
   r.figures["dim"] = dim;
   state.counters["threads"] = threads;
@@ -335,9 +336,10 @@ void print_summary() {
         static_cast<double>(kSpeeds) / 4.0, cf1, 1.0);
   if (g1) {
     std::printf(
-        "  grid: dense matrix %.0f x %.0f; %.0f of %d speeds more than one depth row "
-        "(%.1f mm) off the closed form, worst %.1f mm\n",
-        g1->figures.at("dim"), g1->figures.at("dim"), g1->figures.at("speeds_off"), kSpeeds,
+        "  grid: dense matrix %.0f x %.0f; %.0f of %.0f speeds (the grid's and the refinement's) "
+        "more than one depth row (%.1f mm) off the closed form, worst %.1f mm\n",
+        g1->figures.at("dim"), g1->figures.at("dim"), g1->figures.at("speeds_off"),
+        g1->figures.at("points"),
         1e3 * kDepthLimit / kGridDepths, g1->figures.at("worst_mm"));
   }
 

@@ -130,11 +130,12 @@ void find_candidates(Evaluator& ev, double theta_a, double theta_b, long long n,
       for (Eigen::Index i = 0; i < prev.size(); ++i) {
         const cplx a = prev(i);
         if (a.real() < keep) continue;
+        // Distances squared (no square root per pair): the nearest and the next nearest.
         Eigen::Index best = -1;
         double best_d = std::numeric_limits<double>::infinity();
         double second_d = std::numeric_limits<double>::infinity();
         for (Eigen::Index j = 0; j < cur.size(); ++j) {
-          const double dist = std::abs(cur(j) - a);
+          const double dist = std::norm(cur(j) - a);
           if (used[static_cast<std::size_t>(j)]) continue;
           if (dist < best_d) {
             second_d = best_d;
@@ -145,7 +146,7 @@ void find_candidates(Evaluator& ev, double theta_a, double theta_b, long long n,
           }
         }
         if (best < 0) continue;
-        if (best_d > 0.5 * second_d) ambiguous = true;
+        if (best_d > 0.25 * second_d) ambiguous = true;  // nearest not clearly nearer: 0.5²
         used[static_cast<std::size_t>(best)] = true;
         const cplx b = cur(best);
         if ((a.imag() > 0.0) == (b.imag() > 0.0) || a.imag() == b.imag()) continue;

@@ -141,6 +141,20 @@ class HillMatrix {
 
   void build(double w, int lo, int hi, Eigen::MatrixXcd& K) {
     const int n = hi - lo + 1;
+    if (n == 1 && r_ == 2) {
+      // One harmonic of a two-direction structure (the zero-order method in milling, at every
+      // frequency of its scan): the same product in fixed-size 2×2 arithmetic.
+      const double wp = w + lo * omega_;
+      G_.resize(1);
+      system_.frequency_response(wp, G_[0]);
+      Eigen::Matrix2cd sum = Eigen::Matrix2cd::Zero();
+      for (std::size_t k = 0; k < terms_.size(); ++k)
+        sum += Eigen::Matrix2cd(h_[k][static_cast<std::size_t>(max_index_)]) *
+               (std::polar(1.0, -wp * terms_[k].delay_s) - 1.0);
+      K.resize(2, 2);
+      K.noalias() = Eigen::Matrix2cd(G_[0]) * sum;
+      return;
+    }
     G_.resize(static_cast<std::size_t>(n));
     regen_.resize(terms_.size());
     for (std::vector<cplx>& r : regen_) r.resize(static_cast<std::size_t>(n));
