@@ -614,11 +614,21 @@ void attach_coherence(const std::vector<Dataset58>& found, const Dataset58& d,
   const Dataset58& c = *it;
   const std::string name = "the coherence (dataset 58 index " + std::to_string(c.info.index) +
                            ", line " + std::to_string(c.info.line) + ")";
-  const DataForm form = data_form(c.records[6], source, /*real_allowed=*/true);
-  std::vector<std::string> ignored;
-  std::string abscissa_name;
-  const double scale = abscissa_scale(axis_record(c.records[7]), source, ignored, abscissa_name);
-  const std::vector<RawPoint> values = points_of(c, form, source);
+  // A coherence cutdyn cannot read does not make the FRF unreadable: it is left out, said.
+  std::vector<RawPoint> values;
+  double scale = 1.0;
+  try {
+    const DataForm form = data_form(c.records[6], source, /*real_allowed=*/true);
+    std::vector<std::string> ignored;
+    std::string abscissa_name;
+    scale = abscissa_scale(axis_record(c.records[7]), source, ignored, abscissa_name);
+    values = points_of(c, form, source);
+  } catch (const InvalidInput& e) {
+    warnings.push_back(name + " is not read (" +
+                       (e.problems().empty() ? std::string("malformed") : e.problems().front()) +
+                       "): not used");
+    return;
+  }
   bool same = values.size() == points.size();
   for (std::size_t i = 0; same && i < values.size(); ++i) {
     const double a = values[i].frequency * scale, b = points[i].frequency * frequency_scale;

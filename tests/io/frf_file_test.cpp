@@ -384,6 +384,14 @@ TEST(FrfFileUff, CoherenceOfAnotherGridOrDofIsNotTakenAndBadValuesAreRefused) {
   const FrfReadResult other = parse_frf(other_dof + frf, "t");
   EXPECT_TRUE(other.frf.coherence.empty());
   EXPECT_TRUE(other.warnings.empty());
+  // A coherence in a form cutdyn does not read (data type 3) is left out, with the reason.
+  std::string type3 = coherence(10, good);
+  type3.replace(type3.find("         4         3         1"), 30, "         3         3         1");
+  const FrfReadResult unread = parse_frf(type3 + frf, "t");
+  EXPECT_TRUE(unread.frf.coherence.empty());
+  ASSERT_EQ(unread.warnings.size(), 1u);
+  EXPECT_HAS(unread.warnings[0], "the coherence (dataset 58 index 0, line 1) is not read (line 9: "
+                                 "record 7: ordinate data type 3 must be 2 or 4");
   EXPECT_HAS(refusal_of(coherence(10, "  9.000000000000E-01  1.800000000000E+00  7.000000000000E-01\n") +
                         frf),
              "line 14: the coherence (dataset 58 index 0, line 1): 1.8 at 20 Hz is not 0 to 1");
