@@ -591,6 +591,10 @@ BandData coherence_reweighted(BandData band, const PoleResidueModel& model) {
   for (std::size_t k = 0; k < band.size(); ++k) {
     const double model_g = std::abs(fit_detail::evaluate(model, band.omega[k]));
     band.w[k] = 1.0 / (std::max(model_g, 1e-6 * peak) * band.coherence_noise[k]);
+    // The relative error measured against the noise's scale where that exceeds |G| (γ² < 0.5),
+    // as against the floor in §4.1.
+    band.w_rel[k] =
+        1.0 / std::max({std::abs(band.g[k]), model_g * band.coherence_noise[k], 1e-6 * peak});
   }
   return band;
 }
