@@ -56,9 +56,10 @@ std::string fixed(double value, int digits) {
 // ---- input ------------------------------------------------------------------------------
 
 // The weights of the table's coherence (§4.3): each point's noise relative to |G| is
-// sqrt((1 − γ²)/γ²) [Bendat & Piersol: the random error of the H1 estimate is that over
-// sqrt(2·averages)], so w = 1/(|G|·sqrt((1 − γ²)/γ²)); the number of averages only scales
-// every weight alike and is left to the noise the residuals show.
+// sqrt((1 − γ²)/γ²) [Bendat2010, ch. 9: the random error of the H1 estimate is that over
+// sqrt(2·averages)], so w = 1/(|G|·sqrt((1 − γ²)/γ²)) in the first pass (the model's |G| in
+// the second, coherence_reweighted); the number of averages only scales every weight alike
+// and is left to the noise the residuals show.
 void weigh_by_coherence(const MeasuredFrf& frf, double lo, double hi, BandData& band,
                         FrfFit& out) {
   std::vector<double> gamma2;
