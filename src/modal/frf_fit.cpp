@@ -60,11 +60,7 @@ std::string fixed(double value, int digits) {
 // sqrt(2·averages)], so w = 1/(|G|·sqrt((1 − γ²)/γ²)) in the first pass (the model's |G| in
 // the second, coherence_reweighted); the number of averages only scales every weight alike
 // and is left to the noise the residuals show.
-void weigh_by_coherence(const MeasuredFrf& frf, double lo, double hi, BandData& band,
-                        FrfFit& out) {
-  std::vector<double> gamma2;
-  for (std::size_t i = 0; i < frf.frequency_hz.size(); ++i)
-    if (frf.frequency_hz[i] >= lo && frf.frequency_hz[i] <= hi) gamma2.push_back(frf.coherence[i]);
+void weigh_by_coherence(const std::vector<double>& gamma2, BandData& band, FrfFit& out) {
   const double lowest = *std::min_element(gamma2.begin(), gamma2.end());
   if (lowest > kHighCoherence) {
     out.notes.push_back("the coherence is above " + format_value(kHighCoherence) +
@@ -98,12 +94,14 @@ BandData band_of(const MeasuredFrf& frf, const FrfFitOptions& options, FrfFit& o
   v.require(options.max_modes >= 1, "max_modes", options.max_modes, "", "must be at least 1");
   v.throw_if_any("fit");
   BandData band;
+  std::vector<double> gamma2;  // the coherence in the band, where the table has one
   double peak = 0.0;
   for (std::size_t i = 0; i < frf.frequency_hz.size(); ++i) {
     const double f = frf.frequency_hz[i];
     if (f < lo || f > hi) continue;
     band.omega.push_back(kTwoPi * f);
     band.g.push_back(frf.receptance_m_per_n[i]);
+    if (!frf.coherence.empty()) gamma2.push_back(frf.coherence[i]);
     peak = std::max(peak, std::abs(frf.receptance_m_per_n[i]));
   }
   const int points = static_cast<int>(band.size());
@@ -131,7 +129,7 @@ BandData band_of(const MeasuredFrf& frf, const FrfFitOptions& options, FrfFit& o
   const double floor = 1e-6 * peak;  // keeps a zero of the table from an infinite weight
   for (const cd& g : band.g) band.w.push_back(1.0 / std::max(std::abs(g), floor));
   band.w_rel = band.w;
-  if (!frf.coherence.empty()) weigh_by_coherence(frf, lo, hi, band, out);
+  if (!gamma2.empty()) weigh_by_coherence(gamma2, band, out);
   return band;
 }
 

@@ -133,6 +133,7 @@ class HillMatrix {
         hk.push_back(t.H.fourier(m));
         if (periodic || m == 0) norm_ += hk.back().norm();
       }
+      if (r_ == 2) h0_.push_back(hk[static_cast<std::size_t>(max_index)]);
       h_.push_back(std::move(hk));
     }
   }
@@ -149,8 +150,7 @@ class HillMatrix {
       system_.frequency_response(wp, G_[0]);
       Eigen::Matrix2cd sum = Eigen::Matrix2cd::Zero();
       for (std::size_t k = 0; k < terms_.size(); ++k)
-        sum += Eigen::Matrix2cd(h_[k][static_cast<std::size_t>(max_index_)]) *
-               (std::polar(1.0, -wp * terms_[k].delay_s) - 1.0);
+        sum += h0_[k] * (std::polar(1.0, -wp * terms_[k].delay_s) - 1.0);
       K.resize(2, 2);
       K.noalias() = Eigen::Matrix2cd(G_[0]) * sum;
       return;
@@ -190,6 +190,7 @@ class HillMatrix {
   std::vector<Eigen::MatrixXcd> G_;
   std::vector<std::vector<cplx>> regen_;
   Eigen::MatrixXcd sum_;  // Σ_k H_k(p − q)·(e^(−iω_q τ_k) − 1), reused
+  std::vector<Eigen::Matrix2cd> h0_;  // H_k(0) of each term, fixed-size (two directions)
 };
 
 // Real eigenvalues λ >= min_eigenvalue of K: boundary points at the scan's ends, where K is
