@@ -489,38 +489,12 @@ void review(FrfFit& out) {
 
 namespace {
 
-// One fit over `band` with its weights: the diagram, the choice of poles, the refinement and
-// the pruning (§2–§4). `out` holds what the band's reading said; the model is returned in
-// `model`.
-FrfFit fit_pass(const BandData& band, const FrfFitOptions& options, FrfFit out,
-                PoleResidueModel& model) {
-  const int target = out.automatic ? std::min(options.max_modes, out.points / 4) : options.modes;
-  const int max_order = max_order_for(target, out.points);
-  out.stabilisation = diagram(fit_detail::lscf_poles(band, max_order));
-  Selection sel = select_poles(out.stabilisation, out.automatic ? 0 : target, max_order, out);
-  if (static_cast<int>(sel.poles.size()) > target) sel.poles.resize(target);
-  model = PoleResidueModel{};
-  model.poles = sel.poles;
-  model.residuals = residual_terms(options.residuals && out.lo_hz > 0.0, options.residuals);
-  const fit_detail::RefineStats stats = refine_and_prune(band, model, out.automatic, out);
-  out.iterations = stats.iterations;
-  out.converged = stats.converged;
-  return out;
-}
-
-// The noise of the table about `model` (§4.1): E|G_model − G|² = c1·|G_model|² + c0 fitted to
-// the squared residuals by iteratively reweighted least squares (the variance of a squared
-// residual grows as the square of its mean), both coefficients >= 0, and scaled by the
-// degrees of freedom the fit took. Per part (real or imaginary): proportional sqrt(c1/2),
-// floor sqrt(c0/2).
-FrfNoise estimate_noise(const BandData& band, const PoleResidueModel& model) {
-  const std::size_t n = band.size();
-  std::vector<double> m(n), y(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    const cd model_g = fit_detail::evaluate(model, band.omega[k]);
-    m[k] = std::norm(model_g);
-    y[k] = std::norm(model_g - band.g[k]);
-  }
+// E y = c1·m + c0 fitted to squared residuals y of points of squared magnitude m by
+// iteratively reweighted least squares (the variance of a squared residual grows as the square
+// of its mean), both coefficients >= 0 (§4.1).
+std::pair<double, double> noise_coefficients(const std::vector<double>& m,
+                                             const std::vector<double>& y) {
+  const std::size_t n = m.size();
   std::vector<double> ratio;
   for (std::size_t k = 0; k < n; ++k)
     if (m[k] > 0.0) ratio.push_back(y[k] / m[k]);
@@ -552,6 +526,172 @@ FrfNoise estimate_noise(const BandData& band, const PoleResidueModel& model) {
     c1 = a;
     c0 = std::max(b, 1e-300);
   }
+  return {c1, c0};
+}
+
+// The noise of the table before any model (§4.1): each interior point against the straight line
+// through its two neighbours, G_k − a·G_(k−1) − b·G_(k+1), a + b = 1 — a difference whose noise
+// has 1 + a² + b² times the point's variance and whose smooth part is small wherever the table
+// is sampled finely against its peaks' widths [Gasser1986]. The same two coefficients fitted to
+// those differences.
+FrfNoise noise_from_differences(const BandData& band) {
+  std::vector<double> m, y;
+  for (std::size_t k = 1; k + 1 < band.size(); ++k) {
+    const double a = (band.omega[k + 1] - band.omega[k]) / (band.omega[k + 1] - band.omega[k - 1]);
+    const double b = 1.0 - a;
+    const cd d = band.g[k] - a * band.g[k - 1] - b * band.g[k + 1];
+    m.push_back(std::norm(band.g[k]));
+    y.push_back(std::norm(d) / (1.0 + a * a + b * b));
+  }
+  FrfNoise noise;
+  if (m.size() < 8) return noise;
+  const auto [c1, c0] = noise_coefficients(m, y);
+  noise.proportional = std::sqrt(c1 / 2.0);
+  noise.floor_m_per_n = c0 > 1e-300 ? std::sqrt(c0 / 2.0) : 0.0;
+  return noise;
+}
+
+// The fall of the weighted squared error from a model of RMS error `before` to one of RMS error
+// `after` fitted to `band` with `parameters` parameters, in units of its per-number variance:
+// a χ² with as many degrees of freedom as parameters added, on noise alone (§3.1).
+double chi2_fall(const BandData& band, double before, double after, std::size_t parameters) {
+  const double numbers = 2.0 * static_cast<double>(band.size());
+  const double dof = std::max(numbers - static_cast<double>(parameters), 1.0);
+  return after > 0.0 ? dof * (before * before - after * after) / (after * after) : 0.0;
+}
+
+std::size_t parameters_of(const PoleResidueModel& model) {
+  return 4 * model.poles.size() + model.residuals.size();
+}
+
+// Modes the diagram missed (§3.2): where the weighted residual, averaged over a run of points,
+// stands far above its median (a resonance left in the residual, not noise), a pole is tried
+// at that frequency, refined with all the others, and kept on the test of a split (the RMS error
+// down by kSignificance or the weighted squared error by kSplitChi2 times its per-number
+// variance) when every pole stays physical, the in-band ones in the band and on modes of their
+// own. A place whose pole is not kept is not tried again (three such places at most).
+void add_missed_modes(const BandData& band, PoleResidueModel& model, int max_modes, FrfFit& out) {
+  constexpr std::size_t kHalfRun = 5;   // points each side of the run
+  constexpr double kStructured = 10.0;  // the run's mean over the median (noise alone: ~1.4)
+  constexpr double kStartDamping = 0.02;
+  const std::size_t n = band.size();
+  if (n < 4 * kHalfRun) return;
+  std::vector<double> tried;  // places tried without a pole kept, rad/s
+  const FrfNoise noise = noise_from_differences(band);
+  if (!(noise.proportional > 0.0 || noise.floor_m_per_n > 0.0)) return;
+  while (fit_detail::rms_relative_error(band, model) >= kExactFit &&  // not fitted to rounding
+         static_cast<int>(model.poles.size()) < max_modes && tried.size() < 3) {
+    std::vector<double> r(n);
+    for (std::size_t k = 0; k < n; ++k)
+      r[k] = std::norm(fit_detail::evaluate(model, band.omega[k]) - band.g[k]) /
+             (2.0 * (std::norm(noise.proportional * band.g[k]) + std::norm(noise.floor_m_per_n)));
+    std::size_t at = 0;
+    double largest = 0.0;
+    for (std::size_t k = kHalfRun; k + kHalfRun < n; ++k) {
+      if (std::any_of(tried.begin(), tried.end(),
+                      [&](double w) { return std::abs(band.omega[k] - w) < 0.03 * w; }))
+        continue;
+      double run = 0.0;
+      for (std::size_t j = k - kHalfRun; j <= k + kHalfRun; ++j) run += r[j];
+      run /= static_cast<double>(2 * kHalfRun + 1);
+      if (run > largest) largest = run, at = k;
+    }
+    if (!(largest > kStructured)) return;
+    const double wn = band.omega[at];
+    const auto inside =
+        static_cast<std::size_t>(std::count_if(model.poles.begin(), model.poles.end(), [&](cd p) {
+          return std::abs(p) >= band.lo_rad_s && std::abs(p) <= band.hi_rad_s;
+        }));
+    PoleResidueModel trial = model;
+    trial.poles.insert(
+        trial.poles.begin() + static_cast<std::ptrdiff_t>(inside),
+        cd(-kStartDamping * wn, wn * std::sqrt(1.0 - kStartDamping * kStartDamping)));
+    fit_detail::fit_residues(band, trial);
+    fit_detail::refine(band, trial, kTrialIterations);
+    const double before = fit_detail::rms_fit_error(band, model);
+    const double after = fit_detail::rms_fit_error(band, trial);
+    bool keep = after > 0.0 && (before >= kSignificance * after ||
+                                chi2_fall(band, before, after, parameters_of(trial)) > kSplitChi2);
+    for (std::size_t q = 0; q < trial.poles.size() && keep; ++q) {
+      const double w = std::abs(trial.poles[q]), z = -trial.poles[q].real() / w;
+      keep = (q > inside || (w >= band.lo_rad_s && w <= band.hi_rad_s)) && z < 0.5 &&
+             std::abs(phase_deg(trial.residues[q])) <= 90.0;
+    }
+    if (keep) {
+      PoleResidueModel in_band = trial;
+      in_band.poles.resize(inside + 1);
+      in_band.residues.resize(inside + 1);
+      keep = duplicate_pole(band, in_band) < 0;
+    }
+    if (!keep) {
+      tried.push_back(wn);
+      continue;
+    }
+    out.notes.push_back(
+        "a mode near " + mode_text(trial.poles[inside]) +
+        " that the diagram missed: added (RMS error " +
+        fixed(100.0 * fit_detail::rms_relative_error(band, model), 2) + " % without it, " +
+        fixed(100.0 * fit_detail::rms_relative_error(band, trial), 2) + " % with it)");
+    model = std::move(trial);
+  }
+}
+
+// One fit over `band` with its weights: the diagram, the choice of poles, the refinement and
+// the pruning (§2–§4). `out` holds what the band's reading said; the model is returned in
+// `model`.
+FrfFit fit_pass(const BandData& band, const FrfFitOptions& options, FrfFit out,
+                PoleResidueModel& model) {
+  const int target = out.automatic ? std::min(options.max_modes, out.points / 4) : options.modes;
+  const int max_order = max_order_for(target, out.points);
+  out.stabilisation = diagram(fit_detail::lscf_poles(band, max_order));
+  Selection sel = select_poles(out.stabilisation, out.automatic ? 0 : target, max_order, out);
+  if (static_cast<int>(sel.poles.size()) > target) sel.poles.resize(target);
+  model = PoleResidueModel{};
+  model.poles = sel.poles;
+  model.residuals = residual_terms(options.residuals && out.lo_hz > 0.0, options.residuals);
+  fit_detail::RefineStats stats = refine_and_prune(band, model, out.automatic, out);
+  if (out.automatic) {
+    const std::size_t before = model.poles.size();
+    add_missed_modes(band, model, target, out);
+    if (model.poles.size() != before) stats = refine_and_prune(band, model, true, out);
+  }
+  out.iterations = stats.iterations;
+  out.converged = stats.converged;
+  return out;
+}
+
+// The fit again on the band's new weights (§4.1, §4.3). The model before, refined on those
+// weights, is kept instead when it fits them better: a new diagram can choose worse poles
+// (a wide mode missed, two merged) than the pass before found.
+FrfFit fit_again(const BandData& band, const FrfFitOptions& options, const FrfFit& base,
+                 FrfFit before, PoleResidueModel& model) {
+  PoleResidueModel again;
+  FrfFit out = fit_pass(band, options, base, again);
+  PoleResidueModel refined = model;
+  const fit_detail::RefineStats stats = refine_and_prune(band, refined, base.automatic, before);
+  if (!(fit_detail::rms_fit_error(band, refined) < fit_detail::rms_fit_error(band, again)) ||
+      (!base.automatic && static_cast<int>(refined.poles.size()) != options.modes)) {
+    model = std::move(again);
+    return out;
+  }
+  before.iterations = stats.iterations;
+  before.converged = stats.converged;
+  model = std::move(refined);
+  return before;
+}
+
+// The noise of the table about `model` (§4.1): E|G_model − G|² = c1·|G_model|² + c0, scaled by
+// the degrees of freedom the fit took. Per part (real or imaginary): proportional sqrt(c1/2),
+// floor sqrt(c0/2).
+FrfNoise estimate_noise(const BandData& band, const PoleResidueModel& model) {
+  const std::size_t n = band.size();
+  std::vector<double> m(n), y(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const cd model_g = fit_detail::evaluate(model, band.omega[k]);
+    m[k] = std::norm(model_g);
+    y[k] = std::norm(model_g - band.g[k]);
+  }
+  const auto [c1, c0] = noise_coefficients(m, y);
   const double parameters = 4.0 * static_cast<double>(model.poles.size()) +
                             static_cast<double>(model.residuals.size());
   const double dof = 2.0 * static_cast<double>(n);
@@ -607,6 +747,24 @@ bool floor_matters(const BandData& band, const PoleResidueModel& model, const Fr
   return static_cast<double>(below) >= 0.02 * static_cast<double>(band.size());
 }
 
+// The band weighted for a floor the table shows before any model (§4.1): the weights of
+// `reweighted` on the table's own magnitude, when the floor of noise_from_differences exceeds
+// the proportional noise at 2 % of the points or more. Returns whether it did.
+bool weigh_floor_first(BandData& band) {
+  const FrfNoise noise = noise_from_differences(band);
+  const double g0 = floor_magnitude(noise);
+  std::size_t below = 0;
+  for (const cd& g : band.g) below += std::abs(g) < g0;
+  if (!(static_cast<double>(below) >= 0.02 * static_cast<double>(band.size()))) return false;
+  double peak = 0.0;
+  for (const cd& g : band.g) peak = std::max(peak, std::abs(g));
+  for (std::size_t k = 0; k < band.size(); ++k) {
+    band.w[k] = 1.0 / std::max(std::hypot(std::abs(band.g[k]), g0), 1e-6 * peak);
+    band.w_rel[k] = 1.0 / std::max({std::abs(band.g[k]), g0, 1e-6 * peak});
+  }
+  return true;
+}
+
 // The lowest critical depth's scale of a receptance: 1/(−min Re G) over the band (Tlusty's
 // a_lim = −1/(2·Kf·Re G), whose minimum over speeds is at the most negative Re G).
 double depth_scale(const BandData& band, const PoleResidueModel& model) {
@@ -621,20 +779,29 @@ double depth_scale(const BandData& band, const PoleResidueModel& model) {
 // below it (0.85·lo), each refined with all the others; it is kept when it fits clearly better
 // (below) and the pole stays outside the band with a positive stiffness (appended to
 // `model`'s poles).
-void add_outside_poles(const BandData& band, PoleResidueModel& model, FrfFit& out) {
+struct OutsidePole {
+  bool above = false;
+  double rms_without = 0.0, rms_with = 0.0;  // RMS relative errors when it was tried
+};
+std::vector<OutsidePole> add_outside_poles(const BandData& band, PoleResidueModel& model) {
+  std::vector<OutsidePole> kept;
   for (const double at : {1.15 * band.hi_rad_s, 0.85 * band.lo_rad_s}) {
     if (!(at > 0.0)) continue;
     const bool above = at > band.hi_rad_s;
     PoleResidueModel trial = model;
     trial.poles.push_back(cd(-0.03 * at, at * std::sqrt(1.0 - 0.03 * 0.03)));
+    // The explicit pole takes the job of the residual terms of the series on its side that
+    // stand for its nearest terms (iω and −ω² above, i/ω³ below); left in, they share it and
+    // the pole converges away from the mode (3630 Hz, ζ 0.06 for a mode at 3500 Hz, ζ 0.03).
+    std::erase_if(trial.residuals, [&](const ResidualTerm& t) {
+      return above ? (t.kind == ResidualKind::kUpperDamping || t.kind == ResidualKind::kUpperMass)
+                   : t.kind == ResidualKind::kLowerDamping;
+    });
     fit_detail::fit_residues(band, trial);
     {  // a quick look: the pole where it was put, only the residues fitted (linear)
       const double before = fit_detail::rms_fit_error(band, model);
       const double after = fit_detail::rms_fit_error(band, trial);
-      const double numbers = 2.0 * static_cast<double>(band.size());
-      if (!(after > 0.0 && numbers * (before * before - after * after) / (after * after) >
-                               kSplitChi2Doubt))
-        continue;
+      if (!(chi2_fall(band, before, after, parameters_of(trial)) > kSplitChi2Doubt)) continue;
     }
     fit_detail::refine(band, trial, kTrialIterations);
     const cd pole = trial.poles.back();
@@ -646,20 +813,31 @@ void add_outside_poles(const BandData& band, PoleResidueModel& model, FrfFit& ou
     // residual terms absorb all but 6 % of still bends the lowest mode by 3σ).
     const double without = fit_detail::rms_fit_error(band, model);
     const double with = fit_detail::rms_fit_error(band, trial);
-    const double chi2 =
-        2.0 * static_cast<double>(band.size()) * (without * without - with * with) / (with * with);
+    const double chi2 = chi2_fall(band, without, with, parameters_of(trial));
     if (!(outside && zeta < 0.5 && std::abs(phase_deg(trial.residues.back())) <= 90.0 &&
           (without >= kSignificance * with || chi2 > kSplitChi2)))
       continue;
-    out.warnings.push_back(std::string("a mode ") + (above ? "above" : "below") +
-                           " the band, near " + mode_text(pole) +
-                           ", bends the modes inside it: modelled by an explicit pole (" +
-                           "RMS error " + fixed(100.0 * fit_detail::rms_relative_error(band, model), 2) +
-                           " % without it, " + fixed(100.0 * fit_detail::rms_relative_error(band, trial), 2) +
-                           " % with it); the modes near that edge are the less certain, and the "
-                           "pole is not one of the modes (it lies outside the table's band)");
+    kept.push_back({above, fit_detail::rms_relative_error(band, model),
+                    fit_detail::rms_relative_error(band, trial)});
     model = std::move(trial);
   }
+  return kept;
+}
+
+// The warning of each explicit pole kept (§1.1), at the place the whole refinement left it.
+void warn_outside_poles(const std::vector<OutsidePole>& kept, FrfFit& out) {
+  for (const OutsidePole& p : kept)
+    for (const FittedMode& m : out.outside_modes) {
+      if (p.above != (m.natural_hz > out.hi_hz)) continue;
+      out.warnings.push_back(std::string("a mode ") + (p.above ? "above" : "below") +
+                             " the band, near " + fixed(m.natural_hz, 1) +
+                             " Hz, bends the modes inside it: modelled by an explicit pole (RMS "
+                             "error " +
+                             fixed(100.0 * p.rms_without, 2) + " % without it, " +
+                             fixed(100.0 * p.rms_with, 2) +
+                             " % with it); the modes near that edge are the less certain, and "
+                             "the pole is not one of the modes (it lies outside the table's band)");
+    }
 }
 
 // Two close modes fitted as one (§3.1): each mode in turn is split into two poles ζ·ωn below
@@ -697,8 +875,7 @@ bool split_looks_better(const BandData& band, const PoleResidueModel& model, std
     fit_detail::refine(local, *m, kTrialIterations);
   }
   const double a = fit_detail::rms_fit_error(local, one), b = fit_detail::rms_fit_error(local, two);
-  const double numbers = 2.0 * static_cast<double>(local.size());
-  return b > 0.0 && (numbers - 8.0) * (a * a - b * b) / (b * b) > kSplitChi2Doubt;
+  return chi2_fall(local, a, b, parameters_of(two)) > kSplitChi2Doubt;
 }
 
 void split_merged_modes(const BandData& band, PoleResidueModel& model, std::size_t inside,
@@ -716,14 +893,6 @@ void split_merged_modes(const BandData& band, PoleResidueModel& model, std::size
                        pole * (1.0 + delta));
     trial.residues.insert(trial.residues.begin() + static_cast<std::ptrdiff_t>(inside), cd{});
     fit_detail::fit_residues(band, trial);
-    const double numbers = 2.0 * static_cast<double>(band.size());
-    const double parameters = 4.0 * static_cast<double>(trial.poles.size()) +
-                              static_cast<double>(trial.residuals.size());
-    // The fall of the weighted squared error from `rms` to `after`, in units of its per-number
-    // variance (a χ² with 4 degrees of freedom on noise alone).
-    const auto chi2_of = [&](double after) {
-      return (numbers - parameters) * (rms * rms - after * after) / (after * after);
-    };
     fit_detail::refine(band, trial, kTrialIterations);
     const double trial_rms = fit_detail::rms_fit_error(band, trial);
     bool valid = true;
@@ -741,7 +910,7 @@ void split_merged_modes(const BandData& band, PoleResidueModel& model, std::size
     // How much better two poles fit: the RMS ratio, and the fall of the weighted squared error
     // in units of its per-number variance (a χ² with 4 degrees of freedom on noise alone).
     const double gain = rms / trial_rms;
-    const double chi2 = chi2_of(trial_rms);
+    const double chi2 = chi2_fall(band, rms, trial_rms, parameters_of(trial));
     const bool better = gain >= kSignificance || chi2 > kSplitChi2;
     const std::string at = "the peak at " + mode_text(pole);
     const auto both = [&] {
@@ -779,14 +948,13 @@ FrfFit fit_modes(const MeasuredFrf& frf, Direction direction, const FrfFitOption
   base.direction = direction;
   base.automatic = options.modes == 0;
   BandData band = band_of(frf, options, base);
+  if (!base.coherence_weighted) weigh_floor_first(band);
   PoleResidueModel model;
   FrfFit out = fit_pass(band, options, base, model);
   if (base.coherence_weighted) {
     // The coherence's weights on the model's magnitude (§4.3): the fit again.
     band = coherence_reweighted(band, model);
-    PoleResidueModel again;
-    out = fit_pass(band, options, base, again);
-    model = std::move(again);
+    out = fit_again(band, options, base, out, model);
   }
   out.noise = estimate_noise(band, model);
   // A noise floor (§4.1): the fit again with the weights of the noise, until they settle.
@@ -794,17 +962,16 @@ FrfFit fit_modes(const MeasuredFrf& frf, Direction direction, const FrfFitOption
        ++pass) {
     const double g0 = floor_magnitude(out.noise);
     band = reweighted(band, model, out.noise);
-    PoleResidueModel again;
-    out = fit_pass(band, options, base, again);
-    model = std::move(again);
+    out = fit_again(band, options, base, out, model);
     out.noise = estimate_noise(band, model);
     out.noise_weighted = true;
     if (std::abs(std::log(floor_magnitude(out.noise) / g0)) < std::log(1.5)) break;
   }
   const std::size_t inside = model.poles.size();  // the outside poles follow
+  std::vector<OutsidePole> outside_poles;
   if (options.residuals && !model.poles.empty() &&
       fit_detail::rms_relative_error(band, model) >= kExactFit)
-    add_outside_poles(band, model, out);
+    outside_poles = add_outside_poles(band, model);
   // A floor that only a later model shows (a merged pair's error read as noise before its
   // split): the weights of §4.1 and one more refinement.
   const auto weigh_late_floor = [&] {
@@ -843,6 +1010,7 @@ FrfFit fit_modes(const MeasuredFrf& frf, Direction direction, const FrfFitOption
                                               4 * static_cast<Eigen::Index>(r)));
     (outside ? out.outside_modes : out.modes).push_back(m);
   }
+  warn_outside_poles(outside_poles, out);
   std::sort(out.modes.begin(), out.modes.end(),
             [](const FittedMode& a, const FittedMode& b) { return a.natural_hz < b.natural_hz; });
   for (const FittedMode& m : out.modes)

@@ -6,8 +6,8 @@
 // 0.5 %, damping within 5 %, stiffness within 3 % — or, where the data cannot give that (the
 // pair 3 % apart at 1 % noise), within three of the fit's own standard uncertainties; and the
 // fit's uncertainty covering the truth at its stated level (68 % within 1σ, 95 % within 2σ,
-// with the sampling error of 20 seeds) for the cases without a mode beyond the band's edge.
-// The six-mode case with modes beyond both edges is held to what was measured (see below).
+// with the sampling error of 20 seeds; 84 % within 2σ for the case with modes beyond the band's
+// edges, whose errors beyond the tolerance may also reach 5 % — see below).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -113,13 +113,10 @@ TEST_P(FrfFitNoise, RightCountOrAWarningAndParametersWithinTheirTolerance) {
     for (std::size_t i = 0; i < c.in_band.size(); ++i) {
       const auto [truth, value, sigma] = compare(c.in_band[i], fit.modes[i]);
       const double* tolerance = kTolerance;
-      // With modes beyond both edges (§1.1) the explicit poles leave a bias the covariance
-      // does not hold (52–67 % of the errors within 1σ): an error beyond the tolerance is
-      // within 3σ or within what was measured — stiffness to 4.3 % at 1 % noise (recorded in
-      // the doc as short of the 3 % asked), damping and stiffness to 5.5 % and 16 % (within
-      // 3σ) at a floor of 1 % (4 of 20 seeds right).
-      const double outside_bound[3] = {0.005, n.floor >= 0.01 ? 0.12 : 0.06,
-                                       n.floor >= 0.01 ? 0.13 : 0.06};
+      // With modes beyond both edges (§1.1) the poles beyond the band are poorly determined and
+      // their linearised covariance is optimistic: an error beyond the tolerance is within 3σ
+      // or 5 % (one stiffness of 360 at a 1 % floor, 4.4 % at 3.07σ).
+      const double outside_bound[3] = {0.005, 0.05, 0.05};
       for (int p = 0; p < 3; ++p) {
         const double error = std::abs(value[p] - truth[p]);
         worst[p] = std::max(worst[p], error / truth[p]);
@@ -142,11 +139,15 @@ TEST_P(FrfFitNoise, RightCountOrAWarningAndParametersWithinTheirTolerance) {
               c.name, n.name, right, 100 * worst[0], 100 * worst[1], 100 * worst[2],
               beyond_tolerance, scores, 100.0 * within_one / std::max(scores, 1),
               100.0 * within_two / std::max(scores, 1));
-  if (low_noise && c.outside.empty() && scores > 0) {
-    // 60 to 240 scores: the sampling error of a fraction near 0.68 is 3–6 %.
+  // The count: right in every seed but at most one at noise up to 1 %, and two at 3 %.
+  EXPECT_GE(right, low_noise ? 19 : 18) << c.name << ", " << n.name;
+  if (low_noise && scores > 0) {
+    // 60 to 360 scores: the sampling error of a fraction near 0.68 is 2–6 %. With modes beyond
+    // the band, 86–87 % within 2σ at proportional noise (the outside poles' covariance is
+    // linearised about a poorly determined optimum).
     EXPECT_GT(static_cast<double>(within_one) / scores, 0.55);
     EXPECT_LT(static_cast<double>(within_one) / scores, 0.90);
-    EXPECT_GT(static_cast<double>(within_two) / scores, 0.88);
+    EXPECT_GT(static_cast<double>(within_two) / scores, c.outside.empty() ? 0.88 : 0.84);
   }
 }
 

@@ -67,7 +67,8 @@ struct StabilisationPoint {
 ///   lower (modes below the band):  −L2/ω² + i·L3/ω³
 ///   upper (modes above the band):  U0 + i·ω·U1 − ω²·U2
 /// L2 is the inverse of the classical residual mass (−1/(M·ω²)), U0 the residual flexibility;
-/// L3, U1 and U2 are the next terms of the series of the outside modes' receptance.
+/// L3, U1 and U2 are the next terms of the series of the outside modes' receptance; an explicit
+/// pole beyond an edge (FrfFit::outside_modes) takes their place on its side, and they are 0.
 struct FrfResiduals {
   bool lower_used = false;  // only when the band starts above 0 Hz
   bool upper_used = false;
