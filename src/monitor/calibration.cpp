@@ -489,35 +489,63 @@ IdleFit fit_idle(const AxisModel& m, const std::vector<AxisRun>& runs,
   fit.friction_sigma_nm = std::sqrt(var * inv(0, 0) + extra(0, 0));
   fit.viscous_sigma = std::sqrt(var * inv(1, 1) + extra(1, 1));
   fit.covariance = var * inv(0, 1) + extra(0, 1);
-  // X ≥ 0 (a viscous loss cannot feed the axis): fitted under its bound. The problem is a
-  // convex quadratic with one bound, so when the free X is below 0 the constrained optimum has
-  // X = 0 and Tnzm refitted alone (y = Tnzm·sign ω), whatever σ is (noise-free logs of an axis
-  // without viscous loss give σ ≈ 0 and a free X a rounding or model error below 0). X's σ
-  // keeps the free fit's and adds how far the logs pulled X below the bound (the truth may lie
-  // up to there), the covariance is 0 (docs/models/monitor.md, "X at its bound").
-  if (fit.viscous_nm_s_per_rad < 0.0) {
-    double sy = 0.0;
-    for (Eigen::Index k = 0; k < n; ++k) sy += a(k, 0) * y(k);
-    const double tf = sy / static_cast<double>(n);
-    double ss1 = 0.0;
-    for (Eigen::Index k = 0; k < n; ++k) ss1 += (y(k) - tf * a(k, 0)) * (y(k) - tf * a(k, 0));
-    const double var1 = ss1 / static_cast<double>(n - 1);
-    const double free_x = theta(1), free_sigma = fit.viscous_sigma;
-    const bool within = free_x >= -3.0 * free_sigma;
-    r.warnings.push_back(
-        "the viscous coefficient X, fitted freely, is " + format_value(free_x) +
-        " N·m·s/rad (σ = " + format_value(free_sigma) + "): held at its bound 0, Tnzm refitted " +
-        "alone" +
-        (within ? std::string(" (within 3σ of 0: the axis shows no viscous loss)")
-                : std::string(" (more than 3σ below 0: the idle logs and the model disagree; "
-                              "check the inertia J, KT and the steady windows)")));
-    fit.friction_nm = tf;
-    fit.viscous_nm_s_per_rad = 0.0;
-    fit.viscous_sigma = std::hypot(free_sigma, free_x);
-    const Eigen::MatrixXd inv1 = Eigen::MatrixXd::Constant(1, 1, 1.0 / static_cast<double>(n));
-    const Eigen::MatrixXd extra1 =
-        correction_covariance(rows, a.leftCols(1), inv1, bias, noise_var);
-    fit.friction_sigma_nm = std::sqrt(var1 / static_cast<double>(n) + extra1(0, 0));
+  // Tnzm ≥ 0 and X ≥ 0 (friction cannot feed the axis): fitted under those bounds. Least squares
+  // over the quadrant is convex, so when the free optimum lies outside it the constrained one
+  // is the best of the fits inside it with one coefficient at 0 (the other refitted alone) or
+  // both, whatever σ is (noise-free logs of an axis without viscous loss give σ ≈ 0 and a free
+  // X a rounding or model error below 0). A coefficient held keeps the free fit's σ and adds
+  // how far the logs pulled it below the bound (the truth may lie up to there); the other's σ is
+  // that of its fit alone, the covariance 0 (docs/models/monitor.md, "X at its bound").
+  if (fit.friction_nm < 0.0 || fit.viscous_nm_s_per_rad < 0.0) {
+    struct Held {
+      double t, x;
+      bool hold_t, hold_x;
+    };
+    const auto ss_of = [&](const Held& h) {
+      return (y - a.col(0) * h.t - a.col(1) * h.x).squaredNorm();
+    };
+    const double sww = a.col(1).squaredNorm();
+    std::vector<Held> inside{{0.0, 0.0, true, true}};
+    if (const double t = a.col(0).dot(y) / static_cast<double>(n); t >= 0.0)  // sign² = 1
+      inside.push_back({t, 0.0, false, true});
+    if (const double x = sww > 0.0 ? a.col(1).dot(y) / sww : 0.0; x >= 0.0)
+      inside.push_back({0.0, x, true, false});
+    const Held best =
+        *std::min_element(inside.begin(), inside.end(),
+                          [&](const Held& p, const Held& q) { return ss_of(p) < ss_of(q); });
+    const auto held_warning = [&](const std::string& what, const std::string& unit, double free,
+                                  double sigma, const std::string& other, const std::string& none) {
+      const bool within = free >= -3.0 * sigma;
+      r.warnings.push_back(
+          what + ", fitted freely, is " + format_value(free) + " " + unit +
+          " (σ = " + format_value(sigma) + "): held at its bound 0, " + other +
+          (within ? " (within 3σ of 0: the axis shows no " + none + ")"
+                  : std::string(" (more than 3σ below 0: the idle logs and the model disagree; "
+                                "check the inertia J, KT and the steady windows)")));
+    };
+    if (best.hold_x)
+      held_warning("the viscous coefficient X", "N·m·s/rad", theta(1), fit.viscous_sigma,
+                   best.hold_t ? "Tnzm held too" : "Tnzm refitted alone", "viscous loss");
+    if (best.hold_t)
+      held_warning("the Coulomb friction Tnzm", "N·m", theta(0), fit.friction_sigma_nm,
+                   best.hold_x ? "X held too" : "X refitted alone", "Coulomb friction");
+    const double ss1 = ss_of(best);
+    const int kept = (best.hold_t ? 0 : 1) + (best.hold_x ? 0 : 1);
+    const double var1 = ss1 / static_cast<double>(n - kept);
+    // The coefficient refitted alone: its σ from that one-column fit.
+    const auto alone_sigma = [&](Eigen::Index column) {
+      const double norm = a.col(column).squaredNorm();
+      const Eigen::MatrixXd inv1 = Eigen::MatrixXd::Constant(1, 1, 1.0 / norm);
+      const Eigen::MatrixXd extra1 =
+          correction_covariance(rows, a.middleCols(column, 1), inv1, bias, noise_var);
+      return std::sqrt(var1 / norm + extra1(0, 0));
+    };
+    fit.friction_sigma_nm =
+        best.hold_t ? std::hypot(fit.friction_sigma_nm, std::min(theta(0), 0.0)) : alone_sigma(0);
+    fit.viscous_sigma =
+        best.hold_x ? std::hypot(fit.viscous_sigma, std::min(theta(1), 0.0)) : alone_sigma(1);
+    fit.friction_nm = best.t;
+    fit.viscous_nm_s_per_rad = best.x;
     fit.covariance = 0.0;
     r.residual_sigma_nm = std::sqrt(var1);
     r.residual_rms_nm = std::sqrt(ss1 / static_cast<double>(n));

@@ -369,5 +369,72 @@ TEST(MonitorCalibrationCoverage, ViscousAtItsBoundNoiseFreeAndUnderAModelError) 
   EXPECT_TRUE(calibrated.validate().empty());
 }
 
+TEST(MonitorCalibrationCoverage, CoulombFrictionAtItsBoundNoiseFreeAndUnderAModelError) {
+  // Tnzm ≥ 0 like X: noise-free logs of an axis without Coulomb friction give Tnzm = 0 (held or
+  // free, to rounding) and X exact; logs whose Coulomb term is negative (a model error the bound
+  // must absorb, σ ≈ 0) give Tnzm held at 0 with X refitted alone, a warning that says the logs
+  // and the model disagree, σ as far as the logs pulled Tnzm. (Both negative is not a case an
+  // idle log can show: the measured current's magnitude then reads as both positive.)
+  AxisModel truth = zheng2012_axis('x');
+  AxisModel given = truth;
+  given.friction_nm = given.viscous_nm_s_per_rad = given.force_gain_m = 0.0;
+  AxisModel frictionless = truth;
+  frictionless.friction_nm = 0.0;
+  const IdleFit exact =
+      fit_idle(given, {testing::synthetic_run(frictionless, testing::idle_profile())});
+  ASSERT_EQ(exact.report.status, CalibrationStatus::kSuccess) << exact.report.message;
+  EXPECT_GE(exact.friction_nm, 0.0);
+  EXPECT_LT(exact.friction_nm, 1e-9);
+  EXPECT_NEAR(exact.viscous_nm_s_per_rad / truth.viscous_nm_s_per_rad, 1.0, 1e-6);
+
+  AxisModel pulling = truth;
+  pulling.friction_nm = -0.05;
+  const IdleFit f = fit_idle(given, {testing::synthetic_run(pulling, testing::idle_profile())});
+  ASSERT_EQ(f.report.status, CalibrationStatus::kSuccess) << f.report.message;
+  EXPECT_EQ(f.friction_nm, 0.0);
+  EXPECT_GT(f.viscous_nm_s_per_rad, 0.0);
+  ASSERT_EQ(f.report.warnings.size(), 1u);
+  EXPECT_NE(f.report.warnings[0].find("Tnzm, fitted freely, is -0.0499"), std::string::npos)
+      << f.report.warnings[0];
+  EXPECT_NE(f.report.warnings[0].find("X refitted alone"), std::string::npos);
+  EXPECT_NE(f.report.warnings[0].find("more than 3σ below 0"), std::string::npos);
+  EXPECT_NEAR(f.friction_sigma_nm, 0.05, 1e-6);  // as far as the logs pulled Tnzm
+  // X alone is the least-squares slope through the origin of y over ω̄: a second way.
+  EXPECT_GT(f.viscous_sigma, 0.0);
+  AxisModel calibrated = truth;
+  calibrated.friction_nm = f.friction_nm;
+  calibrated.viscous_nm_s_per_rad = f.viscous_nm_s_per_rad;
+  EXPECT_TRUE(calibrated.validate().empty());
+
+}
+
+TEST(MonitorCalibrationCoverage, CoulombFrictionNearZeroWithNoiseStaysAtOrAboveItsBound) {
+  // An axis with almost no Coulomb friction and noisy logs: the free Tnzm scatters about its
+  // truth; every fitted Tnzm is >= 0, within 4σ of the truth, and X within 4σ of its truth.
+  testing::DriveAxisParameters p;
+  p.friction_nm = 0.002;
+  std::vector<double> t;
+  for (int i = 0; i <= 2500; ++i) t.push_back(i * 2e-4);
+  std::vector<testing::DriveTraces> idle;
+  for (double w : {2.0, 8.0, -2.0, -8.0})
+    idle.push_back(testing::drive_traces(p, t, std::vector<double>(t.size(), 0.0), w));
+  int held = 0;
+  for (unsigned seed = 1; seed <= 10; ++seed) {
+    testing::DriveAxisParameters q = p;
+    q.noise_a = 0.3;
+    std::vector<AxisRun> runs;
+    for (const auto& d : idle)
+      runs.push_back(
+          testing::noisy_log(q, d, 0.005, 100 * seed + static_cast<unsigned>(runs.size())));
+    const IdleFit f = fit_idle(testing::drive_axis_model(p), runs);
+    ASSERT_EQ(f.report.status, CalibrationStatus::kSuccess);
+    EXPECT_GE(f.friction_nm, 0.0);
+    EXPECT_NEAR(f.friction_nm, p.friction_nm, 4 * f.friction_sigma_nm + 1e-9) << seed;
+    EXPECT_NEAR(f.viscous_nm_s_per_rad, p.viscous, 4 * f.viscous_sigma + 1e-12) << seed;
+    held += f.friction_nm == 0.0;
+  }
+  EXPECT_GE(held, 1);  // the bound was met: the test looks at it
+}
+
 }  // namespace
 }  // namespace cutdyn
