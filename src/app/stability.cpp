@@ -95,7 +95,8 @@ void add_fit(const std::optional<MeasuredStructure>& measured, Report& r) {
   r.warnings.insert(r.warnings.end(), measured->fit_warnings.begin(), measured->fit_warnings.end());
 }
 
-void turning_lobes(const io::Case& c, const LobesRequest& request, LobesJobReport& r) {
+// Each returns the critical depth at any speed as its lobes computed it, for the advice.
+CriticalDepthAt turning_lobes(const io::Case& c, const LobesRequest& request, LobesJobReport& r) {
   const TurningProcess model = turning_process(c, "lobes");
   const TurningMethod method =
       turning_method(asked_method(c, request.method, request.names), model.vibration.has_value());
@@ -135,6 +136,9 @@ void turning_lobes(const io::Case& c, const LobesRequest& request, LobesJobRepor
                      : "Stability lobes: turning";
   r.label =
       fmt::format("{} ({})", assisted ? "vibration-assisted" : "conventional", to_string(method));
+  return [model, options](double rpm) {
+    return turning_critical_depth(model, rpm, options).boundary.depth_m;
+  };
 }
 
 void turning_check(const io::Case& c, const CheckRequest& request, CheckJobReport& r) {
@@ -231,7 +235,7 @@ std::string describe(const MillingProcess& m) {
                      human(units::pa_to_n_per_mm2(m.cutting.kr_pa)), engagement(m));
 }
 
-void milling_lobes(const io::Case& c, const LobesRequest& request, LobesJobReport& r) {
+CriticalDepthAt milling_lobes(const io::Case& c, const LobesRequest& request, LobesJobReport& r) {
   const MillingProcess model = milling_process(c, "lobes");
   const MillingMethod method = milling_method(asked_method(c, request.method, request.names));
   const LobesOptions grid = lobes_grid(c, request.threads);
@@ -246,6 +250,9 @@ void milling_lobes(const io::Case& c, const LobesRequest& request, LobesJobRepor
   r.label = fmt::format("{}, {} ({})", cutter(model), engagement(model), to_string(method));
   if (auto caveat = milling_method_caveat(model, method, grid.rpm_min, grid.rpm_max))
     r.warnings.push_back(*caveat);
+  return [model, options](double rpm) {
+    return milling_critical_depth(model, rpm, options).boundary.depth_m;
+  };
 }
 
 void milling_check(const io::Case& c, const CheckRequest& request, CheckJobReport& r) {
@@ -289,18 +296,18 @@ LobesJobReport run_lobes(const io::Case& c, const LobesRequest& request) {
     v.throw_if_any(request.names.where);
   }
   LobesJobReport r;
-  if (c.process == io::Process::kMilling)
-    milling_lobes(c, request, r);
-  else
-    turning_lobes(c, request, r);
+  const CriticalDepthAt depth_at = c.process == io::Process::kMilling
+                                       ? milling_lobes(c, request, r)
+                                       : turning_lobes(c, request, r);
   const auto& pts = r.lobes.points;
   for (std::size_t i = 1; i < pts.size(); ++i)
     if (pts[i].boundary.depth_m < pts[r.lowest].boundary.depth_m) r.lowest = i;
   r.pockets = stable_pockets(pts, 3);
   if (request.target_depth_m) {
     r.target_depth_m = request.target_depth_m;
-    r.stable_ranges = stable_ranges(pts, *request.target_depth_m);
-    r.advice = recommend_speed(pts, *request.target_depth_m);
+    // The ends found between the traced speeds (the margin holds over the whole interval).
+    r.stable_ranges = stable_ranges(pts, *request.target_depth_m, depth_at);
+    r.advice = recommend_speed(pts, *request.target_depth_m, depth_at);
   }
   return r;
 }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <vector>
 
+#include "cutdyn/stability/milling.hpp"
 #include "cutdyn/stability/turning.hpp"
 #include "support/reference_cases.hpp"
 
@@ -177,6 +178,112 @@ TEST(Advice, TurningRecommendationIsTheWideDeepBandNotTheCliffEdge) {
   EXPECT_LT(a.rpm, 4731.0);
   EXPECT_GT(a.margin, 0.05);
   EXPECT_GT(a.range.rpm_from, 3900.0);
+}
+
+// The advice with its ends found, against a dense reference: every speed of the reference
+// inside a stable range has a critical depth above the target, each end lies within the
+// speed tolerance of the reference's crossing, and every speed within n·(1 ± ε) of the
+// recommended one has a depth of at least a·(1 + ε) — what the points alone (linear between
+// traced speeds, margins at traced speeds only) do not give on the same coarse grid.
+struct Dense {
+  std::vector<double> rpm, depth;
+};
+
+Dense dense_reference(const CriticalDepthAt& depth_at, double from, double to, int n) {
+  Dense d;
+  for (int i = 0; i <= n; ++i) {
+    d.rpm.push_back(from + (to - from) * i / n);
+    d.depth.push_back(depth_at(d.rpm.back()));
+  }
+  return d;
+}
+
+// The largest ε at speed n on the dense reference (its own resolution aside).
+double dense_margin(const Dense& d, double n, double a) {
+  double eps = 1.0;
+  for (std::size_t i = 0; i < d.rpm.size(); ++i) {
+    const double delta = std::abs(d.rpm[i] - n) / n;
+    eps = std::min(eps, std::max(delta, d.depth[i] / a - 1.0));
+  }
+  return std::min({eps, (n - d.rpm.front()) / n, (d.rpm.back() - n) / n});
+}
+
+// Checks the resolved advice on `coarse` against `d` with the depth tolerance `depth_tol`
+// (relative: the depth searches'); returns how many violations the points alone give.
+int check_against_dense(const std::vector<LobePoint>& coarse, const CriticalDepthAt& depth_at,
+                        const Dense& d, double a, double depth_tol) {
+  const std::vector<SpeedRange> ranges = stable_ranges(coarse, a, depth_at);
+  EXPECT_FALSE(ranges.empty());
+  for (const SpeedRange& r : ranges) {
+    for (std::size_t i = 0; i < d.rpm.size(); ++i)
+      if (d.rpm[i] >= r.rpm_from && d.rpm[i] <= r.rpm_to) {
+        EXPECT_GT(d.depth[i], a * (1.0 - depth_tol))
+            << d.rpm[i] << " in " << r.rpm_from << "–" << r.rpm_to;
+      }
+  }
+  const SpeedAdvice advice = recommend_speed(coarse, a, depth_at);
+  EXPECT_TRUE(advice.found);
+  const double n = advice.rpm, eps = advice.margin;
+  for (std::size_t i = 0; i < d.rpm.size(); ++i)
+    if (std::abs(d.rpm[i] - n) <= eps * n) {
+      EXPECT_GE(d.depth[i], a * (1.0 + eps) * (1.0 - depth_tol)) << d.rpm[i] << " from " << n;
+    }
+  // The margin found is the one the dense reference gives at that speed (to its resolution).
+  const double step = (d.rpm.back() - d.rpm.front()) / static_cast<double>(d.rpm.size() - 1);
+  EXPECT_NEAR(eps, dense_margin(d, n, a), 2.0 * step / n + 2.0 * depth_tol + 1e-4) << n;
+  EXPECT_LE(advice.range.rpm_from, n);
+  EXPECT_GE(advice.range.rpm_to, n);
+  // The points alone on the same grid: how often their ranges or margin are too wide.
+  int violations = 0;
+  for (const SpeedRange& r : stable_ranges(coarse, a))
+    for (std::size_t i = 0; i < d.rpm.size(); ++i)
+      violations += d.rpm[i] >= r.rpm_from && d.rpm[i] <= r.rpm_to && d.depth[i] <= a;
+  const SpeedAdvice old = recommend_speed(coarse, a);
+  for (std::size_t i = 0; i < d.rpm.size(); ++i)
+    violations += std::abs(d.rpm[i] - old.rpm) <= old.margin * old.rpm &&
+                  d.depth[i] < a * (1.0 + old.margin) * (1.0 - depth_tol);
+  return violations;
+}
+
+TEST(Advice, EndsFoundHoldOnADenseReferenceInTurning) {
+  // Tlusty's closed form (exact depths): 40 traced speeds (refined, as lobes draws them) over
+  // 1000–5000 rpm, targets between the lowest depth and the pockets.
+  const CriticalDepthAt depth_at = [](double rpm) { return table2_point(rpm).boundary.depth_m; };
+  const LobesReport coarse = trace_lobes(table2_point, grid(1000.0, 5000.0, 40, true));
+  const Dense d = dense_reference(depth_at, 1000.0, 5000.0, 40000);
+  const double lowest = *std::min_element(d.depth.begin(), d.depth.end());
+  int violations_alone = 0;
+  for (double factor : {1.3, 2.0, 3.0}) {
+    SCOPED_TRACE(factor);
+    violations_alone += check_against_dense(coarse.points, depth_at, d, factor * lowest, 1e-9);
+  }
+  EXPECT_GT(violations_alone, 0);  // the points alone overstate some range or margin here
+}
+
+TEST(Advice, EndsFoundHoldOnADenseReferenceInMilling) {
+  // The four-mode cutter, half immersion, full discretization (depths to 0.1 %): 30 traced
+  // speeds (refined) over 6000–14 000 rpm against 800 evaluated ones.
+  const MillingProcess model = testing::four_mode_milling(0.5);
+  MillingStabilityOptions o;
+  o.depth_max_m = 10e-3;
+  o.rel_tol = 1e-3;
+  o.coarse_steps = 16;
+  const CriticalDepthAt depth_at = [&](double rpm) {
+    return milling_critical_depth(model, rpm, o).boundary.depth_m;
+  };
+  const LobesReport coarse = trace_lobes(
+      [&](double rpm) {
+        return LobePoint{rpm, milling_critical_depth(model, rpm, o).boundary};
+      },
+      grid(6000.0, 14000.0, 30, true));
+  const Dense d = dense_reference(depth_at, 6000.0, 14000.0, 800);
+  const double lowest = *std::min_element(d.depth.begin(), d.depth.end());
+  int violations_alone = 0;
+  for (double factor : {1.2, 1.6}) {
+    SCOPED_TRACE(factor);
+    violations_alone += check_against_dense(coarse.points, depth_at, d, factor * lowest, 2e-3);
+  }
+  EXPECT_GT(violations_alone, 0);  // here too (20 reference speeds on 2026-11-28)
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "cutdyn/stability/lobes.hpp"
@@ -44,5 +45,21 @@ struct SpeedAdvice {
 };
 
 SpeedAdvice recommend_speed(const std::vector<LobePoint>& points, double depth_m);
+
+/// The critical depth at any speed, m, computed as the lobes' points were (their search's
+/// limit where it finds no boundary): what the advice below asks between the traced speeds.
+using CriticalDepthAt = std::function<double(double rpm)>;
+
+/// The advice with its ends found rather than read off the traced speeds (docs/models/
+/// milling-stability.md, "Advice"): between two traced speeds the depth is not linear — a cusp
+/// between two lobes dips below both neighbours. Every local minimum of the traced depths above
+/// `depth_m` is searched on the speeds about it (golden section), each end of a stable range
+/// where the depth equals `depth_m` by bisection on the speed, and the recommended speed's ε by
+/// bisection on ε with the depths at n·(1 ± ε) evaluated; each to a relative `rpm_tol` of the
+/// speed. The margin then holds over the whole interval up to the depth searches' tolerance.
+std::vector<SpeedRange> stable_ranges(const std::vector<LobePoint>& points, double depth_m,
+                                      const CriticalDepthAt& depth_at, double rpm_tol = 1e-4);
+SpeedAdvice recommend_speed(const std::vector<LobePoint>& points, double depth_m,
+                            const CriticalDepthAt& depth_at, double rpm_tol = 1e-4);
 
 }  // namespace cutdyn
