@@ -8,15 +8,14 @@
 
 namespace cutdyn {
 
-std::vector<SpeedRange> stable_ranges(const std::vector<LobePoint>& p, double depth_m) {
+namespace {
+
+// The runs of points deeper than depth_m; `end(i, j)` places the end between the run's point i
+// and the point j beyond it.
+template <typename End>
+std::vector<SpeedRange> runs_above(const std::vector<LobePoint>& p, double depth_m, End end) {
   std::vector<SpeedRange> ranges;
   const auto above = [&](std::size_t i) { return p[i].boundary.depth_m > depth_m; };
-  // Where the depth, linear between points i and i + 1, equals the target.
-  const auto crossing = [&](std::size_t i) {
-    const double d0 = p[i].boundary.depth_m, d1 = p[i + 1].boundary.depth_m;
-    const double t = (depth_m - d0) / (d1 - d0);
-    return p[i].rpm + std::clamp(t, 0.0, 1.0) * (p[i + 1].rpm - p[i].rpm);
-  };
   for (std::size_t i = 0; i < p.size();) {
     if (!above(i)) {
       ++i;
@@ -25,10 +24,21 @@ std::vector<SpeedRange> stable_ranges(const std::vector<LobePoint>& p, double de
     std::size_t j = i;
     while (j + 1 < p.size() && above(j + 1)) ++j;
     ranges.push_back(
-        {i == 0 ? p[0].rpm : crossing(i - 1), j + 1 == p.size() ? p[j].rpm : crossing(j)});
+        {i == 0 ? p[0].rpm : end(i, i - 1), j + 1 == p.size() ? p[j].rpm : end(j, j + 1)});
     i = j + 1;
   }
   return ranges;
+}
+
+}  // namespace
+
+std::vector<SpeedRange> stable_ranges(const std::vector<LobePoint>& p, double depth_m) {
+  // Where the depth, linear between the two points, equals the target.
+  return runs_above(p, depth_m, [&](std::size_t i, std::size_t j) {
+    const double d0 = p[i].boundary.depth_m, d1 = p[j].boundary.depth_m;
+    const double t = (depth_m - d0) / (d1 - d0);
+    return p[i].rpm + std::clamp(t, 0.0, 1.0) * (p[j].rpm - p[i].rpm);
+  });
 }
 
 std::vector<std::size_t> stable_pockets(const std::vector<LobePoint>& p, std::size_t count) {
@@ -194,22 +204,9 @@ double crossing_between(const CriticalDepthAt& depth_at, double depth_m, double 
 
 std::vector<SpeedRange> ranges_found(const std::vector<LobePoint>& p, double depth_m,
                                      const CriticalDepthAt& depth_at, double rpm_tol) {
-  std::vector<SpeedRange> ranges;
-  const auto above = [&](std::size_t i) { return p[i].boundary.depth_m > depth_m; };
-  for (std::size_t i = 0; i < p.size();) {
-    if (!above(i)) {
-      ++i;
-      continue;
-    }
-    std::size_t j = i;
-    while (j + 1 < p.size() && above(j + 1)) ++j;
-    ranges.push_back(
-        {i == 0 ? p[0].rpm : crossing_between(depth_at, depth_m, p[i].rpm, p[i - 1].rpm, rpm_tol),
-         j + 1 == p.size() ? p[j].rpm
-                           : crossing_between(depth_at, depth_m, p[j].rpm, p[j + 1].rpm, rpm_tol)});
-    i = j + 1;
-  }
-  return ranges;
+  return runs_above(p, depth_m, [&](std::size_t i, std::size_t j) {
+    return crossing_between(depth_at, depth_m, p[i].rpm, p[j].rpm, rpm_tol);
+  });
 }
 
 }  // namespace

@@ -294,6 +294,22 @@ TEST(MonitorCurrentMagnitude, MeanAndVarianceMatchSamplingAndInvert) {
   }
 }
 
+// Idle logs of axis p at ±2 and ±8 rad/s (0.5 s each), with current noise `noise_a` per phase
+// and the seed's own scatter.
+std::vector<AxisRun> noisy_idle_runs(const testing::DriveAxisParameters& p, double noise_a,
+                                     unsigned seed) {
+  std::vector<double> t;
+  for (int i = 0; i <= 2500; ++i) t.push_back(i * 2e-4);
+  testing::DriveAxisParameters q = p;
+  q.noise_a = noise_a;
+  std::vector<AxisRun> runs;
+  for (double w : {2.0, 8.0, -2.0, -8.0})
+    runs.push_back(
+        testing::noisy_log(q, testing::drive_traces(p, t, std::vector<double>(t.size(), 0.0), w),
+                           0.005, 100 * seed + static_cast<unsigned>(runs.size())));
+  return runs;
+}
+
 TEST(MonitorCalibrationCoverage, ViscousSlightlyBelowZeroIsHeldAtItsBoundWithAWarning) {
   // An axis without viscous loss (X = 0) and noise: the free X scatters about 0; below 0 it is
   // held at its bound 0 with a warning and Tnzm refitted alone (mean of sign·y), instead of a
@@ -301,21 +317,9 @@ TEST(MonitorCalibrationCoverage, ViscousSlightlyBelowZeroIsHeldAtItsBoundWithAWa
   // is >= 0, Tnzm stays within 4σ, and X's σ covers the truth 0 from the free estimate.
   testing::DriveAxisParameters p;
   p.viscous = 0.0;
-  std::vector<double> t;
-  for (int i = 0; i <= 2500; ++i) t.push_back(i * 2e-4);
-  std::vector<testing::DriveTraces> idle;
-  for (double w : {2.0, 8.0, -2.0, -8.0})
-    idle.push_back(testing::drive_traces(p, t, std::vector<double>(t.size(), 0.0), w));
   int clamped = 0;
   for (unsigned seed = 1; seed <= 10; ++seed) {
-    testing::DriveAxisParameters q = p;
-    q.noise_a = 0.1;
-    std::vector<AxisRun> runs;
-    for (const auto& d : idle)
-      runs.push_back(
-          testing::noisy_log(q, d, 0.005, 100 * seed + static_cast<unsigned>(runs.size())));
-    AxisModel m = testing::drive_axis_model(p);
-    const IdleFit f = fit_idle(m, runs);
+    const IdleFit f = fit_idle(testing::drive_axis_model(p), noisy_idle_runs(p, 0.1, seed));
     ASSERT_EQ(f.report.status, CalibrationStatus::kSuccess);
     EXPECT_GE(f.viscous_nm_s_per_rad, 0.0);
     EXPECT_NEAR(f.friction_nm, p.friction_nm, 4 * f.friction_sigma_nm + 1e-9);
@@ -399,13 +403,11 @@ TEST(MonitorCalibrationCoverage, CoulombFrictionAtItsBoundNoiseFreeAndUnderAMode
   EXPECT_NE(f.report.warnings[0].find("X refitted alone"), std::string::npos);
   EXPECT_NE(f.report.warnings[0].find("more than 3σ below 0"), std::string::npos);
   EXPECT_NEAR(f.friction_sigma_nm, 0.05, 1e-6);  // as far as the logs pulled Tnzm
-  // X alone is the least-squares slope through the origin of y over ω̄: a second way.
   EXPECT_GT(f.viscous_sigma, 0.0);
   AxisModel calibrated = truth;
   calibrated.friction_nm = f.friction_nm;
   calibrated.viscous_nm_s_per_rad = f.viscous_nm_s_per_rad;
   EXPECT_TRUE(calibrated.validate().empty());
-
 }
 
 TEST(MonitorCalibrationCoverage, CoulombFrictionNearZeroWithNoiseStaysAtOrAboveItsBound) {
@@ -413,20 +415,9 @@ TEST(MonitorCalibrationCoverage, CoulombFrictionNearZeroWithNoiseStaysAtOrAboveI
   // truth; every fitted Tnzm is >= 0, within 4σ of the truth, and X within 4σ of its truth.
   testing::DriveAxisParameters p;
   p.friction_nm = 0.002;
-  std::vector<double> t;
-  for (int i = 0; i <= 2500; ++i) t.push_back(i * 2e-4);
-  std::vector<testing::DriveTraces> idle;
-  for (double w : {2.0, 8.0, -2.0, -8.0})
-    idle.push_back(testing::drive_traces(p, t, std::vector<double>(t.size(), 0.0), w));
   int held = 0;
   for (unsigned seed = 1; seed <= 10; ++seed) {
-    testing::DriveAxisParameters q = p;
-    q.noise_a = 0.3;
-    std::vector<AxisRun> runs;
-    for (const auto& d : idle)
-      runs.push_back(
-          testing::noisy_log(q, d, 0.005, 100 * seed + static_cast<unsigned>(runs.size())));
-    const IdleFit f = fit_idle(testing::drive_axis_model(p), runs);
+    const IdleFit f = fit_idle(testing::drive_axis_model(p), noisy_idle_runs(p, 0.3, seed));
     ASSERT_EQ(f.report.status, CalibrationStatus::kSuccess);
     EXPECT_GE(f.friction_nm, 0.0);
     EXPECT_NEAR(f.friction_nm, p.friction_nm, 4 * f.friction_sigma_nm + 1e-9) << seed;
