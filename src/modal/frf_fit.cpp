@@ -572,7 +572,7 @@ std::size_t parameters_of(const PoleResidueModel& model) {
 // own. A place whose pole is not kept is not tried again (three such places at most).
 void add_missed_modes(const BandData& band, PoleResidueModel& model, int max_modes, FrfFit& out) {
   constexpr std::size_t kHalfRun = 5;   // points each side of the run
-  constexpr double kStructured = 10.0;  // the run's mean over the median (noise alone: ~1.4)
+  constexpr double kStructured = 10.0;  // the run's mean of r (noise alone: 1 ± 0.3)
   constexpr double kStartDamping = 0.02;
   const std::size_t n = band.size();
   if (n < 4 * kHalfRun) return;
@@ -581,10 +581,14 @@ void add_missed_modes(const BandData& band, PoleResidueModel& model, int max_mod
   if (!(noise.proportional > 0.0 || noise.floor_m_per_n > 0.0)) return;
   while (fit_detail::rms_relative_error(band, model) >= kExactFit &&  // not fitted to rounding
          static_cast<int>(model.poles.size()) < max_modes && tried.size() < 3) {
-    std::vector<double> r(n);
-    for (std::size_t k = 0; k < n; ++k)
-      r[k] = std::norm(fit_detail::evaluate(model, band.omega[k]) - band.g[k]) /
-             (2.0 * (std::norm(noise.proportional * band.g[k]) + std::norm(noise.floor_m_per_n)));
+    // r_k: the squared residual over the variance the table's noise gives the point (§3.2).
+    std::vector<double> r(n, 0.0);
+    for (std::size_t k = 0; k < n; ++k) {
+      const double variance =
+          2.0 * (std::norm(noise.proportional * band.g[k]) + std::norm(noise.floor_m_per_n));
+      if (variance > 0.0)
+        r[k] = std::norm(fit_detail::evaluate(model, band.omega[k]) - band.g[k]) / variance;
+    }
     std::size_t at = 0;
     double largest = 0.0;
     for (std::size_t k = kHalfRun; k + kHalfRun < n; ++k) {
