@@ -712,13 +712,15 @@ double floor_magnitude(const FrfNoise& noise) {
 }
 
 // The band reweighted for `noise` (§4.1): w = 1/sqrt(|G_model|² + g0²), g0 = floor_magnitude,
-// and the relative error measured against max(|G|, g0).
-BandData reweighted(BandData band, const PoleResidueModel& model, const FrfNoise& noise) {
+// and the relative error measured against max(|G|, g0). Without a model (nullptr), the
+// table's own |G| stands for |G_model|.
+BandData reweighted(BandData band, const PoleResidueModel* model, const FrfNoise& noise) {
   const double g0 = floor_magnitude(noise);
   double peak = 0.0;
   for (const cd& g : band.g) peak = std::max(peak, std::abs(g));
   for (std::size_t k = 0; k < band.size(); ++k) {
-    const double model_g = std::abs(fit_detail::evaluate(model, band.omega[k]));
+    const double model_g =
+        std::abs(model ? fit_detail::evaluate(*model, band.omega[k]) : band.g[k]);
     band.w[k] = 1.0 / std::max(std::hypot(model_g, g0), 1e-6 * peak);
     band.w_rel[k] = 1.0 / std::max({std::abs(band.g[k]), g0, 1e-6 * peak});
   }
@@ -760,12 +762,7 @@ bool weigh_floor_first(BandData& band) {
   std::size_t below = 0;
   for (const cd& g : band.g) below += std::abs(g) < g0;
   if (!(static_cast<double>(below) >= 0.02 * static_cast<double>(band.size()))) return false;
-  double peak = 0.0;
-  for (const cd& g : band.g) peak = std::max(peak, std::abs(g));
-  for (std::size_t k = 0; k < band.size(); ++k) {
-    band.w[k] = 1.0 / std::max(std::hypot(std::abs(band.g[k]), g0), 1e-6 * peak);
-    band.w_rel[k] = 1.0 / std::max({std::abs(band.g[k]), g0, 1e-6 * peak});
-  }
+  band = reweighted(std::move(band), nullptr, noise);
   return true;
 }
 
@@ -965,7 +962,7 @@ FrfFit fit_modes(const MeasuredFrf& frf, Direction direction, const FrfFitOption
   for (int pass = 0; pass < 2 && !base.coherence_weighted && floor_matters(band, model, out.noise);
        ++pass) {
     const double g0 = floor_magnitude(out.noise);
-    band = reweighted(band, model, out.noise);
+    band = reweighted(band, &model, out.noise);
     out = fit_again(band, options, base, out, model);
     out.noise = estimate_noise(band, model);
     out.noise_weighted = true;
@@ -982,7 +979,7 @@ FrfFit fit_modes(const MeasuredFrf& frf, Direction direction, const FrfFitOption
     out.noise = estimate_noise(band, model);
     if (out.noise_weighted || out.coherence_weighted || !floor_matters(band, model, out.noise))
       return;
-    band = reweighted(band, model, out.noise);
+    band = reweighted(band, &model, out.noise);
     fit_detail::refine(band, model);
     out.noise = estimate_noise(band, model);
     out.noise_weighted = true;
