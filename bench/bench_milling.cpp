@@ -112,15 +112,18 @@ MillingStabilityOptions linear_options() {
 
 // range(0): threads (0 = all); range(1): 1 = with the adaptive refinement; range(2): 1 = warm
 // start (today's default), 0 = every speed on its own (the former way); range(3): the
-// interpolation order, 2 = today's default, 1 = the linear interpolation on twice the steps.
+// interpolation order, 2 = today's default, 1 = the linear interpolation on twice the steps;
+// range(4): 1 = the flip crossings below each answer (today's default), 0 = without them (as
+// until 2026-11-29: an island between two points of the depth grid could be stepped over).
 void BM_MillingLobes(benchmark::State& state) {
   const int threads = threads_arg(state);
   const bool refine = state.range(1) != 0, warm = state.range(2) != 0;
-  const bool linear = state.range(3) == 1;
+  const bool linear = state.range(3) == 1, crossings = state.range(4) != 0;
   const std::string key = std::string(refine ? "fd_lobes" : "fd_lobes_uniform") +
                           (warm ? "" : "_old") + (linear ? "_linear" : "") +
-                          (state.range(0) == 1 ? "/1" : "/all");
-  const MillingStabilityOptions options = linear ? linear_options() : cli_options();
+                          (crossings ? "" : "_nocross") + (state.range(0) == 1 ? "/1" : "/all");
+  MillingStabilityOptions options = linear ? linear_options() : cli_options();
+  options.fd.flip_crossings = crossings;
   LobesReport report;
   Result& r = timed(state, key, [&] { report = fd_lobes(options, threads, refine, warm); });
   traced()[key] = report.points;
@@ -276,17 +279,19 @@ constexpr auto kMs = benchmark::kMillisecond;
 
 // Old and new alternate, so that a change of load on a shared machine touches both alike.
 BENCHMARK(BM_MillingLobes)
-    ->ArgNames({"threads", "refine", "warm", "order"})
-    ->Args({1, 0, 1, 1})
-    ->Args({1, 0, 1, 2})
-    ->Args({0, 0, 1, 1})
-    ->Args({0, 0, 1, 2})
-    ->Args({1, 0, 0, 2})
-    ->Args({0, 0, 0, 2})
-    ->Args({1, 1, 0, 2})
-    ->Args({1, 1, 1, 2})
-    ->Args({0, 1, 0, 2})
-    ->Args({0, 1, 1, 2})
+    ->ArgNames({"threads", "refine", "warm", "order", "crossings"})
+    ->Args({1, 0, 1, 1, 1})
+    ->Args({1, 0, 1, 2, 1})
+    ->Args({0, 0, 1, 1, 1})
+    ->Args({0, 0, 1, 2, 1})
+    ->Args({1, 0, 0, 2, 1})
+    ->Args({0, 0, 0, 2, 1})
+    ->Args({1, 0, 1, 2, 0})
+    ->Args({0, 0, 1, 2, 0})
+    ->Args({1, 1, 0, 2, 1})
+    ->Args({1, 1, 1, 2, 1})
+    ->Args({0, 1, 0, 2, 1})
+    ->Args({0, 1, 1, 2, 1})
     ->Unit(kMs)
     ->UseRealTime();
 BENCHMARK(BM_FourModeMethods)
@@ -394,6 +399,22 @@ void print_summary() {
     std::printf("    %-56s %11.2fx\n", "ratio linear / quadratic", a->seconds / b->seconds);
     std::printf("    %-56s %11.4f %%  (%d speeds compared)\n",
                 "largest relative depth difference", 1e2 * worst, common);
+  }
+  std::printf(
+      "\nFlip crossings below each answer (default, unstable islands) against none (until "
+      "2026-11-29),\nwarm start, 200 speeds, same run:\n");
+  for (const char* threads : {"/1", "/all"}) {
+    const std::string with = std::string("fd_lobes_uniform") + threads;
+    const std::string without = std::string("fd_lobes_uniform_nocross") + threads;
+    const auto a = result(without), b = result(with);
+    if (!a || !b) continue;
+    const auto [worst, common] = largest_difference(traced()[without], traced()[with]);
+    std::printf("  %s:\n", threads[1] == '1' ? "1 thread" : "all threads");
+    std::printf("    %-56s %9.2f ms\n", "without", 1e3 * a->seconds);
+    std::printf("    %-56s %9.2f ms\n", "with (default)", 1e3 * b->seconds);
+    std::printf("    %-56s %11.2fx\n", "ratio with / without", b->seconds / a->seconds);
+    std::printf("    %-56s %11.4f %%  (%d speeds compared)\n", "largest relative depth difference",
+                1e2 * worst, common);
   }
   const auto fd4 = result("four_mode_fd"), mf4 = result("four_mode_mf");
   std::printf(

@@ -18,6 +18,7 @@
 
 #include <unsupported/Eigen/MatrixFunctions>
 
+#include "cutdyn/core/detail/roots.hpp"
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/stability/detail/boundary_scan.hpp"
@@ -732,17 +733,24 @@ class PeriodMapT final : public PeriodMap {
   std::vector<Gain, Eigen::aligned_allocator<Gain>> gains_;
 };
 
-// The map for this system, with fixed-size kernels for the common sizes (turning with one or
-// two modes, milling with one or two modes per direction).
+// Map<D, R>(disc, s, value) for this system's state and output sizes, with fixed-size kernels
+// for the common ones (turning with one or two modes, milling with one or two modes per
+// direction).
+template <template <int, int> class Map>
+std::unique_ptr<PeriodMap> make_sized(const Discretization& disc, const DelayedSystem& s,
+                                      double value) {
+  const auto d = s.A0.rows(), r = s.C.rows();
+  if (r == 1 && d == 2) return std::make_unique<Map<2, 1>>(disc, s, value);
+  if (r == 1 && d == 4) return std::make_unique<Map<4, 1>>(disc, s, value);
+  if (r == 2 && d == 2) return std::make_unique<Map<2, 2>>(disc, s, value);
+  if (r == 2 && d == 4) return std::make_unique<Map<4, 2>>(disc, s, value);
+  if (r == 2 && d == 8) return std::make_unique<Map<8, 2>>(disc, s, value);
+  return std::make_unique<Map<Eigen::Dynamic, Eigen::Dynamic>>(disc, s, value);
+}
+
 std::unique_ptr<PeriodMap> make_period_map(const Discretization& disc, const DelayedSystem& s,
                                            double depth) {
-  const auto d = s.A0.rows(), r = s.C.rows();
-  if (r == 1 && d == 2) return std::make_unique<PeriodMapT<2, 1>>(disc, s, depth);
-  if (r == 1 && d == 4) return std::make_unique<PeriodMapT<4, 1>>(disc, s, depth);
-  if (r == 2 && d == 2) return std::make_unique<PeriodMapT<2, 2>>(disc, s, depth);
-  if (r == 2 && d == 4) return std::make_unique<PeriodMapT<4, 2>>(disc, s, depth);
-  if (r == 2 && d == 8) return std::make_unique<PeriodMapT<8, 2>>(disc, s, depth);
-  return std::make_unique<PeriodMapT<Eigen::Dynamic, Eigen::Dynamic>>(disc, s, depth);
+  return make_sized<PeriodMapT>(disc, s, depth);
 }
 
 // A product with the period map left the range of double: a unit vector grew beyond 1e308 in
@@ -777,6 +785,174 @@ class PeriodMapOp {
   const PeriodMap& map_;
   mutable Eigen::MatrixXd z_, next_;
 };
+
+// The depths at which a real multiplier μ = ±1 of the discretized period map exists, as one
+// linear eigenvalue problem (docs/models/milling-stability.md, "Unstable islands"). The steps
+// x(j+1) = Φ0j·x(j) + w·vj, vj = Σk Σi Gki·ek(i) (i = j − 1 … j + 1, the step's nodes), are
+// driven by the displacement differences ek(i) = ŷk(i) − y(i) at the nodes the cutting steps
+// use. A solution with x(j + n) = μ·x(j) is fixed by them: x(0) = (μI − Ψ)⁻¹·(the response at
+// n from rest), Ψ = Πj Φ0j; then y(i) = C·x(i), and e must equal the differences of that y,
+// so e = w·K·e: the eigenvalues λ of K give the depths 1/λ at which μ is a multiplier — every
+// one of them at once, where a search on the spectral radius sees only the dominant one.
+// Node g of another period is node g mod n times μ^floor(g/n).
+// It is a PeriodMap (z ← K·z) so that the radius solvers take it as they are.
+class RealMultiplierOperator : public PeriodMap {
+ public:
+  void apply(Eigen::MatrixXd& z, Eigen::MatrixXd& next) const override {
+    next.resize(z.rows(), z.cols());
+    for (Eigen::Index c = 0; c < z.cols(); ++c) product(z.col(c).data(), next.col(c).data());
+    z.swap(next);
+  }
+  /// out ← K·in.
+  virtual void product(const double* in, double* out) const = 0;
+  /// The nodal displacements y(0) … y(n − 1) (r × n) of the solution with differences `e`.
+  virtual Eigen::MatrixXd displacements(const double* e) const = 0;
+};
+
+// The operator with the state and output sizes fixed at compile time (as PeriodMapT).
+template <int D, int R>
+class RealMultiplierOperatorT final : public RealMultiplierOperator {
+ public:
+  RealMultiplierOperatorT(const Discretization& disc, const DelayedSystem& s, double mu)
+      : c_(s.C), d_(s.A0.rows()), r_(s.C.rows()), n_(disc.n()) {
+    const int kinds = disc.terms();
+    const auto wrap = [&](long long g) { return static_cast<int>(g - floor_div(g, n_) * n_); };
+    // μ^floor(g/n) for μ = ±1.
+    const auto sign = [&](long long g) {
+      return mu < 0.0 && floor_div(g, n_) % 2 != 0 ? -1.0 : 1.0;
+    };
+    std::vector<int> slot(static_cast<std::size_t>(kinds) * static_cast<std::size_t>(n_), -1);
+    const auto slot_of = [&](int term, long long node) -> int& {
+      return slot[static_cast<std::size_t>(term) * static_cast<std::size_t>(n_) +
+                  static_cast<std::size_t>(wrap(node))];
+    };
+    struct Unknown {
+      int term, node;
+    };
+    std::vector<Unknown> unknowns;
+    MatDD psi = MatDD::Identity(d_, d_);
+    steps_.resize(static_cast<std::size_t>(n_));
+    for (int j = 0; j < n_; ++j) {
+      const StepMatrices& st = disc.step(j);
+      Step& out = steps_[static_cast<std::size_t>(j)];
+      out.phi0 = st.phi0();
+      psi = out.phi0 * psi;
+      out.first = static_cast<int>(inputs_.size());
+      for (int i = st.first_term; i < st.last_term; ++i) {
+        const int term = disc.step_term(i);
+        for (int q = disc.order() == 2 ? 0 : 1; q < 3; ++q) {
+          const long long node = j - 1 + q;
+          int& k = slot_of(term, node);
+          if (k < 0) {
+            k = static_cast<int>(unknowns.size()) * static_cast<int>(r_);
+            unknowns.push_back({term, wrap(node)});
+          }
+          Input& in = inputs_.emplace_back();
+          in.g = sign(node) * Eigen::Map<const Eigen::MatrixXd>(disc.term_data(i), d_, 3 * r_)
+                                  .middleCols(r_ * q, r_);
+          in.slot = k;
+        }
+      }
+      out.last = static_cast<int>(inputs_.size());
+    }
+    rows_ = r_ * static_cast<Eigen::Index>(unknowns.size());
+    // ek(i) = Σq weight_q·μ^p·y(g + q − 1 mod n) − y(i), one list of terms per unknown.
+    for (const Unknown& u : unknowns) {
+      const DelayRef& ref = disc.ref(u.node, u.term);
+      outputs_.push_back({u.node, -1.0});
+      for (int q = 0; q < 3; ++q) {
+        const double w = ref.weights[static_cast<std::size_t>(q)];
+        if (w != 0.0) outputs_.push_back({wrap(ref.g + q - 1), w * sign(ref.g + q - 1)});
+      }
+      output_end_.push_back(static_cast<int>(outputs_.size()));
+    }
+    MatDD shifted = -psi;
+    shifted.diagonal().array() += mu;
+    lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(Eigen::MatrixXd(shifted));
+    v_.resize(d_, n_);
+    y_.resize(r_, n_);
+  }
+
+  Eigen::Index dim() const override { return rows_; }
+
+  void product(const double* in, double* out) const override {
+    respond(in);
+    std::size_t t = 0;
+    Eigen::Index row = 0;
+    for (int end : output_end_) {
+      Yv e = Yv::Zero(r_);
+      for (; t < static_cast<std::size_t>(end); ++t)
+        e += outputs_[t].coef * y_.col(outputs_[t].node);
+      Eigen::Map<Yv>(out + row, r_) = e;
+      row += r_;
+    }
+  }
+
+  Eigen::MatrixXd displacements(const double* e) const override {
+    respond(e);
+    return y_;
+  }
+
+ private:
+  using MatDD = Eigen::Matrix<double, D, D>;
+  using MatDR = Eigen::Matrix<double, D, R>;
+  using Xv = Eigen::Matrix<double, D, 1>;
+  using Yv = Eigen::Matrix<double, R, 1>;
+  struct Step {
+    MatDD phi0;
+    int first = 0, last = 0;  // its inputs: inputs_[first, last)
+  };
+  struct Input {  // g·e at slot (μ's power included in g)
+    MatDR g;
+    int slot = 0;
+  };
+  struct Output {  // coef·y(node)
+    int node;
+    double coef;
+  };
+
+  // y_ for the differences `e`: the inputs vj, the response from rest, the periodic start.
+  void respond(const double* e) const {
+    Xv x = Xv::Zero(d_);
+    for (int j = 0; j < n_; ++j) {
+      const Step& st = steps_[static_cast<std::size_t>(j)];
+      Xv v = Xv::Zero(d_);
+      for (int i = st.first; i < st.last; ++i) {
+        const Input& in = inputs_[static_cast<std::size_t>(i)];
+        v.noalias() += in.g * Eigen::Map<const Yv>(e + in.slot, r_);
+      }
+      v_.col(j) = v;
+      v.noalias() += st.phi0 * x;
+      x = v;
+    }
+    x = lu_.solve(Eigen::VectorXd(x));
+    for (int j = 0; j < n_; ++j) {
+      y_.col(j).noalias() = c_ * x;
+      Xv next = v_.col(j);
+      next.noalias() += steps_[static_cast<std::size_t>(j)].phi0 * x;
+      x = next;
+    }
+  }
+
+  Eigen::Matrix<double, R, D> c_;
+  Eigen::Index d_, r_;
+  int n_;
+  Eigen::Index rows_ = 0;
+  std::vector<Step, Eigen::aligned_allocator<Step>> steps_;
+  std::vector<Input, Eigen::aligned_allocator<Input>> inputs_;
+  std::vector<Output> outputs_;
+  std::vector<int> output_end_;  // the outputs of each unknown end here
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
+  mutable Eigen::Matrix<double, D, Eigen::Dynamic> v_;
+  mutable Eigen::Matrix<double, R, Eigen::Dynamic> y_;
+};
+
+std::unique_ptr<RealMultiplierOperator> make_real_multiplier_operator(const Discretization& disc,
+                                                                      const DelayedSystem& s,
+                                                                      double mu) {
+  return std::unique_ptr<RealMultiplierOperator>(static_cast<RealMultiplierOperator*>(
+      make_sized<RealMultiplierOperatorT>(disc, s, mu).release()));
+}
 
 }  // namespace
 
@@ -888,8 +1064,12 @@ std::pair<cplx, Eigen::VectorXcd> dominant_eigenpair(const PeriodMap& map, Radiu
 // largest modulus pass Spectra's residual test (|h(m+1,m)·y(m)| < tol·max(|θ|, eps^(2/3)),
 // y the unit eigenvector of H), so only where they do. nullopt when kMaxVectors are not
 // enough or the map is small (the caller then uses Spectra or the dense matrix).
-std::optional<DominantMultiplier> krylov_dominant(const PeriodMap& map,
-                                                  const ArnoldiOptions& options) {
+// `leading`: where to put the kNev accepted Ritz values, largest modulus first, each with its
+// vector where `wants_vector` says so (empty otherwise).
+using RitzPairs = std::vector<std::pair<cplx, Eigen::VectorXcd>>;
+std::optional<DominantMultiplier> krylov_dominant(
+    const PeriodMap& map, const ArnoldiOptions& options, RitzPairs* leading = nullptr,
+    const std::function<bool(cplx)>& wants_vector = {}) {
   constexpr int kNev = 3, kMaxVectors = 30, kFirstTest = 8;
   constexpr double kScreenTol = 1e-7;
   const double full_tol = options.tolerance;
@@ -996,6 +1176,18 @@ std::optional<DominantMultiplier> krylov_dominant(const PeriodMap& map,
     out.vector.resize(n);
     out.vector.real() = re;
     out.vector.imag() = im;
+    if (leading) {
+      leading->clear();
+      for (int q = 0; q < kNev; ++q) {
+        const int i = order[static_cast<std::size_t>(q)];
+        auto& [value, vector] = leading->emplace_back(values(i), Eigen::VectorXcd());
+        if (wants_vector && wants_vector(value)) {
+          vector.resize(n);
+          vector.real() = V.leftCols(m) * vectors.col(i).real();
+          vector.imag() = V.leftCols(m) * vectors.col(i).imag();
+        }
+      }
+    }
     return out;
   }
   return std::nullopt;
@@ -1066,6 +1258,118 @@ std::pair<Bifurcation, double> FdDiscretization::mode_of(const DominantMultiplie
                   : detail::dominant_frequency_hz(theta, impl_->grid.period_s, times, values, n)};
 }
 
+CriticalDepth FdDiscretization::first_real_crossing(double below_m, Bifurcation kind) const {
+  if (kind != Bifurcation::kFlip && kind != Bifurcation::kFold) {
+    throw InvalidInput(
+        {std::string("first_real_crossing: the kind must be flip or fold, not ") + to_string(kind)},
+        "full discretization");
+  }
+  CriticalDepth out;
+  out.depth_m = below_m;
+  if (!(below_m > 0.0)) return out;
+  const double mu = kind == Bifurcation::kFlip ? -1.0 : 1.0;
+  const auto k_ptr = make_real_multiplier_operator(impl_->disc, impl_->system, mu);
+  const RealMultiplierOperator& k_op = *k_ptr;
+  const Eigen::Index m = k_op.dim();
+  if (m == 0) return out;  // never in contact
+  ++out.evaluations;
+  const double lambda_min = 1.0 / below_m;
+  // Mostly every eigenvalue of K lies below 1/below_m (no μ = −1 at any depth up to the
+  // answer): the dominant one, by the radius search's own Arnoldi iteration, shows it.
+  // The Krylov iteration of the radius searches gives the three eigenvalues of largest
+  // modulus; mostly the third (often the first) is already below 1/below_m, and then they
+  // hold every depth below below_m. The residual tolerance 1e-8 leaves the moduli within
+  // about 1e-6 (as the warm search's brackets); closer than 1e-4 to the bound, or more than
+  // two eigenvalues above it, Krylov–Schur (Spectra) for more, or the dense matrix (small
+  // operators, or Spectra failing).
+  Eigen::VectorXcd values;
+  Eigen::MatrixXcd vectors;
+  constexpr double kMargin = 1e-4, kRealTolerance = 1e-9;
+  ArnoldiOptions loose;
+  loose.tolerance = 1e-6;
+  RitzPairs leading;
+  bool settled = false;
+  const auto candidate = [&](cplx l) {  // real, and a depth below below_m
+    return l.real() >= lambda_min && std::abs(l.imag()) <= kRealTolerance * std::abs(l);
+  };
+  if (const auto top = krylov_dominant(k_op, loose, &leading, candidate); top && !leading.empty()) {
+    const double last = std::abs(leading.back().first);
+    settled = last < lambda_min * (1.0 - kMargin);
+    for (const auto& [value, vector] : leading)
+      if (std::abs(std::abs(value) - lambda_min) <= kMargin * lambda_min) settled = false;
+    if (settled) {
+      values.resize(static_cast<Eigen::Index>(leading.size()));
+      vectors.resize(m, values.size());
+      for (std::size_t q = 0; q < leading.size(); ++q) {
+        values(static_cast<Eigen::Index>(q)) = leading[q].first;
+        if (leading[q].second.size() == m)  // the candidates' (the others are not needed)
+          vectors.col(static_cast<Eigen::Index>(q)) = leading[q].second;
+        else
+          vectors.col(static_cast<Eigen::Index>(q)).setZero();
+      }
+    }
+  }
+  constexpr Eigen::Index kDenseRows = 60, kFirstNev = 6;
+  bool dense = !settled && m <= kDenseRows;
+  for (Eigen::Index nev = kFirstNev; !settled && !dense;) {
+    const Eigen::Index ncv = std::min(m, std::max<Eigen::Index>(2 * nev + 1, 20));
+    PeriodMapOp op(k_op);
+    Spectra::GenEigsSolver<PeriodMapOp> eigs(op, nev, ncv);
+    eigs.init();
+    try {
+      eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-10);
+    } catch (const std::exception&) {
+      dense = true;
+      break;
+    } catch (const MapOverflow&) {
+      dense = true;
+      break;
+    }
+    if (eigs.info() != Spectra::CompInfo::Successful) {
+      dense = true;
+      break;
+    }
+    values = eigs.eigenvalues();
+    vectors = eigs.eigenvectors();
+    if (values.size() == 0 || values.cwiseAbs().minCoeff() < lambda_min) break;
+    if (2 * nev + 2 > m) {  // nearly every eigenvalue is above the bound: all of them
+      dense = true;
+      break;
+    }
+    nev *= 2;
+  }
+  if (dense) {
+    Eigen::MatrixXd k = Eigen::MatrixXd::Identity(m, m), scratch;
+    k_op.apply(k, scratch);
+    if (!k.allFinite()) return out;
+    Eigen::EigenSolver<Eigen::MatrixXd> eig(k, true);
+    if (eig.info() != Eigen::Success) return out;
+    values = eig.eigenvalues();
+    vectors = eig.eigenvectors();
+  }
+  // The largest real positive λ ≥ 1/below_m: the smallest depth.
+  Eigen::Index best = -1;
+  for (Eigen::Index i = 0; i < values.size(); ++i)
+    if (candidate(values(i)) && (best < 0 || values(i).real() > values(best).real())) best = i;
+  if (best < 0) return out;
+  out.found = true;
+  out.depth_m = 1.0 / values(best).real();
+  out.bifurcation = kind;
+  // The chatter frequency: the harmonic (π + 2πk)/T that carries the solution's displacement
+  // (its larger component) over the period.
+  const Eigen::VectorXd e = vectors.col(best).real();
+  const Eigen::MatrixXd y = k_op.displacements(e.data());
+  Eigen::Index row = 0;
+  y.rowwise().squaredNorm().maxCoeff(&row);
+  const int n = impl_->grid.steps();
+  std::vector<double> times(impl_->grid.nodes_s.begin(), impl_->grid.nodes_s.begin() + n);
+  std::vector<cplx> samples(static_cast<std::size_t>(n));
+  for (int j = 0; j < n; ++j) samples[static_cast<std::size_t>(j)] = y(row, j);
+  out.chatter_hz =
+      detail::dominant_frequency_hz(mu < 0.0 ? kPi : 0.0, impl_->grid.period_s, times, samples, n);
+  return out;
+}
+
 namespace {
 
 double radius_at_zero(const DelayedSystem& s, double period_s) {
@@ -1124,18 +1428,152 @@ ScheduledRadii radii_of(const std::function<DelayedSystem(double)>& system_at, c
   });
 }
 
+// An island between two grid points that no real multiplier bounds (a complex pair leaving
+// and re-entering the unit circle): where the radii on the depth grid below the boundary have
+// a local maximum of at least kIslandWatch, the maximum between its two neighbours is sought
+// by golden sections (docs/models/milling-stability.md, "Unstable islands and the depth
+// search"). `rho[k]`: ρ at k·cell, k = 0 … (rho[0] = ρ(0)), all below 1; NaN where not known.
+// Returns a bracket [a stable grid point, an unstable depth], or nullopt.
+constexpr double kIslandWatch = 0.9;
+
+std::optional<std::pair<double, double>> island_between_grid_points(const std::vector<double>& rho,
+                                                                    double cell, ScheduledRadii& at,
+                                                                    double rel_tol,
+                                                                    long long& evaluations) {
+  constexpr double kGolden = 0.3819660112501051;  // (3 − √5)/2
+  constexpr int kMaxProbes = 40;
+  for (std::size_t k = 1; k + 1 < rho.size(); ++k) {
+    if (!(rho[k] >= kIslandWatch && rho[k] >= rho[k - 1] && rho[k] > rho[k + 1])) continue;
+    double a = cell * static_cast<double>(k - 1), b = cell * static_cast<double>(k + 1);
+    double c = cell * static_cast<double>(k), fc = rho[k];
+    for (int probe = 0; probe < kMaxProbes && b - a > rel_tol * b; ++probe) {
+      const bool right = b - c > c - a;
+      const double x = right ? c + kGolden * (b - c) : c - kGolden * (c - a);
+      const double fx = at(x).radius;
+      ++evaluations;
+      if (fx >= 1.0) return std::pair{cell * static_cast<double>(k - 1), x};
+      if (fx > fc) {
+        (right ? a : b) = c;
+        c = x;
+        fc = fx;
+      } else {
+        (right ? b : a) = x;
+      }
+    }
+  }
+  return std::nullopt;
+}
+
 // The coarse scan and Brent's method on ρ − 1, ρ the dominant multiplier's modulus (the
-// unrestarted Arnoldi for kArnoldi, with its fallbacks); the mode from the dominant multiplier
-// just above the boundary, where it is the critical one.
-// `at` evaluates fd's radii (a warm search's, when it falls back here, keeps its schedule).
+// unrestarted Arnoldi for kArnoldi, with its fallbacks), and the island probe below the
+// boundary (island_between_grid_points; ρ(0) = rho0). The mode is left to the caller.
+// `at` evaluates the radii (a warm search's, when it falls back here, keeps its schedule).
+CriticalDepth scan_grid(ScheduledRadii& at, double rho0, double depth_max, double rel_tol,
+                        int coarse_steps) {
+  const double cell = depth_max / coarse_steps;
+  std::vector<double> rho(static_cast<std::size_t>(coarse_steps) + 1,
+                          std::numeric_limits<double>::quiet_NaN());
+  rho[0] = rho0;
+  const auto margin = [&](double w) {
+    const double r = at(w).radius;
+    const double k = std::round(w / cell);
+    if (k >= 1.0 && k <= coarse_steps && std::abs(w - k * cell) <= 1e-12 * depth_max)
+      rho[static_cast<std::size_t>(k)] = r;
+    return r - 1.0;
+  };
+  CriticalDepth result = critical_depth_by_bracketing(margin, depth_max, coarse_steps, rel_tol);
+  if (result.found && result.depth_m <= 0.0) return result;
+  for (double& r : rho)
+    if (!(r < 1.0)) r = std::numeric_limits<double>::quiet_NaN();  // only the stable points
+  long long evaluations = 0;
+  const auto island = island_between_grid_points(rho, cell, at, rel_tol, evaluations);
+  result.evaluations += evaluations;
+  if (!island) return result;
+  const auto [lo, hi] = *island;
+  const auto g = [&](double w) { return at(w).radius - 1.0; };
+  const auto root =
+      brent_root(g, lo, rho0 < 1.0 && lo == 0.0 ? rho0 - 1.0 : g(lo), hi, g(hi), rel_tol * hi);
+  result.found = true;
+  result.depth_m = root ? root->x : hi;
+  if (root) result.evaluations += root->evaluations;
+  return result;
+}
+
 CriticalDepth exhaustive_search(const FdDiscretization& fd, ScheduledRadii& at, double depth_max,
                                 double rel_tol, int coarse_steps) {
-  CriticalDepth result = critical_depth_by_bracketing(
-      [&](double w) { return at(w).radius - 1.0; }, depth_max, coarse_steps, rel_tol);
-  if (!result.found) return result;
-  std::tie(result.bifurcation, result.chatter_hz) =
-      fd.mode_of(at(result.depth_m * (1.0 + 0.5 * rel_tol)));
+  CriticalDepth result =
+      scan_grid(at, fd.radius_without_cutting(), depth_max, rel_tol, coarse_steps);
+  if (result.found)
+    std::tie(result.bifurcation, result.chatter_hz) =
+        fd.mode_of(at(result.depth_m * (1.0 + 0.5 * rel_tol)));
   return result;
+}
+
+// A search's answer replaced by the first real-multiplier crossing below it when there is
+// one: an unstable island that the search's depth grid stepped over (or the boundary itself,
+// found exactly). Flip (μ = −1) always; fold (μ = +1) with several delays (uneven pitch: the
+// period is a revolution, and a pitch pattern that repeats within it turns a flip of the
+// repeated part into μ = +1 per revolution). The search's other findings (unresolved,
+// truncated) are kept.
+std::vector<Bifurcation> real_crossings(const DelayedSystem& s) {
+  if (s.more_delays.empty()) return {Bifurcation::kFlip};
+  return {Bifurcation::kFlip, Bifurcation::kFold};
+}
+
+void take_crossing(CriticalDepth crossing, CriticalDepth& result) {
+  result.evaluations += crossing.evaluations;
+  if (!crossing.found || !(crossing.depth_m < result.depth_m)) return;
+  crossing.evaluations = result.evaluations;
+  crossing.unresolved = result.unresolved;
+  crossing.truncated = result.truncated;
+  result = crossing;
+}
+
+// The depth below which a search's answer is checked for such crossings: the answer, or the
+// limit when stable up to it; none (0) when unstable without cutting.
+double crossing_limit(const CriticalDepth& result, double depth_max) {
+  if (!result.found) return depth_max;
+  return result.depth_m > 0.0 ? result.depth_m : 0.0;
+}
+
+void take_real_crossings(const FdDiscretization& fd, const DelayedSystem& s, const FdOptions& o,
+                         CriticalDepth& result) {
+  if (!o.flip_crossings) return;
+  for (Bifurcation kind : real_crossings(s))
+    if (const double below = crossing_limit(result, o.depth_max_m); below > 0.0)
+      take_crossing(fd.first_real_crossing(below, kind), result);
+}
+
+// The same for a depth-dependent system: the crossing depth w of the system at depth w, by the
+// fixed-point iteration w ← (first crossing depth of system_at(w)) (the coefficient changes
+// slowly with the depth: two or three iterations to 1e-6), started from the search's answer
+// and, where the system there has no crossing below it, from 0.9 of it (a narrow island can
+// exist for the coefficient of its own depths and not for that of a deeper one).
+void take_real_crossings(const std::function<DelayedSystem(double)>& system_at, const FdGrid& grid,
+                         const FdOptions& o, CriticalDepth& result) {
+  if (!o.flip_crossings) return;
+  constexpr int kMaxIterations = 12;
+  constexpr double kSettled = 1e-6, kSecondStart = 0.9;
+  for (Bifurcation kind : real_crossings(system_at(o.depth_max_m))) {
+    const double below = crossing_limit(result, o.depth_max_m);
+    if (!(below > 0.0)) return;
+    double w = below;
+    CriticalDepth crossing;
+    for (int k = 0; k < kMaxIterations; ++k) {
+      if (k == 1 && !crossing.found) w = kSecondStart * below;
+      CriticalDepth next = FdDiscretization(system_at(w), grid).first_real_crossing(below, kind);
+      next.evaluations += crossing.evaluations;
+      crossing = next;
+      if (!crossing.found) {
+        if (k > 0) break;
+        continue;
+      }
+      const bool settled = std::abs(crossing.depth_m - w) <= kSettled * w;
+      w = crossing.depth_m;
+      if (settled) break;
+    }
+    take_crossing(crossing, result);
+  }
 }
 
 }  // namespace
@@ -1144,20 +1582,25 @@ CriticalDepth fd_critical_depth_by_radius(const DelayedSystem& s, const FdOption
                                           RadiusSolver solver, double rel_tol, int coarse_steps) {
   const FdDiscretization fd(s, o);
   ScheduledRadii at = radii_of(fd, solver);
-  return exhaustive_search(fd, at, o.depth_max_m, rel_tol, coarse_steps);
+  CriticalDepth result = exhaustive_search(fd, at, o.depth_max_m, rel_tol, coarse_steps);
+  take_real_crossings(fd, s, o, result);
+  return result;
 }
 
 CriticalDepth fd_critical_depth_by_radius(const std::function<DelayedSystem(double)>& system_at,
                                           const FdOptions& o, RadiusSolver solver, double rel_tol,
                                           int coarse_steps) {
-  const FdGrid grid = fd_grid(system_at(o.depth_max_m), o);
+  const DelayedSystem at_limit = system_at(o.depth_max_m);
+  const FdGrid grid = fd_grid(at_limit, o);
   ScheduledRadii at = radii_of(system_at, grid, solver);
-  CriticalDepth result = critical_depth_by_bracketing([&](double w) { return at(w).radius - 1.0; },
-                                                      o.depth_max_m, coarse_steps, rel_tol);
-  if (!result.found) return result;
-  const double above = result.depth_m * (1.0 + 0.5 * rel_tol);
-  std::tie(result.bifurcation, result.chatter_hz) =
-      FdDiscretization(system_at(above), grid).mode_of(at(above));
+  CriticalDepth result =
+      scan_grid(at, radius_at_zero(at_limit, grid.period_s), o.depth_max_m, rel_tol, coarse_steps);
+  if (result.found) {
+    const double above = result.depth_m * (1.0 + 0.5 * rel_tol);
+    std::tie(result.bifurcation, result.chatter_hz) =
+        FdDiscretization(system_at(above), grid).mode_of(at(above));
+  }
+  take_real_crossings(system_at, grid, o, result);
   return result;
 }
 
@@ -1269,11 +1712,19 @@ std::optional<WarmFound> warm_search(ScheduledRadii& at, double rho0, double dep
   //    ρ < 1 is asked: a radius below 0.99 may stop at the screening tolerance (its error
   //    is below 1e-4; ArnoldiOptions::screen_below), one closer to 1 goes to the full one.
   constexpr double kScreenBelow = 0.99;
+  std::vector<double> rho(static_cast<std::size_t>(coarse_steps) + 1,
+                          std::numeric_limits<double>::quiet_NaN());
+  rho[0] = rho0;
   for (int k = coarse_steps; k >= 1; --k) {
     const double w = depth_max * k / coarse_steps;
     if (!(w < lo)) continue;
-    if (evaluate(w, kScreenBelow).radius >= 1.0) return std::nullopt;
+    rho[static_cast<std::size_t>(k)] = evaluate(w, kScreenBelow).radius;
+    if (rho[static_cast<std::size_t>(k)] >= 1.0) return std::nullopt;
   }
+  //    And the exhaustive search's island probe between those points: an island there is
+  //    left to it.
+  if (island_between_grid_points(rho, depth_max / coarse_steps, at, rel_tol, evaluations))
+    return std::nullopt;
   WarmFound out;
   out.result.found = true;
   out.result.depth_m = lo - g_lo * (hi - lo) / (g_hi - g_lo);
@@ -1292,14 +1743,16 @@ CriticalDepth fd_critical_depth_from_hint(const DelayedSystem& s, const FdOption
   ScheduledRadii at = radii_of(fd, solver);
   auto found = warm_search(at, fd.radius_without_cutting(), o.depth_max_m, coarse_steps, rel_tol,
                            hint_depth_m, hint_is_close, evaluations);
+  CriticalDepth result;
   if (!found) {
-    CriticalDepth result = exhaustive_search(fd, at, o.depth_max_m, rel_tol, coarse_steps);
+    result = exhaustive_search(fd, at, o.depth_max_m, rel_tol, coarse_steps);
     result.evaluations += evaluations;
-    return result;
+  } else {
+    result = found->result;
+    result.evaluations = evaluations;
+    std::tie(result.bifurcation, result.chatter_hz) = fd.mode_of(found->at_hi);
   }
-  CriticalDepth result = found->result;
-  result.evaluations = evaluations;
-  std::tie(result.bifurcation, result.chatter_hz) = fd.mode_of(found->at_hi);
+  take_real_crossings(fd, s, o, result);
   return result;
 }
 
@@ -1322,6 +1775,7 @@ CriticalDepth fd_critical_depth_from_hint(const std::function<DelayedSystem(doub
   result.evaluations = evaluations;
   std::tie(result.bifurcation, result.chatter_hz) =
       FdDiscretization(system_at(found->hi), grid).mode_of(found->at_hi);
+  take_real_crossings(system_at, grid, o, result);
   return result;
 }
 

@@ -52,6 +52,12 @@ struct FdOptions {
   /// Interpolation within a step: 1 linear [Ding2010], 2 quadratic (see above). The reduced
   /// method (fd_critical_depth) takes order 1 only.
   int order = 1;
+  /// The spectral-radius searches (fd_critical_depth_by_radius, fd_critical_depth_from_hint)
+  /// also find every flip crossing below their answer, and with several delays (uneven pitch)
+  /// every fold crossing (FdDiscretization::first_real_crossing), so that an unstable island
+  /// their depth grid steps over is not missed. false only to measure what that costs (the
+  /// benchmarks).
+  bool flip_crossings = true;
 
   std::vector<std::string> validate() const;
 };
@@ -157,6 +163,12 @@ class FdDiscretization {
                                          const ArnoldiOptions& options) const;
   /// How stability is lost with that multiplier (as dominant_mode) and the chatter frequency.
   std::pair<Bifurcation, double> mode_of(const DominantMultiplier& dominant) const;
+  /// The smallest depth in (0, below_m] at which −1 (kind kFlip) or +1 (kFold) is a
+  /// multiplier of the period map — the edge of an unstable island, or the boundary itself —
+  /// from one linear eigenvalue problem whose eigenvalues are the inverse depths of every
+  /// such crossing (docs/models/milling-stability.md, "Unstable islands"); `found` false when
+  /// there is none. bifurcation = kind, chatter_hz from the crossing's solution.
+  CriticalDepth first_real_crossing(double below_m, Bifurcation kind = Bifurcation::kFlip) const;
   /// Spectral radius of the map at depth 0 without evaluating it: the map is then block
   /// triangular, its nonzero multipliers those of e^(A0·T), so ρ(0) = max e^(Re(pole)·T).
   double radius_without_cutting() const;
