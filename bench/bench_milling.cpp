@@ -382,40 +382,34 @@ void print_summary() {
                   "largest relative depth difference", 1e2 * worst, common);
     }
   }
-  std::printf(
+  // The default 200-speed lobes against a variant (key suffix) run alternately with them.
+  const auto against_default = [&](const char* title, const char* suffix, const char* before,
+                                   const char* now) {
+    std::printf("%s", title);
+    for (const char* threads : {"/1", "/all"}) {
+      const std::string fresh = std::string("fd_lobes_uniform") + threads;
+      const std::string other = std::string("fd_lobes_uniform") + suffix + threads;
+      const auto a = result(other), b = result(fresh);
+      if (!a || !b) continue;
+      const auto [worst, common] = largest_difference(traced()[other], traced()[fresh]);
+      std::printf("  %s:\n", threads[1] == '1' ? "1 thread" : "all threads");
+      std::printf("    %-56s %9.2f ms  (%.2f radii per speed)\n", before, 1e3 * a->seconds,
+                  a->figures.at("evals_per_speed"));
+      std::printf("    %-56s %9.2f ms  (%.2f radii per speed)\n", now, 1e3 * b->seconds,
+                  b->figures.at("evals_per_speed"));
+      std::printf("    %-56s %11.2fx\n", "ratio default / other", b->seconds / a->seconds);
+      std::printf("    %-56s %11.4f %%  (%d speeds compared)\n",
+                  "largest relative depth difference", 1e2 * worst, common);
+    }
+  };
+  against_default(
       "\nQuadratic interpolation on 1/32 of the structural period (default) against the linear "
-      "one on 1/64\n(the default until 2026-11-24), warm start, 200 speeds, same run:\n");
-  for (const char* threads : {"/1", "/all"}) {
-    const std::string quadratic = std::string("fd_lobes_uniform") + threads;
-    const std::string linear = std::string("fd_lobes_uniform_linear") + threads;
-    const auto a = result(linear), b = result(quadratic);
-    if (!a || !b) continue;
-    const auto [worst, common] = largest_difference(traced()[linear], traced()[quadratic]);
-    std::printf("  %s:\n", threads[1] == '1' ? "1 thread" : "all threads");
-    std::printf("    %-56s %9.2f ms  (%.2f radii per speed)\n", "linear, 1/64", 1e3 * a->seconds,
-                a->figures.at("evals_per_speed"));
-    std::printf("    %-56s %9.2f ms  (%.2f radii per speed)\n", "quadratic, 1/32 (default)",
-                1e3 * b->seconds, b->figures.at("evals_per_speed"));
-    std::printf("    %-56s %11.2fx\n", "ratio linear / quadratic", a->seconds / b->seconds);
-    std::printf("    %-56s %11.4f %%  (%d speeds compared)\n",
-                "largest relative depth difference", 1e2 * worst, common);
-  }
-  std::printf(
+      "one on 1/64\n(the default until 2026-11-24), warm start, 200 speeds, same run:\n",
+      "_linear", "linear, 1/64", "quadratic, 1/32 (default)");
+  against_default(
       "\nFlip crossings below each answer (default, unstable islands) against none (until "
-      "2026-11-29),\nwarm start, 200 speeds, same run:\n");
-  for (const char* threads : {"/1", "/all"}) {
-    const std::string with = std::string("fd_lobes_uniform") + threads;
-    const std::string without = std::string("fd_lobes_uniform_nocross") + threads;
-    const auto a = result(without), b = result(with);
-    if (!a || !b) continue;
-    const auto [worst, common] = largest_difference(traced()[without], traced()[with]);
-    std::printf("  %s:\n", threads[1] == '1' ? "1 thread" : "all threads");
-    std::printf("    %-56s %9.2f ms\n", "without", 1e3 * a->seconds);
-    std::printf("    %-56s %9.2f ms\n", "with (default)", 1e3 * b->seconds);
-    std::printf("    %-56s %11.2fx\n", "ratio with / without", b->seconds / a->seconds);
-    std::printf("    %-56s %11.4f %%  (%d speeds compared)\n", "largest relative depth difference",
-                1e2 * worst, common);
-  }
+      "2026-11-29),\nwarm start, 200 speeds, same run:\n",
+      "_nocross", "without", "with (default)");
   const auto fd4 = result("four_mode_fd"), mf4 = result("four_mode_mf");
   std::printf(
       "\nFour-mode case (480-1500 Hz), a/D 0.5 down, 24 speeds 4000-16000 rpm, all threads:\n");
