@@ -1274,14 +1274,12 @@ CriticalDepth FdDiscretization::first_real_crossing(double below_m, Bifurcation 
   if (m == 0) return out;  // never in contact
   ++out.evaluations;
   const double lambda_min = 1.0 / below_m;
-  // Mostly every eigenvalue of K lies below 1/below_m (no μ = −1 at any depth up to the
-  // answer): the dominant one, by the radius search's own Arnoldi iteration, shows it.
   // The Krylov iteration of the radius searches gives the three eigenvalues of largest
   // modulus; mostly the third (often the first) is already below 1/below_m, and then they
-  // hold every depth below below_m. The residual tolerance 1e-8 leaves the moduli within
-  // about 1e-6 (as the warm search's brackets); closer than 1e-4 to the bound, or more than
-  // two eigenvalues above it, Krylov–Schur (Spectra) for more, or the dense matrix (small
-  // operators, or Spectra failing).
+  // hold every depth below below_m. Its residual tolerance, 1e-6 of the eigenvalue, leaves a
+  // well-conditioned modulus within about that; within 1e-4 of the bound, or with more than
+  // two eigenvalues above it, Krylov–Schur (Spectra) finds more, or the dense matrix (small
+  // operators, or Spectra failing) all of them.
   Eigen::VectorXcd values;
   Eigen::MatrixXcd vectors;
   constexpr double kMargin = 1e-4, kRealTolerance = 1e-9;
@@ -1355,8 +1353,8 @@ CriticalDepth FdDiscretization::first_real_crossing(double below_m, Bifurcation 
   out.found = true;
   out.depth_m = 1.0 / values(best).real();
   out.bifurcation = kind;
-  // The chatter frequency: the harmonic (π + 2πk)/T that carries the solution's displacement
-  // (its larger component) over the period.
+  // The chatter frequency: the harmonic (θ + 2πk)/T, θ = π (flip) or 0 (fold), that carries
+  // the solution's displacement (its larger component) over the period.
   const Eigen::VectorXd e = vectors.col(best).real();
   const Eigen::MatrixXd y = k_op.displacements(e.data());
   Eigen::Index row = 0;

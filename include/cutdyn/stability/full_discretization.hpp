@@ -183,9 +183,14 @@ CriticalDepth fd_critical_depth(const DelayedSystem& system, const FdOptions& op
 
 /// Critical depth from the spectral radius of the period map: a coarse depth scan brackets
 /// the first unstable depth (so an unstable island above a stable band is not skipped), then
-/// Brent's method on ρ − 1 to `rel_tol`. The discretization is built once; each depth costs one
-/// spectral radius, dense or by Arnoldi (with dense fallback). Bifurcation type and chatter
-/// frequency come from the dominant multiplier just above the boundary.
+/// Brent's method on ρ − 1 to `rel_tol`. Below the answer, an island between two grid points is
+/// sought where the grid's radii have a local maximum of at least 0.9 (golden sections), and
+/// the first flip crossing (with several delays also fold) is taken when it is lower
+/// (FdOptions::flip_crossings; docs/models/milling-stability.md, "Unstable islands and the
+/// depth search"). The discretization is built once; each depth costs one spectral radius,
+/// dense or by Arnoldi (with dense fallback). Bifurcation type and chatter frequency come from
+/// the dominant multiplier just above the boundary (from the crossing's solution for a flip or
+/// fold crossing).
 CriticalDepth fd_critical_depth_by_radius(const DelayedSystem& system, const FdOptions& options,
                                           RadiusSolver solver, double rel_tol = 1e-6,
                                           int coarse_steps = 24);
@@ -207,14 +212,16 @@ CriticalDepth fd_critical_depth_by_radius(
 /// guard: ρ < 1 is verified at every point of the coarse
 /// depth grid (depth_max/coarse_steps apart, the grid of the exhaustive scan) below lo — the
 /// exhaustive search's own condition for reporting a boundary in a higher grid cell; (3) if
-/// the guard finds an unstable grid point, or the bracket cannot be made (stable up to
+/// the guard finds an unstable grid point or an island between grid points (as the exhaustive
+/// search's probe), or the bracket cannot be made (stable up to
 /// depth_max, no hint, a hint outside (0, depth_max]), the exhaustive search decides. The
 /// mode (bifurcation, chatter frequency) is that of the dominant multiplier at hi, within
 /// rel_tol above the boundary. `evaluations` counts every spectral radius. `hint_is_close`:
 /// the hint is likely within a fraction of the tolerance (extrapolated along a smooth lobe),
 /// and the first two depths straddle it 0.45 tolerance below and above (a bracket narrow
 /// enough at once when the boundary is between them; otherwise the steps above go on from
-/// there). The result meets the same conditions either way.
+/// there). The result meets the same conditions either way, and the flip (fold) crossings
+/// below it are taken as in fd_critical_depth_by_radius.
 CriticalDepth fd_critical_depth_from_hint(const DelayedSystem& system, const FdOptions& options,
                                           RadiusSolver solver, double rel_tol, int coarse_steps,
                                           double hint_depth_m, bool hint_is_close = false);
