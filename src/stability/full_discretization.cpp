@@ -868,7 +868,9 @@ class RealMultiplierOperatorT final : public RealMultiplierOperator {
     }
     MatDD shifted = -psi;
     shifted.diagonal().array() += mu;
-    lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(Eigen::MatrixXd(shifted));
+    // d × d, well conditioned (Ψ's eigenvalues lie inside the unit circle): its inverse once,
+    // so that each product's periodic start is one small fixed-size product.
+    start_ = Eigen::MatrixXd(shifted).partialPivLu().inverse();
     v_.resize(d_, n_);
     y_.resize(r_, n_);
   }
@@ -925,7 +927,7 @@ class RealMultiplierOperatorT final : public RealMultiplierOperator {
       v.noalias() += st.phi0 * x;
       x = v;
     }
-    x = lu_.solve(Eigen::VectorXd(x));
+    x = start_ * Xv(x);
     for (int j = 0; j < n_; ++j) {
       y_.col(j).noalias() = c_ * x;
       Xv next = v_.col(j);
@@ -942,7 +944,7 @@ class RealMultiplierOperatorT final : public RealMultiplierOperator {
   std::vector<Input, Eigen::aligned_allocator<Input>> inputs_;
   std::vector<Output> outputs_;
   std::vector<int> output_end_;  // the outputs of each unknown end here
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
+  MatDD start_;                  // (μI − Ψ)⁻¹
   mutable Eigen::Matrix<double, D, Eigen::Dynamic> v_;
   mutable Eigen::Matrix<double, R, Eigen::Dynamic> y_;
 };
