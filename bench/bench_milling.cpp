@@ -114,16 +114,24 @@ MillingStabilityOptions linear_options() {
 // start (today's default), 0 = every speed on its own (the former way); range(3): the
 // interpolation order, 2 = today's default, 1 = the linear interpolation on twice the steps;
 // range(4): 1 = the flip crossings below each answer (today's default), 0 = without them (as
-// until 2026-11-29: an island between two points of the depth grid could be stepped over).
+// until 2026-11-29: an island between two points of the depth grid could be stepped over);
+// range(5): 1 = the step from the cut and its convergence check (today's default), 0 = the
+// structure's step alone, unchecked (as until 2026-11-29).
 void BM_MillingLobes(benchmark::State& state) {
   const int threads = threads_arg(state);
   const bool refine = state.range(1) != 0, warm = state.range(2) != 0;
   const bool linear = state.range(3) == 1, crossings = state.range(4) != 0;
+  const bool checked = state.range(5) != 0;
   const std::string key = std::string(refine ? "fd_lobes" : "fd_lobes_uniform") +
                           (warm ? "" : "_old") + (linear ? "_linear" : "") +
-                          (crossings ? "" : "_nocross") + (state.range(0) == 1 ? "/1" : "/all");
+                          (crossings ? "" : "_nocross") + (checked ? "" : "_unchecked") +
+                          (state.range(0) == 1 ? "/1" : "/all");
   MillingStabilityOptions options = linear ? linear_options() : cli_options();
   options.fd.flip_crossings = crossings;
+  if (!checked) {
+    options.fd.window_steps = 0;
+    options.fd.refinements = 0;
+  }
   LobesReport report;
   Result& r = timed(state, key, [&] { report = fd_lobes(options, threads, refine, warm); });
   traced()[key] = report.points;
@@ -279,19 +287,21 @@ constexpr auto kMs = benchmark::kMillisecond;
 
 // Old and new alternate, so that a change of load on a shared machine touches both alike.
 BENCHMARK(BM_MillingLobes)
-    ->ArgNames({"threads", "refine", "warm", "order", "crossings"})
-    ->Args({1, 0, 1, 1, 1})
-    ->Args({1, 0, 1, 2, 1})
-    ->Args({0, 0, 1, 1, 1})
-    ->Args({0, 0, 1, 2, 1})
-    ->Args({1, 0, 0, 2, 1})
-    ->Args({0, 0, 0, 2, 1})
-    ->Args({1, 0, 1, 2, 0})
-    ->Args({0, 0, 1, 2, 0})
-    ->Args({1, 1, 0, 2, 1})
-    ->Args({1, 1, 1, 2, 1})
-    ->Args({0, 1, 0, 2, 1})
-    ->Args({0, 1, 1, 2, 1})
+    ->ArgNames({"threads", "refine", "warm", "order", "crossings", "checked"})
+    ->Args({1, 0, 1, 1, 1, 1})
+    ->Args({1, 0, 1, 2, 1, 1})
+    ->Args({0, 0, 1, 1, 1, 1})
+    ->Args({0, 0, 1, 2, 1, 1})
+    ->Args({1, 0, 0, 2, 1, 1})
+    ->Args({0, 0, 0, 2, 1, 1})
+    ->Args({1, 0, 1, 2, 0, 1})
+    ->Args({0, 0, 1, 2, 0, 1})
+    ->Args({1, 0, 1, 2, 1, 0})
+    ->Args({0, 0, 1, 2, 1, 0})
+    ->Args({1, 1, 0, 2, 1, 1})
+    ->Args({1, 1, 1, 2, 1, 1})
+    ->Args({0, 1, 0, 2, 1, 1})
+    ->Args({0, 1, 1, 2, 1, 1})
     ->Unit(kMs)
     ->UseRealTime();
 BENCHMARK(BM_FourModeMethods)
@@ -410,6 +420,10 @@ void print_summary() {
       "\nFlip crossings below each answer (default, unstable islands) against none (until "
       "2026-11-29),\nwarm start, 200 speeds, same run:\n",
       "_nocross", "without", "with (default)");
+  against_default(
+      "\nThe step from the cut and its convergence check on half the step (default) against the "
+      "structure's\nstep alone, unchecked (until 2026-11-29), warm start, 200 speeds, same run:\n",
+      "_unchecked", "structure's step, unchecked", "from the cut, checked (default)");
   const auto fd4 = result("four_mode_fd"), mf4 = result("four_mode_mf");
   std::printf(
       "\nFour-mode case (480-1500 Hz), a/D 0.5 down, 24 speeds 4000-16000 rpm, all threads:\n");

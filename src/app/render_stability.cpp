@@ -131,6 +131,9 @@ void write_text(std::ostream& out, const io::Case& c, const CheckJobReport& r) {
   if (b.truncated)
     out << "  warning: " << r.method
         << " could not cover every mode at this speed; the critical depth may be wrong\n";
+  if (b.unconverged)
+    out << "  warning: the critical depth still moved by more than the tolerance when the time "
+           "step was halved; it may be off by more\n";
   if (r.duty_cycle && r.conventional) out << "  duty cycle " << human(*r.duty_cycle) << "\n";
   if (r.conventional)
     out << "  conventional turning: critical depth " << depth_text(r.conventional->boundary) << ", "

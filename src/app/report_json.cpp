@@ -221,6 +221,9 @@ json to_json(const io::Case& c, const CheckJobReport& r) {
            {"lobe", r.lobe}};
   if (r.margin) doc["margin"] = *r.margin;
   if (b.truncated) doc["warning"] = "the method could not cover every mode at this speed";
+  if (b.unconverged)
+    doc["warning"] =
+        "the critical depth still moved by more than the tolerance when the time step was halved";
   if (r.duty_cycle) doc["duty_cycle"] = *r.duty_cycle;
   if (r.conventional)
     doc["conventional"] = {{"critical_depth_mm", m_to_mm(r.conventional->boundary.depth_m)},

@@ -450,11 +450,46 @@ class Discretization {
   long long history_ = 1;
 };
 
+// The largest |eigenvalue| of a state matrix, from its balanced form (Eigen's real Schur
+// iteration can fail on the unbalanced one, whose entries span 1 to ω²), by the complex Schur
+// form where the real one fails.
+double largest_pole_modulus(const Eigen::MatrixXd& a) {
+  const Eigen::VectorXd scale = balancing_scale(a);
+  const Eigen::MatrixXd balanced = scale.cwiseInverse().asDiagonal() * a * scale.asDiagonal();
+  Eigen::VectorXcd poles;
+  const Eigen::EigenSolver<Eigen::MatrixXd> real(balanced, false);
+  if (real.info() == Eigen::Success) {
+    poles = real.eigenvalues();
+  } else {
+    const Eigen::ComplexEigenSolver<Eigen::MatrixXcd> complex(balanced.cast<cplx>(), false);
+    if (complex.info() != Eigen::Success)
+      throw std::runtime_error("full discretization: the eigenvalues of a state matrix failed");
+    poles = complex.eigenvalues();
+  }
+  return poles.cwiseAbs().maxCoeff();
+}
+
 double shortest_structural_period(const DelayedSystem& s) {
-  const Eigen::VectorXcd poles = s.A0.eigenvalues();
-  double w = 0.0;
-  for (Eigen::Index i = 0; i < poles.size(); ++i) w = std::max(w, std::abs(poles(i)));
-  return kTwoPi / w;
+  return kTwoPi / largest_pole_modulus(s.A0);
+}
+
+// The largest |eigenvalue| of A0 − w·E·ΣHk·C over [t0, t1] (ΣHk averaged over each quarter
+// of it): the fastest motion of the structure stiffened by the cut at depth w; 0 when no
+// tooth cuts there.
+double cutting_frequency(const DelayedSystem& s, const std::vector<DelayTerm>& terms, double t0,
+                         double t1, double w) {
+  constexpr int kParts = 4;
+  double omega = 0.0;
+  bool cutting = false;
+  for (int q = 0; q < kParts; ++q) {
+    const double a = t0 + (t1 - t0) * q / kParts, b = t0 + (t1 - t0) * (q + 1) / kParts;
+    Eigen::MatrixXd h = Eigen::MatrixXd::Zero(s.C.rows(), s.C.rows());
+    for (const DelayTerm& t : terms) h += t.H.mean(a, b);
+    if (h.norm() == 0.0) continue;
+    cutting = true;
+    omega = std::max(omega, largest_pole_modulus(s.A0 - w * s.E * h * s.C));
+  }
+  return cutting ? omega : 0.0;
 }
 
 }  // namespace
@@ -469,6 +504,12 @@ std::vector<std::string> FdOptions::validate() const {
   v.require(samples_per_turn >= 4.0 && samples_per_turn <= 1000.0, "samples_per_turn",
             samples_per_turn, "", "must be 4 to 1000");
   v.require(order == 1 || order == 2, "order", order, "", "must be 1 (linear) or 2 (quadratic)");
+  v.require(window_steps >= 0 && window_steps <= 10000, "window_steps", window_steps, "",
+            "must be 0 (no minimum) to 10000");
+  v.require(cutting_depth_m >= 0.0 && std::isfinite(cutting_depth_m), "cutting_depth_m",
+            cutting_depth_m, "m", "must be 0 (the structure only) or positive");
+  v.require(refinements >= 0 && refinements <= 6, "refinements", refinements, "",
+            "must be 0 (one grid) to 6");
   return v.problems();
 }
 
@@ -498,6 +539,7 @@ FdGrid fd_grid(const DelayedSystem& s, const FdOptions& o) {
   }
   const double T = s.H.period_s;
   grid.period_s = T;
+  const std::vector<DelayTerm> terms = s.delay_terms();
   std::vector<double> cuts{0.0};
   for (const DelayTerm& t : s.delay_terms())
     for (double b : t.H.breakpoints_s)
@@ -511,6 +553,15 @@ FdGrid fd_grid(const DelayedSystem& s, const FdOptions& o) {
     int steps = o.steps_per_period > 0
                     ? std::max(1, static_cast<int>(std::lround(o.steps_per_period * len / T)))
                     : std::max(1, static_cast<int>(std::ceil(len / h_max - 1e-9)));
+    if (o.steps_per_period == 0 && (o.cutting_depth_m > 0.0 || o.window_steps > 0)) {
+      const double omega = cutting_frequency(s, terms, cuts[k], cuts[k + 1], o.cutting_depth_m);
+      if (omega > 0.0) {
+        steps = std::max(steps, o.window_steps);
+        steps = std::max(
+            steps,
+            static_cast<int>(std::ceil(len * omega / (kTwoPi * o.max_step_fraction) - 1e-9)));
+      }
+    }
     for (int j = 1; j <= steps; ++j) grid.nodes_s.push_back(cuts[k] + len * j / steps);
   }
   grid.nodes_s.back() = T;
@@ -1578,8 +1629,12 @@ void take_real_crossings(const std::function<DelayedSystem(double)>& system_at, 
 
 }  // namespace
 
-CriticalDepth fd_critical_depth_by_radius(const DelayedSystem& s, const FdOptions& o,
-                                          RadiusSolver solver, double rel_tol, int coarse_steps) {
+namespace {
+
+// The searches on the one grid of `o` (fd_grid); the public functions below add the
+// convergence check (FdOptions::refinements).
+CriticalDepth search_by_radius(const DelayedSystem& s, const FdOptions& o, RadiusSolver solver,
+                               double rel_tol, int coarse_steps) {
   const FdDiscretization fd(s, o);
   ScheduledRadii at = radii_of(fd, solver);
   CriticalDepth result = exhaustive_search(fd, at, o.depth_max_m, rel_tol, coarse_steps);
@@ -1587,9 +1642,9 @@ CriticalDepth fd_critical_depth_by_radius(const DelayedSystem& s, const FdOption
   return result;
 }
 
-CriticalDepth fd_critical_depth_by_radius(const std::function<DelayedSystem(double)>& system_at,
-                                          const FdOptions& o, RadiusSolver solver, double rel_tol,
-                                          int coarse_steps) {
+CriticalDepth search_by_radius(const std::function<DelayedSystem(double)>& system_at,
+                               const FdOptions& o, RadiusSolver solver, double rel_tol,
+                               int coarse_steps) {
   const DelayedSystem at_limit = system_at(o.depth_max_m);
   const FdGrid grid = fd_grid(at_limit, o);
   ScheduledRadii at = radii_of(system_at, grid, solver);
@@ -1604,8 +1659,6 @@ CriticalDepth fd_critical_depth_by_radius(const std::function<DelayedSystem(doub
   return result;
 }
 
-namespace {
-
 // The warm-started search (fd_critical_depth_from_hint) on g(w) = ρ(w) − 1, with `at(w)` the
 // dominant multiplier at depth w and ρ(0) = rho0 known. nullopt: the exhaustive search must
 // decide (no bracket near the hint, or the guard found an unstable grid point below it).
@@ -1613,11 +1666,12 @@ struct WarmFound {
   CriticalDepth result;
   DominantMultiplier at_hi;
   double hi = 0.0;
+  double slope = 0.0;  // dρ/dw across the last bracket
 };
 
 std::optional<WarmFound> warm_search(ScheduledRadii& at, double rho0, double depth_max,
                                      int coarse_steps, double rel_tol, double hint, bool close,
-                                     long long& evaluations) {
+                                     long long& evaluations, bool guard = true) {
   if (!(hint > 0.0 && hint <= depth_max) || !(rho0 < 1.0)) return std::nullopt;
   // The bracket's depths need only the sign of ρ − 1 and a secant through it: a residual
   // tolerance of 1e-8 (ArnoldiOptions::tolerance) leaves ρ within about 3e-6 of the 1e-10
@@ -1708,14 +1762,15 @@ std::optional<WarmFound> warm_search(ScheduledRadii& at, double rho0, double dep
     bisect = !bisect && (hi - lo) > 0.5 * prev_width;
     prev_width = hi - lo;
   }
-  // 3. The guard: every point of the exhaustive scan's grid below the bracket is stable. Only
+  // 3. The guard (unless the caller has already searched below on a coarser grid): every point
+  //    of the exhaustive scan's grid below the bracket is stable. Only
   //    ρ < 1 is asked: a radius below 0.99 may stop at the screening tolerance (its error
   //    is below 1e-4; ArnoldiOptions::screen_below), one closer to 1 goes to the full one.
   constexpr double kScreenBelow = 0.99;
   std::vector<double> rho(static_cast<std::size_t>(coarse_steps) + 1,
                           std::numeric_limits<double>::quiet_NaN());
   rho[0] = rho0;
-  for (int k = coarse_steps; k >= 1; --k) {
+  for (int k = guard ? coarse_steps : 0; k >= 1; --k) {
     const double w = depth_max * k / coarse_steps;
     if (!(w < lo)) continue;
     rho[static_cast<std::size_t>(k)] = evaluate(w, kScreenBelow).radius;
@@ -1723,60 +1778,214 @@ std::optional<WarmFound> warm_search(ScheduledRadii& at, double rho0, double dep
   }
   //    And the exhaustive search's island probe between those points: an island there is
   //    left to it.
-  if (island_between_grid_points(rho, depth_max / coarse_steps, at, rel_tol, evaluations))
+  if (guard && island_between_grid_points(rho, depth_max / coarse_steps, at, rel_tol, evaluations))
     return std::nullopt;
   WarmFound out;
   out.result.found = true;
   out.result.depth_m = lo - g_lo * (hi - lo) / (g_hi - g_lo);
   out.at_hi = std::move(at_hi);
   out.hi = hi;
+  out.slope = (g_hi - g_lo) / (hi - lo);
   return out;
 }
 
-}  // namespace
+// A search's answer, and dρ/dw there when the search ended on a bracket of ρ − 1 (NaN
+// otherwise): the convergence check's Newton step on a finer grid.
+struct Searched {
+  CriticalDepth result;
+  double slope = std::numeric_limits<double>::quiet_NaN();
+};
 
-CriticalDepth fd_critical_depth_from_hint(const DelayedSystem& s, const FdOptions& o,
-                                          RadiusSolver solver, double rel_tol, int coarse_steps,
-                                          double hint_depth_m, bool hint_is_close) {
+// take_real_crossings on a search's answer: a crossing taken below it has no slope.
+template <class... Args>
+void take_crossings_into(Searched& found, Args&&... args) {
+  const double before = found.result.depth_m;
+  take_real_crossings(std::forward<Args>(args)..., found.result);
+  if (found.result.depth_m != before) found.slope = std::numeric_limits<double>::quiet_NaN();
+}
+
+Searched search_from_hint(const DelayedSystem& s, const FdOptions& o, RadiusSolver solver,
+                          double rel_tol, int coarse_steps, double hint, bool close,
+                          bool guard = true) {
   const FdDiscretization fd(s, o);
   long long evaluations = 0;
   ScheduledRadii at = radii_of(fd, solver);
   auto found = warm_search(at, fd.radius_without_cutting(), o.depth_max_m, coarse_steps, rel_tol,
-                           hint_depth_m, hint_is_close, evaluations);
-  CriticalDepth result;
+                           hint, close, evaluations, guard);
+  Searched out;
   if (!found) {
-    result = exhaustive_search(fd, at, o.depth_max_m, rel_tol, coarse_steps);
-    result.evaluations += evaluations;
+    out.result = exhaustive_search(fd, at, o.depth_max_m, rel_tol, coarse_steps);
+    out.result.evaluations += evaluations;
   } else {
-    result = found->result;
-    result.evaluations = evaluations;
-    std::tie(result.bifurcation, result.chatter_hz) = fd.mode_of(found->at_hi);
+    out.result = found->result;
+    out.result.evaluations = evaluations;
+    out.slope = found->slope;
+    std::tie(out.result.bifurcation, out.result.chatter_hz) = fd.mode_of(found->at_hi);
+    if (!guard) return out;
   }
-  take_real_crossings(fd, s, o, result);
-  return result;
+  take_crossings_into(out, fd, s, o);
+  return out;
+}
+
+Searched search_from_hint(const std::function<DelayedSystem(double)>& system_at, const FdOptions& o,
+                          RadiusSolver solver, double rel_tol, int coarse_steps, double hint,
+                          bool close, bool guard = true) {
+  const DelayedSystem at_limit = system_at(o.depth_max_m);
+  const FdGrid grid = fd_grid(at_limit, o);
+  long long evaluations = 0;
+  ScheduledRadii at = radii_of(system_at, grid, solver);
+  auto found = warm_search(at, radius_at_zero(at_limit, grid.period_s), o.depth_max_m, coarse_steps,
+                           rel_tol, hint, close, evaluations, guard);
+  Searched out;
+  if (!found) {
+    out.result = search_by_radius(system_at, o, solver, rel_tol, coarse_steps);
+    out.result.evaluations += evaluations;
+    return out;
+  }
+  out.result = found->result;
+  out.result.evaluations = evaluations;
+  out.slope = found->slope;
+  std::tie(out.result.bifurcation, out.result.chatter_hz) =
+      FdDiscretization(system_at(found->hi), grid).mode_of(found->at_hi);
+  if (guard) take_crossings_into(out, system_at, grid, o);
+  return out;
+}
+
+// The convergence check (FdOptions::refinements; docs/models/milling-stability.md, "The step
+// and its convergence check"). The grid is first sized by the cut at the boundary found
+// (FdOptions::cutting_depth_m; re-searched only when the boundary lies more than a quarter
+// deeper than the depth the grid was sized at), then the step is halved: when the search
+// ended on a bracket, one radius on the finer grid at the boundary w gives its boundary by a
+// Newton step, w + (1 − ρ(w))/ρ' (ρ' from the bracket); otherwise, or when that step is
+// longer than the search's tolerance, the finer grid is searched from w (warm, without the
+// guard below: that was done on the first grid, whose depth grid and islands do not depend on
+// the step). Converged when the boundary moves by less than the tolerance; the answer is the
+// finest grid's. `steps(o)` counts the steps of o's grid, `near(o, w)` searches o's grid from
+// w, `radius(o, w)` is ρ(w) on it.
+Searched converged(Searched found, FdOptions o, double rel_tol, int coarse_steps,
+                   const std::function<int(const FdOptions&)>& steps,
+                   const std::function<Searched(const FdOptions&, double)>& near,
+                   const std::function<double(const FdOptions&, double)>& radius) {
+  if (o.refinements == 0 || o.steps_per_period > 0 || !found.result.found ||
+      !(found.result.depth_m > 0.0))
+    return found;
+  const auto tolerance = [&](double depth) {
+    return std::max(rel_tol * depth,
+                    boundary_tolerance(depth, o.depth_max_m, coarse_steps, rel_tol));
+  };
+  const auto continue_from = [](Searched next, const CriticalDepth& before) {
+    next.result.evaluations += before.evaluations;
+    next.result.unresolved = std::max(next.result.unresolved, before.unresolved);
+    return next;
+  };
+  constexpr double kSizingSlack = 1.25;
+  constexpr int kMaxResizings = 3;
+  for (int k = 0; k < kMaxResizings && found.result.found &&
+                  found.result.depth_m > kSizingSlack * o.cutting_depth_m;
+       ++k) {
+    FdOptions sized = o;
+    sized.cutting_depth_m = found.result.depth_m;
+    const bool same = steps(sized) == steps(o);
+    o = sized;
+    if (same) break;
+    found = continue_from(near(o, found.result.depth_m), found.result);
+  }
+  for (int halving = 0; halving < o.refinements && found.result.found; ++halving) {
+    o.max_step_fraction *= 0.5;
+    o.window_steps *= 2;
+    const double w = found.result.depth_m;
+    if (std::isfinite(found.slope) && found.slope > 0.0) {
+      const double step = (1.0 - radius(o, w)) / found.slope;
+      ++found.result.evaluations;
+      if (std::abs(step) <= tolerance(w)) {
+        found.result.depth_m = w + step;
+        return found;
+      }
+      found = continue_from(near(o, w + step), found.result);
+    } else {
+      found = continue_from(near(o, w), found.result);
+      if (std::abs(found.result.depth_m - w) <= tolerance(w)) return found;
+    }
+  }
+  found.result.unconverged = found.result.found;
+  return found;
+}
+
+int grid_steps(const DelayedSystem& s, const FdOptions& o) { return fd_grid(s, o).steps(); }
+
+// The radius of the convergence check's Newton step to the residual tolerance of a bracket's
+// radii (warm_search): ρ within about 3e-6, the step within 1e-4 of the tolerance.
+const ArnoldiOptions newton_radius{.tolerance = 1e-8};
+
+// The callables of `converged` for one system, and for a depth-dependent one.
+CriticalDepth converged_search(const DelayedSystem& s, Searched found, const FdOptions& o,
+                               RadiusSolver solver, double rel_tol, int coarse_steps) {
+  return converged(
+             std::move(found), o, rel_tol, coarse_steps,
+             [&](const FdOptions& g) { return grid_steps(s, g); },
+             [&](const FdOptions& g, double w) {
+               return search_from_hint(s, g, solver, rel_tol, coarse_steps, w, true, false);
+             },
+             [&](const FdOptions& g, double w) {
+               return FdDiscretization(s, g).dominant_multiplier(w, solver, newton_radius).radius;
+             })
+      .result;
+}
+
+CriticalDepth converged_search(const std::function<DelayedSystem(double)>& system_at,
+                               Searched found, const FdOptions& o, RadiusSolver solver,
+                               double rel_tol, int coarse_steps) {
+  const DelayedSystem at_limit = system_at(o.depth_max_m);
+  return converged(
+             std::move(found), o, rel_tol, coarse_steps,
+             [&](const FdOptions& g) { return grid_steps(at_limit, g); },
+             [&](const FdOptions& g, double w) {
+               return search_from_hint(system_at, g, solver, rel_tol, coarse_steps, w, true, false);
+             },
+             [&](const FdOptions& g, double w) {
+               return FdDiscretization(system_at(w), fd_grid(at_limit, g))
+                   .dominant_multiplier(w, solver, newton_radius)
+                   .radius;
+             })
+      .result;
+}
+
+}  // namespace
+
+CriticalDepth fd_critical_depth_by_radius(const DelayedSystem& s, const FdOptions& o,
+                                          RadiusSolver solver, double rel_tol, int coarse_steps) {
+  return converged_search(s, {search_by_radius(s, o, solver, rel_tol, coarse_steps)}, o, solver,
+                          rel_tol, coarse_steps);
+}
+
+CriticalDepth fd_critical_depth_by_radius(const std::function<DelayedSystem(double)>& system_at,
+                                          const FdOptions& o, RadiusSolver solver, double rel_tol,
+                                          int coarse_steps) {
+  return converged_search(system_at,
+                          {search_by_radius(system_at, o, solver, rel_tol, coarse_steps)}, o,
+                          solver, rel_tol, coarse_steps);
+}
+
+CriticalDepth fd_critical_depth_from_hint(const DelayedSystem& s, const FdOptions& o,
+                                          RadiusSolver solver, double rel_tol, int coarse_steps,
+                                          double hint_depth_m, bool hint_is_close) {
+  FdOptions sized = o;
+  if (o.refinements > 0) sized.cutting_depth_m = std::max(o.cutting_depth_m, hint_depth_m);
+  return converged_search(
+      s, search_from_hint(s, sized, solver, rel_tol, coarse_steps, hint_depth_m, hint_is_close),
+      sized, solver, rel_tol, coarse_steps);
 }
 
 CriticalDepth fd_critical_depth_from_hint(const std::function<DelayedSystem(double)>& system_at,
                                           const FdOptions& o, RadiusSolver solver, double rel_tol,
                                           int coarse_steps, double hint_depth_m,
                                           bool hint_is_close) {
-  const DelayedSystem at_limit = system_at(o.depth_max_m);
-  const FdGrid grid = fd_grid(at_limit, o);
-  long long evaluations = 0;
-  ScheduledRadii at = radii_of(system_at, grid, solver);
-  auto found = warm_search(at, radius_at_zero(at_limit, grid.period_s), o.depth_max_m,
-                           coarse_steps, rel_tol, hint_depth_m, hint_is_close, evaluations);
-  if (!found) {
-    CriticalDepth result = fd_critical_depth_by_radius(system_at, o, solver, rel_tol, coarse_steps);
-    result.evaluations += evaluations;
-    return result;
-  }
-  CriticalDepth result = found->result;
-  result.evaluations = evaluations;
-  std::tie(result.bifurcation, result.chatter_hz) =
-      FdDiscretization(system_at(found->hi), grid).mode_of(found->at_hi);
-  take_real_crossings(system_at, grid, o, result);
-  return result;
+  FdOptions sized = o;
+  if (o.refinements > 0) sized.cutting_depth_m = std::max(o.cutting_depth_m, hint_depth_m);
+  return converged_search(system_at,
+                          search_from_hint(system_at, sized, solver, rel_tol, coarse_steps,
+                                           hint_depth_m, hint_is_close),
+                          sized, solver, rel_tol, coarse_steps);
 }
 
 CriticalDepth fd_critical_depth_dense(const DelayedSystem& s, const FdOptions& o, double rel_tol,

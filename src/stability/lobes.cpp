@@ -117,8 +117,8 @@ void refine_with(const std::function<LobePoint(double, const LobePoint&, const L
 
 // Totals, warnings and time of a traced report.
 void finish_report(LobesReport& report, std::chrono::steady_clock::time_point start) {
-  std::string unresolved, truncated;
-  int unresolved_count = 0, truncated_count = 0;
+  std::string unresolved, truncated, unconverged;
+  int unresolved_count = 0, truncated_count = 0, unconverged_count = 0;
   const auto list = [](std::string& text, int& count, double rpm) {
     if (++count <= 10) text += (text.empty() ? "" : ", ") + format_value(rpm);
   };
@@ -126,6 +126,7 @@ void finish_report(LobesReport& report, std::chrono::steady_clock::time_point st
     report.evaluations += p.boundary.evaluations;
     if (p.boundary.unresolved > 0) list(unresolved, unresolved_count, p.rpm);
     if (p.boundary.truncated) list(truncated, truncated_count, p.rpm);
+    if (p.boundary.unconverged) list(unconverged, unconverged_count, p.rpm);
   }
   if (unresolved_count > 0) {
     report.status = LobesStatus::kUnresolvedCrossings;
@@ -140,6 +141,14 @@ void finish_report(LobesReport& report, std::chrono::steady_clock::time_point st
                       " speed(s) where the method could not cover every mode (the critical "
                       "depth there may be wrong; use the full discretization): " +
                       truncated + (truncated_count > 10 ? ", ..." : "") + " rpm";
+  }
+  if (unconverged_count > 0) {
+    if (report.status == LobesStatus::kSuccess) report.status = LobesStatus::kTruncated;
+    report.message += (report.message.empty() ? "" : "; ") + std::to_string(unconverged_count) +
+                      " speed(s) where the critical depth still moved by more than the "
+                      "tolerance when the time step was halved (it may be off by more; raise "
+                      "the refinements or lower the step): " +
+                      unconverged + (unconverged_count > 10 ? ", ..." : "") + " rpm";
   }
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

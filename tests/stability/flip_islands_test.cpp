@@ -18,6 +18,7 @@
 namespace cutdyn {
 namespace {
 
+using testing::confirming_grid;
 using testing::insperger_benchmark;
 
 // The multipliers of the dense transition matrix at `depth`.
@@ -194,7 +195,7 @@ TEST(FlipIslands, LobesAreCheckAtEverySpeedAndNeverTooDeep) {
       EXPECT_EQ(p.boundary.bifurcation, check.boundary.bifurcation) << where;
       const double depth = std::min(p.boundary.depth_m, check.boundary.depth_m);
       const auto rho = [&](double w) {
-        return FdDiscretization(milling_system(c.model, p.rpm, w), o.fd)
+        return FdDiscretization(milling_system(c.model, p.rpm, w), confirming_grid(o.fd, depth))
             .spectral_radius_arnoldi(w)
             .value;
       };

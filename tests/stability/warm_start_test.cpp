@@ -18,6 +18,7 @@
 namespace cutdyn {
 namespace {
 
+using testing::confirming_grid;
 using testing::four_mode_milling;
 using testing::insperger_benchmark;
 
@@ -60,7 +61,7 @@ LobesReport lobes(const Case& c, bool warm) {
 // unstable 0.2 % above it.
 bool is_crossing(const MillingProcess& m, double rpm, double depth) {
   const auto rho = [&](double w) {
-    return FdDiscretization(milling_system(m, rpm, w), kLobesFd)
+    return FdDiscretization(milling_system(m, rpm, w), confirming_grid(kLobesFd, depth))
         .spectral_radius_arnoldi(w)
         .value;
   };
@@ -217,7 +218,7 @@ TEST(WarmStart, NeverLessConservativeWhereAnIslandGrazes) {
     if (p.depth_m < 2.5e-3) ++islands;
     EXPECT_LE(q.depth_m, p.depth_m * (1.0 + kSameBoundary)) << rpm;
     if (std::abs(q.depth_m - p.depth_m) <= kSameBoundary * p.depth_m) continue;
-    const FdDiscretization fd(milling_system(is.model, rpm), kLobesFd);
+    const FdDiscretization fd(milling_system(is.model, rpm), confirming_grid(kLobesFd, q.depth_m));
     EXPECT_LT(fd.spectral_radius_arnoldi(q.depth_m * (1.0 - 2e-3)).value, 1.0) << rpm;
     EXPECT_GE(fd.spectral_radius_arnoldi(q.depth_m * (1.0 + 2e-3)).value, 1.0) << rpm;
   }
@@ -397,6 +398,7 @@ TEST(WarmStart, CloseHintsGiveTheSameBoundaryAndTwoRadiiWhenRight) {
     const DelayedSystem s = milling_system(p.model, p.rpm);
     FdOptions fd = kLobesFd;
     fd.depth_max_m = p.depth_max_m;
+    fd.refinements = 0;  // the warm search's own radii (the convergence check adds its own)
     const CriticalDepth exact =
         fd_critical_depth_by_radius(s, fd, RadiusSolver::kArnoldi, 1e-7, kCoarse);
     const CriticalDepth old =

@@ -1,15 +1,28 @@
 // Reference problems with known answers, shared by the tests.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/modal/modal_model.hpp"
 #include "cutdyn/simulate/milling_simulation.hpp"
+#include "cutdyn/stability/full_discretization.hpp"
 #include "cutdyn/stability/milling.hpp"
 #include "cutdyn/stability/turning.hpp"
 
 namespace cutdyn::testing {
+
+/// The grid on which a search with `fd` (FdOptions::refinements > 0) confirmed a boundary at
+/// `depth_m`: sized by the cut at that depth, the step halved. A test that checks the answer
+/// is a crossing (stable just below, unstable just above) checks it there.
+inline FdOptions confirming_grid(FdOptions fd, double depth_m) {
+  fd.cutting_depth_m = std::max(fd.cutting_depth_m, depth_m);
+  fd.max_step_fraction *= 0.5;
+  fd.window_steps *= 2;
+  fd.refinements = 0;
+  return fd;
+}
 
 // [Chikishev2018, table 2]: one tool mode in the feed direction.
 inline constexpr double kTable2NaturalHz = 228.8;

@@ -31,6 +31,10 @@ struct CriticalDepth {
   /// multi-frequency window could not reach every mode's frequency): the depth may be wrong.
   /// Reported by the lobe tracer as a warning.
   bool truncated = false;
+  /// The full discretization's boundary still moved by more than the search tolerance when
+  /// the step was halved the last time allowed (FdOptions::refinements): the depth may be off
+  /// by more than the tolerance. Reported by the lobe tracer as a warning.
+  bool unconverged = false;
 };
 
 }  // namespace cutdyn

@@ -47,6 +47,22 @@ struct FdOptions {
   /// a constant coefficient is discretized with a period of one step that divides the
   /// delay.
   int steps_per_period = 0;
+  /// Where a tooth cuts (a stretch between two breakpoints of H with H ≠ 0), at least this
+  /// many steps: a narrow contact window is otherwise crossed in one or two steps (0: no
+  /// minimum).
+  int window_steps = 0;
+  /// > 0: where a tooth cuts, a step is also at most max_step_fraction of the shortest period
+  /// of the structure stiffened by the cut at this depth, 2π/max|eig(A0 − w·E·ΣHk·C)| — the
+  /// cutting stiffness can be many times the structure's (0: the structure's periods only).
+  /// The spectral-radius searches set it to the boundary they find when `refinements` > 0.
+  double cutting_depth_m = 0.0;
+  /// Spectral-radius searches: once the boundary is found, the grid is sized by the cut at it
+  /// (cutting_depth_m) and the step halved (max_step_fraction and window_steps) until the
+  /// boundary moves by less than max(rel_tol·depth, the search's tolerance), at most this many
+  /// times; the answer is the finest grid's, CriticalDepth::unconverged when it still moved
+  /// (0: one grid, as given; docs/models/milling-stability.md, "The step and its convergence
+  /// check").
+  int refinements = 0;
   double depth_max_m = 0.03;     // search limit
   double samples_per_turn = 16;  // multiplier-angle samples per 2π of μ^(−τ/T) phase
   /// Interpolation within a step: 1 linear [Ding2010], 2 quadratic (see above). The reduced

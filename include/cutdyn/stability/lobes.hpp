@@ -42,7 +42,9 @@ enum class LobesStatus {
   /// those depths may be too large. `message` lists the speeds.
   kUnresolvedCrossings,
   /// At some speeds the method's approximation could not cover the case
-  /// (CriticalDepth::truncated); `message` lists the speeds (and any unresolved ones).
+  /// (CriticalDepth::truncated), or the full discretization's boundary did not converge as
+  /// its step was halved (CriticalDepth::unconverged); `message` lists the speeds (and any
+  /// unresolved ones).
   kTruncated,
 };
 

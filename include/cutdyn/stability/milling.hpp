@@ -55,10 +55,12 @@ struct MillingStabilityOptions {
   int harmonics = 5;
   bool exact_harmonics = false;
   /// Full discretization: quadratic interpolation (order 2) on steps of at most 1/32 of the
-  /// shortest structural period, the critical depth within 0.08 % of the converged one on the
-  /// reference cases (below the search tolerance; docs/models/milling-stability.md).
-  /// depth_max_m is taken from above.
-  FdOptions fd{.max_step_fraction = 1.0 / 32.0, .order = 2};
+  /// shortest period of the structure — where a tooth cuts, of the structure stiffened by the
+  /// cut at the boundary, with at least 8 steps per contact window — and the boundary
+  /// confirmed on half the step (up to 3 halvings): within 0.012 % of the converged one on
+  /// the tests' cases (docs/models/milling-stability.md, "The step and its convergence
+  /// check"). depth_max_m is taken from above.
+  FdOptions fd{.max_step_fraction = 1.0 / 32.0, .window_steps = 8, .refinements = 3, .order = 2};
   double rel_tol = 1e-3;  // critical depth, full discretization and helix iterations
   int coarse_steps = 16;  // depth scan before Brent's method (unstable islands)
   /// Lobes by the full discretization (trace_milling_lobes): start each speed's depth search
