@@ -206,7 +206,9 @@ CriticalDepth fd_critical_depth(const DelayedSystem& system, const FdOptions& op
 /// depth search"). The discretization is built once; each depth costs one spectral radius,
 /// dense or by Arnoldi (with dense fallback). Bifurcation type and chatter frequency come from
 /// the dominant multiplier just above the boundary (from the crossing's solution for a flip or
-/// fold crossing).
+/// fold crossing). With FdOptions::refinements > 0 the boundary is then confirmed on finer
+/// grids (sized by the cut at it, the step halved) and is the finest grid's; the same for every
+/// search below.
 CriticalDepth fd_critical_depth_by_radius(const DelayedSystem& system, const FdOptions& options,
                                           RadiusSolver solver, double rel_tol = 1e-6,
                                           int coarse_steps = 24);
