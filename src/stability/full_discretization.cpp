@@ -541,7 +541,7 @@ FdGrid fd_grid(const DelayedSystem& s, const FdOptions& o) {
   grid.period_s = T;
   const std::vector<DelayTerm> terms = s.delay_terms();
   std::vector<double> cuts{0.0};
-  for (const DelayTerm& t : s.delay_terms())
+  for (const DelayTerm& t : terms)
     for (double b : t.H.breakpoints_s)
       if (b > 0.0 && b < T) cuts.push_back(b);
   cuts.push_back(T);
