@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "bench_support.hpp"
+#include "cutdyn/core/units.hpp"
 #include "cutdyn/stability/full_discretization.hpp"
 #include "cutdyn/stability/lobes.hpp"
 #include "cutdyn/stability/milling.hpp"
@@ -156,10 +157,12 @@ void BM_MillingLobes(benchmark::State& state) {
 // rpm: the cost of the window that covers every mode, and how far the two agree.
 void BM_FourModeMethods(benchmark::State& state) {
   const auto method = static_cast<MillingMethod>(state.range(0));
+  const bool dense = state.range(1) != 0;
   const MillingProcess m = testing::four_mode_milling(0.5, true);
   MillingStabilityOptions o;
   o.method = method;
   o.depth_max_m = 0.03;
+  o.dense_eigenvalues = dense;
   LobesOptions grid;
   grid.rpm_min = 4000.0;
   grid.rpm_max = 16000.0;
@@ -167,8 +170,9 @@ void BM_FourModeMethods(benchmark::State& state) {
   grid.refine = false;
   grid.threads = 0;
   LobesReport report;
-  const std::string key =
-      method == MillingMethod::kMultiFrequency ? "four_mode_mf" : "four_mode_fd";
+  const std::string key = method == MillingMethod::kMultiFrequency
+                              ? (dense ? "four_mode_mf_dense" : "four_mode_mf")
+                              : "four_mode_fd";
   Result& r = timed(state, key, [&] {
     report = trace_lobes(
         [&](double rpm) {
@@ -190,6 +194,52 @@ void BM_FourModeMethods(benchmark::State& state) {
     state.counters["worst_rel_vs_fd_pct"] = 1e2 * worst;
   }
   state.counters["ms_per_speed"] = 1e3 * r.seconds / grid.rpm_steps;
+}
+
+// The `milling-variable-pitch` example (4 teeth 70/110/70/110°, 30° helix, a/D 0.5 down, the
+// Insperger–Stépán structure, depth limit 1 mm) by the multi-frequency method: 49 speeds
+// 4000–12 000 rpm with the refinement (as `cutdyn lobes` runs it), all threads; and the cost
+// per speed with the eigenvalues from Arnoldi's method (default) and from the dense solver (as
+// before 2026-12-02) at three speeds, one thread, same run.
+MillingProcess variable_pitch_example() {
+  MillingProcess m = testing::insperger_benchmark(0.5, true, true);
+  m.tool.teeth = 4;
+  m.tool.diameter_m = 0.02;
+  m.tool.helix_rad = units::deg_to_rad(30.0);
+  for (double d : {70.0, 110.0, 70.0, 110.0}) m.tool.pitch_rad.push_back(units::deg_to_rad(d));
+  return m;
+}
+
+void BM_VariablePitchMultiFrequency(benchmark::State& state) {
+  const MillingProcess m = variable_pitch_example();
+  MillingStabilityOptions o;
+  o.method = MillingMethod::kMultiFrequency;
+  o.depth_max_m = 1e-3;
+  LobesOptions grid;
+  grid.rpm_min = 4000.0;
+  grid.rpm_max = 12000.0;
+  grid.rpm_steps = 49;
+  grid.threads = 0;
+  LobesReport report;
+  Result& r = timed(state, "pitch_mf_lobes", [&] { report = trace_milling_lobes(m, o, grid); });
+  r.figures["speeds"] = static_cast<double>(report.points.size());
+  state.counters["speeds"] = static_cast<double>(report.points.size());
+}
+
+void BM_VariablePitchPerSpeed(benchmark::State& state) {
+  const bool dense = state.range(0) != 0;
+  const MillingProcess m = variable_pitch_example();
+  MillingStabilityOptions o;
+  o.method = MillingMethod::kMultiFrequency;
+  o.depth_max_m = 1e-3;
+  o.dense_eigenvalues = dense;
+  double depth = 0.0;
+  Result& r = timed(state, dense ? "pitch_mf_dense" : "pitch_mf_arnoldi", [&] {
+    for (double rpm : {5000.0, 8000.0, 11000.0})
+      depth += milling_critical_depth(m, rpm, o).boundary.depth_m;
+  });
+  r.figures["depth_sum"] = depth / static_cast<double>(state.iterations());
+  state.counters["ms_per_speed"] = 1e3 * r.seconds / 3.0;
 }
 
 // Accuracy of those lobes (not timed for the ratio): against the full discretization with
@@ -305,9 +355,18 @@ BENCHMARK(BM_MillingLobes)
     ->Unit(kMs)
     ->UseRealTime();
 BENCHMARK(BM_FourModeMethods)
-    ->ArgName("method")
-    ->Arg(static_cast<int>(MillingMethod::kFullDiscretization))
-    ->Arg(static_cast<int>(MillingMethod::kMultiFrequency))
+    ->ArgNames({"method", "dense"})
+    ->Args({static_cast<int>(MillingMethod::kFullDiscretization), 0})
+    ->Args({static_cast<int>(MillingMethod::kMultiFrequency), 0})
+    ->Args({static_cast<int>(MillingMethod::kMultiFrequency), 1})
+    ->Iterations(1)
+    ->Unit(kMs)
+    ->UseRealTime();
+BENCHMARK(BM_VariablePitchMultiFrequency)->Iterations(1)->Unit(kMs)->UseRealTime();
+BENCHMARK(BM_VariablePitchPerSpeed)
+    ->ArgName("dense")
+    ->Arg(0)
+    ->Arg(1)
     ->Iterations(1)
     ->Unit(kMs)
     ->UseRealTime();
@@ -427,12 +486,32 @@ void print_summary() {
   const auto fd4 = result("four_mode_fd"), mf4 = result("four_mode_mf");
   std::printf(
       "\nFour-mode case (480-1500 Hz), a/D 0.5 down, 24 speeds 4000-16000 rpm, all threads:\n");
+  const auto mf4_dense = result("four_mode_mf_dense");
   line("full discretization", fd4);
   line("multi-frequency (window covering every mode)", mf4);
-  ratio("ratio multi-frequency / full discretization", mf4, 1.0, fd4, 1.0);
+  line("multi-frequency, every eigenvalue dense (before 2026-12-02)", mf4_dense);
+  if (mf4 && fd4)
+    std::printf("  %-58s %11.2fx\n", "ratio multi-frequency / full discretization",
+                mf4->seconds / fd4->seconds);
+  if (mf4 && mf4_dense)
+    std::printf("  %-58s %11.2fx\n", "ratio dense / Arnoldi eigenvalues",
+                mf4_dense->seconds / mf4->seconds);
   if (mf4 && mf4->figures.count("worst_rel"))
     std::printf("  %-58s %11.3f %%\n", "  largest difference multi-frequency vs full discr.",
                 1e2 * mf4->figures.at("worst_rel"));
+  const auto pitch = result("pitch_mf_lobes"), arnoldi = result("pitch_mf_arnoldi"),
+             dense = result("pitch_mf_dense");
+  std::printf(
+      "\nVariable-pitch example (70/110 deg, 30 deg helix, a/D 0.5), multi-frequency method:\n");
+  if (pitch)
+    std::printf("  %-58s %12s  (%.0f speeds)\n", "49 speeds + refinement, all threads",
+                seconds_text(pitch->seconds).c_str(), pitch->figures.at("speeds"));
+  line("per speed (5000, 8000, 11000 rpm), Arnoldi, 1 thread", arnoldi, 3.0);
+  line("per speed, every eigenvalue dense (before 2026-12-02)", dense, 3.0);
+  if (arnoldi && dense)
+    std::printf("  %-58s %11.2fx  (depths equal to %.1e)\n", "ratio dense / Arnoldi",
+                dense->seconds / arnoldi->seconds,
+                std::abs(dense->figures.at("depth_sum") / arnoldi->figures.at("depth_sum") - 1.0));
   std::printf("\n");
 }
 

@@ -18,8 +18,10 @@
 #include <vector>
 
 #include "bench_support.hpp"
+#include "cutdyn/core/units.hpp"
 #include "cutdyn/stability/full_discretization.hpp"
 #include "cutdyn/stability/lobes.hpp"
+#include "cutdyn/stability/multi_frequency.hpp"
 #include "cutdyn/stability/tlusty.hpp"
 #include "cutdyn/stability/turning.hpp"
 #include "support/reference_cases.hpp"
@@ -178,6 +180,78 @@ void BM_VibrationLobes(benchmark::State& state, TurningMethod method) {
   state.counters["max_dev_vs_avg_pct"] = 1e2 * worst;
 }
 
+// ---- 3. the kinematic duty cycle by the multi-frequency method --------------------------
+//
+// The `turning-ultrasonic-speed` example: 20 kHz, 20 µm, a 40 mm workpiece (the duty cycle
+// from the cutting speed, 0.25 at 200 rpm to 1 at 2000 rpm), 200 speeds 200–2000 rpm, depth
+// limit 40 mm, all threads. Against the method before 2026-12-02 at two speeds, one thread: its
+// window (the shortest stretch between any two jumps, t = 0 counted as one: 49 harmonics at
+// 200 rpm for a contact of a quarter period) and every eigenvalue from the dense solver.
+TurningProcess kinematic_example() {
+  TurningProcess m = testing::table2_conventional();
+  VibrationAssist v;
+  v.frequency_hz = kVibrationHz;
+  v.amplitude_m = 20e-6;
+  v.workpiece_diameter_m = 0.04;
+  m.vibration = v;
+  return m;
+}
+
+// The window the method took before 2026-12-02 (see above), P >= 5.
+int harmonics_before(const DelayedSystem& s) {
+  if (s.H.constant) return 0;
+  const double T = s.H.period_s;
+  std::vector<double> b{0.0, T};
+  for (const DelayTerm& t : s.delay_terms())
+    b.insert(b.end(), t.H.breakpoints_s.begin(), t.H.breakpoints_s.end());
+  std::sort(b.begin(), b.end());
+  double shortest = 1.0;
+  for (std::size_t i = 0; i + 1 < b.size(); ++i)
+    if ((b[i + 1] - b[i]) / T > 1e-9) shortest = std::min(shortest, (b[i + 1] - b[i]) / T);
+  const double omega = units::kTwoPi / T;
+  return std::max(kHarmonics, static_cast<int>(std::ceil(response_band_rad_s(s) / omega) +
+                                               std::ceil(1.5 / shortest)));
+}
+
+void BM_KinematicLobes(benchmark::State& state) {
+  const TurningProcess model = kinematic_example();
+  TurningStabilityOptions o;
+  o.method = TurningMethod::kMultiFrequency;
+  o.depth_max_m = 0.04;
+  LobesOptions grid;
+  grid.rpm_min = 200.0;
+  grid.rpm_max = 2000.0;
+  grid.rpm_steps = kSpeeds;
+  grid.threads = 0;
+  LobesReport report;
+  Result& r = timed(state, "kinematic_mf", [&] {
+    report = trace_lobes(
+        [&](double rpm) { return to_point(rpm, turning_critical_depth(model, rpm, o)); }, grid);
+  });
+  r.figures["speeds"] = static_cast<double>(report.points.size());
+}
+
+void BM_KinematicTwoSpeeds(benchmark::State& state) {
+  const bool before = state.range(0) != 0;
+  const TurningProcess model = kinematic_example();
+  double depth = 0.0;
+  Result& r = timed(state, before ? "kinematic_before" : "kinematic_now", [&] {
+    for (double rpm : {200.0, 500.0}) {
+      const DelayedSystem s = turning_system(model, rpm);
+      MultiFrequencyOptions mf;
+      mf.depth_max_m = 0.04;
+      mf.harmonics = kHarmonics;
+      if (before) {
+        mf.harmonics = harmonics_before(s);
+        mf.exact_harmonics = true;
+        mf.dense_eigenvalues = true;
+      }
+      depth += multi_frequency_critical_depth(s, mf).depth_m;
+    }
+  });
+  r.figures["depth_sum"] = depth / static_cast<double>(state.iterations());
+}
+
 // Size of the problem each form solves at one speed.
 struct Sizes {
   double dense_dim = 0;    // d + r·L, from the library's own transition matrix
@@ -271,6 +345,14 @@ BENCHMARK(BM_DenseGridFull)
     ->Iterations(1)
     ->Unit(kMs)
     ->UseRealTime();
+BENCHMARK(BM_KinematicLobes)->Iterations(1)->Unit(kMs)->UseRealTime();
+BENCHMARK(BM_KinematicTwoSpeeds)
+    ->ArgName("before")
+    ->Arg(0)
+    ->Arg(1)
+    ->Iterations(1)
+    ->Unit(kMs)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(BM_VibrationLobes, reduced_fd, TurningMethod::kFullDiscretization)
     ->ArgName("threads")
     ->Arg(1)
@@ -361,6 +443,21 @@ void print_summary() {
         "multi-frequency %.2f %%\n",
         1e2 * fd1->figures.at("worst_vs_averaged"), 1e2 * mf1->figures.at("worst_vs_averaged"));
   }
+  const auto kin = result("kinematic_mf"), kin_now = result("kinematic_now"),
+             kin_before = result("kinematic_before");
+  std::printf(
+      "\n3. Kinematic duty cycle (20 kHz, 20 um, 40 mm workpiece), multi-frequency, 200-2000 "
+      "rpm\n");
+  if (kin)
+    std::printf("  %-58s %12s  (%.0f speeds)\n", "lobes, 200 speeds + refinement, all threads",
+                seconds_text(kin->seconds).c_str(), kin->figures.at("speeds"));
+  line("200 and 500 rpm, 1 thread", kin_now);
+  line("200 and 500 rpm, the method before 2026-12-02", kin_before);
+  if (kin_now && kin_before)
+    std::printf(
+        "  %-58s %11.1fx  (depths equal to %.1e)\n", "ratio before / now",
+        kin_before->seconds / kin_now->seconds,
+        std::abs(kin_before->figures.at("depth_sum") / kin_now->figures.at("depth_sum") - 1.0));
   const auto red5 = result("reduced/5000"), den5 = result("dense/5000");
   line("reduced FD, one speed, 5000 rpm", red5);
   line("dense FD (Brent to 1e-6), one speed, 5000 rpm", den5);

@@ -330,12 +330,35 @@ function schedule() {
   timer = setTimeout(refresh, 120);
 }
 
+// While the lobes are computed: the diagram dimmed at once, and after half a second a note
+// with the seconds spent (a slow method or a large case takes tens of seconds).
+let busyTimer = null, busyTicker = null;
+function setBusy(on) {
+  const note = $("busy");
+  clearTimeout(busyTimer);
+  clearInterval(busyTicker);
+  $("lobes-plot").classList.toggle("busy", on);
+  note.hidden = true;
+  if (!on) return;
+  const started = performance.now();
+  const show = () => {
+    note.hidden = false;
+    note.textContent = `Computing the lobes… ${Math.round((performance.now() - started) / 1000)} s`;
+  };
+  busyTimer = setTimeout(() => {
+    show();
+    busyTicker = setInterval(show, 1000);
+  }, 500);
+}
+
+let refreshes = 0;  // the number of the latest refresh: only it may end the busy state
 async function refresh() {
   const c = collectCase();
   if (!c) return;
   const query = {};
   if (!$("method").disabled) query.method = $("method").value;
-  $("lobes-plot").classList.add("busy");
+  const mine = ++refreshes;
+  setBusy(true);
   try {
     const lobes = await api("lobes", "/api/lobes", { body: c, query });
     if (!lobes) return;
@@ -345,7 +368,7 @@ async function refresh() {
   } catch (e) {
     showError(e.message);
   } finally {
-    $("lobes-plot").classList.remove("busy");
+    if (mine === refreshes) setBusy(false);
   }
 }
 

@@ -18,7 +18,7 @@ naming the key; ``.problems`` lists each problem.
 from __future__ import annotations
 
 import os
-from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence, Tuple, Union
 
 from . import _cutdyn
 from ._cutdyn import Case, CaseError, example, examples
@@ -126,15 +126,19 @@ class Simulation(_Table):
 
 
 def lobes(case: Case, method: str = "", target_depth_mm: Optional[float] = None,
-          threads: int = 0) -> Lobes:
+          threads: int = 0,
+          progress: Optional[Callable[[int, int], object]] = None) -> Lobes:
     """The lobe diagram of ``case`` (``cutdyn lobes``).
 
     ``method``: "auto", "zero-order", "closed-form", "multi-frequency",
     "full-discretization", "full-discretization-dense" (default: the case's [lobes] method);
     ``target_depth_mm``: also list the speed ranges stable at this depth and recommend a speed
-    (in ``report``); ``threads``: 0 for all cores. Releases the GIL; Ctrl-C stops it.
+    (in ``report``); ``threads``: 0 for all cores; ``progress``: called as ``progress(done,
+    total)`` with the speeds done so far, on the calling thread, at most every 50 ms and once
+    at the end (an exception it raises stops the run and is raised). Releases the GIL; Ctrl-C
+    stops it.
     """
-    return Lobes(_cutdyn.lobes(case, method, target_depth_mm, threads))
+    return Lobes(_cutdyn.lobes(case, method, target_depth_mm, threads, progress))
 
 
 def check(case: Case, rpm: float, depth_mm: float, method: str = "") -> Check:
@@ -165,15 +169,17 @@ class Sweep(_Table):
 
 def sweep(case: Case, key: str, values: Iterable[float], metric: str = "",
           rpm: Optional[float] = None, depth_mm: Optional[float] = None,
-          duration_s: Optional[float] = None, threads: int = 0) -> Sweep:
+          duration_s: Optional[float] = None, threads: int = 0,
+          progress: Optional[Callable[[int, int], object]] = None) -> Sweep:
     """Simulates a milling ``case`` at each of ``values`` of one case ``key`` ("force_law.t2_s",
     "modes[0].damping_ratio", "tool.teeth" …), as ``cutdyn simulate --sweep`` does; ``metric``
     names the one its text and report lead with. ``values`` may be any sequence of numbers;
     ``numpy.arange`` or ``numpy.linspace`` make the command line's FROM:STEP:TO. Every varied case
-    is checked before any runs. Releases the GIL; Ctrl-C stops it between runs.
+    is checked before any runs. ``progress``: called as ``progress(done, total)`` with the
+    runs done, as in :func:`lobes`. Releases the GIL; Ctrl-C stops it between runs.
     """
     return Sweep(_cutdyn.sweep(case, key, [float(v) for v in values], metric, rpm, depth_mm,
-                               duration_s, threads))
+                               duration_s, threads, progress))
 
 
 class Drive(_Table):

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
@@ -101,9 +102,20 @@ void commit_outputs(io::OutputTransaction& outputs, const Outputs& o, std::ostre
 
 std::function<void(int, int)> progress_reporter(std::ostream& err, std::string label) {
   if (!isatty(STDERR_FILENO)) return {};
-  return [&err, label](int done, int total) {
-    err << "\r" << label << ": " << done << "/" << total << (done == total ? "\n" : "")
-        << std::flush;
+  // Nothing for a run that ends within a second; then the count, rewritten in place, at most
+  // ten times a second, and the last one with its line end.
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  auto last = start;
+  bool shown = false;
+  return [&err, label, start, last, shown](int done, int total) mutable {
+    const auto now = Clock::now();
+    const bool finished = done == total;
+    if (!shown && now - start < std::chrono::seconds(1)) return;
+    if (!finished && now - last < std::chrono::milliseconds(100)) return;
+    last = now;
+    shown = true;
+    err << "\r" << label << ": " << done << "/" << total << (finished ? "\n" : "") << std::flush;
   };
 }
 

@@ -56,7 +56,8 @@ void check_output_folder(Validator& v, const char* flag, const std::string& path
 void write_csv(io::OutputTransaction& outputs, const std::string& path,
                const app::ReportTable& table);
 
-/// Progress on stderr while it is a terminal ("lobes: 120/200 speeds"); silent otherwise.
+/// Progress on stderr while it is a terminal ("lobes: 120/200"), once the run has taken a
+/// second (at most ten updates a second); silent otherwise.
 std::function<void(int, int)> progress_reporter(std::ostream& err, std::string label);
 
 using app::human;  // cutdyn/app/detail/text.hpp

@@ -63,12 +63,43 @@ void release_worker(Worker* worker);
 void run_on(Worker* worker, std::function<void()> task);
 }  // namespace detail
 
+/// A Python callable progress(done, total) fed with a job's progress reports: the job records
+/// the counts on its worker thread (reporter), and run_interruptible's polling loop calls the
+/// callable on the calling thread, with the GIL, when they have moved (deliver) — at most every
+/// 50 ms, and once at the end. An exception the callable raises stops the job and is raised.
+class ProgressRelay {
+ public:
+  explicit ProgressRelay(py::object callback) : callback_(std::move(callback)) {}
+  /// The job's progress report: records the counts, then stops the job once `cancel` is set.
+  std::function<void(int, int)> reporter(const std::atomic<bool>& cancel) {
+    return [this, &cancel](int done, int total) {
+      total_ = total;
+      done_ = done;
+      if (cancel) throw Cancelled();
+    };
+  }
+  /// Calls the callable if the count has moved since the last call (GIL held).
+  void deliver() {
+    const int done = done_;
+    if (callback_.is_none() || done < 0 || done == shown_) return;
+    shown_ = done;
+    callback_(done, total_.load());
+  }
+
+ private:
+  py::object callback_;
+  std::atomic<int> done_{-1}, total_{0};
+  int shown_ = -1;
+};
+
 /// Runs `job` with the GIL released on a kept worker thread. A signal on the calling thread
 /// (Ctrl-C) sets `cancel`, which a job's progress reports turn into Cancelled; the exception
 /// the signal's handler raised (KeyboardInterrupt) is raised once the job has stopped — also
-/// for a job without progress reports, which finishes first.
+/// for a job without progress reports, which finishes first. `relay`, if given, passes the
+/// job's progress to a Python callable (ProgressRelay).
 template <typename Result>
-Result run_interruptible(const std::function<Result(const std::atomic<bool>& cancel)>& job) {
+Result run_interruptible(const std::function<Result(const std::atomic<bool>& cancel)>& job,
+                         ProgressRelay* relay = nullptr) {
   std::atomic<bool> cancel{false};
   auto task = std::make_shared<std::packaged_task<Result()>>([&] { return job(cancel); });
   std::future<Result> result = task->get_future();
@@ -83,8 +114,24 @@ Result run_interruptible(const std::function<Result(const std::atomic<bool>& can
         cancel = true;
         interrupted.emplace();  // fetches the handler's exception
       }
+      if (relay && !interrupted) {
+        try {
+          relay->deliver();
+        } catch (py::error_already_set& e) {  // the callable raised: stop, and raise it
+          cancel = true;
+          interrupted.emplace(std::move(e));
+        }
+      }
     }
     detail::release_worker(worker);
+  }
+  if (relay && !interrupted &&
+      result.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+    try {
+      relay->deliver();  // the last count
+    } catch (py::error_already_set& e) {
+      interrupted.emplace(std::move(e));
+    }
   }
   if (interrupted) {
     try {

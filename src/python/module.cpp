@@ -27,18 +27,20 @@ namespace cutdyn::python {
 namespace {
 
 py::dict lobes(const io::Case& c, const std::string& method, std::optional<double> target_depth_mm,
-               int threads) {
+               int threads, py::object progress) {
   app::LobesRequest request;
   request.method = method;
   request.threads = threads;
   if (target_depth_mm) request.target_depth_m = units::mm_to_m(*target_depth_mm);
   request.names.depth = "target_depth_mm";
-  const app::LobesJobReport r =
-      run_interruptible<app::LobesJobReport>([&](const std::atomic<bool>& cancel) {
+  ProgressRelay relay(std::move(progress));
+  const app::LobesJobReport r = run_interruptible<app::LobesJobReport>(
+      [&](const std::atomic<bool>& cancel) {
         app::LobesRequest stoppable = request;
-        stoppable.progress = stop_on(cancel);
+        stoppable.progress = relay.reporter(cancel);
         return app::run_lobes(c, stoppable);
-      });
+      },
+      &relay);
   py::dict out;
   out["columns"] = columns_of(app::lobes_table(r));
   out["report"] = to_python(app::to_json(c, r));
@@ -90,16 +92,18 @@ py::dict simulate(const io::Case& c, std::optional<double> rpm, std::optional<do
 // metrics as float64 arrays (NaN where a cut has none), its report and text.
 py::dict sweep(const io::Case& c, const std::string& key, const std::vector<double>& values,
                const std::string& metric, std::optional<double> rpm, std::optional<double> depth_mm,
-               std::optional<double> duration_s, int threads) {
+               std::optional<double> duration_s, int threads, py::object progress) {
   const auto& names = app::milling_metric_names();
   const std::size_t column = app::metric_index(names, metric, names.front(), "metric", "request");
   const app::SimulateRequest request = simulate_request(rpm, depth_mm, duration_s);
   // (The job refuses a case that is not milling, naming it.)
-  const auto job =
-      run_interruptible<app::MillingSweepJobReport>([&](const std::atomic<bool>& cancel) {
+  ProgressRelay relay(std::move(progress));
+  const auto job = run_interruptible<app::MillingSweepJobReport>(
+      [&](const std::atomic<bool>& cancel) {
         return app::sweep_milling_case(c, app::Sweep{key, values}, stoppable(request, cancel),
-                                       threads, stop_on(cancel));
-      });
+                                       threads, relay.reporter(cancel));
+      },
+      &relay);
   py::dict out;
   out["columns"] = columns_of(app::sweep_table(job));
   out["report"] = to_python(app::to_json(c, job, names[column]));
@@ -166,12 +170,14 @@ PYBIND11_MODULE(_cutdyn, m) {
       },
       "The names of the built-in example cases.");
   m.def("lobes", &lobes, py::arg("case"), py::arg("method") = "",
-        py::arg("target_depth_mm") = py::none(), py::arg("threads") = 0);
+        py::arg("target_depth_mm") = py::none(), py::arg("threads") = 0,
+        py::arg("progress") = py::none());
   m.def("check", &check, py::arg("case"), py::arg("rpm"), py::arg("depth_mm"),
         py::arg("method") = "");
   m.def("sweep", &sweep, py::arg("case"), py::arg("key"), py::arg("values"), py::arg("metric") = "",
         py::arg("rpm") = py::none(), py::arg("depth_mm") = py::none(),
-        py::arg("duration_s") = py::none(), py::arg("threads") = 0);
+        py::arg("duration_s") = py::none(), py::arg("threads") = 0,
+        py::arg("progress") = py::none());
   m.def("simulate", &simulate, py::arg("case"), py::arg("rpm") = py::none(),
         py::arg("depth_mm") = py::none(), py::arg("duration_s") = py::none());
   add_jobs(m);

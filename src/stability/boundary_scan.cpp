@@ -1,13 +1,13 @@
 #include "cutdyn/stability/detail/boundary_scan.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
 
-#include <Eigen/Eigenvalues>
-
 #include "cutdyn/core/detail/roots.hpp"
+#include "cutdyn/stability/detail/large_eigenvalues.hpp"
 
 namespace cutdyn {
 namespace {
@@ -53,7 +53,9 @@ Eigen::VectorXcd eigenvector_2x2(const Eigen::MatrixXcd& k, cplx lambda) {
 
 class Evaluator {
  public:
-  Evaluator(const MatrixFunction& f, long long& count) : f_(f), count_(count) {}
+  // `threshold`: values() returns at least every eigenvalue of this modulus.
+  Evaluator(const MatrixFunction& f, long long& count, double threshold, bool dense)
+      : f_(f), count_(count), threshold_(threshold), solver_(dense) {}
 
   // Eigenvalues at θ, or an empty vector when the bound rules every eigenvalue out.
   Eigen::VectorXcd values(double theta) {
@@ -65,7 +67,7 @@ class Evaluator {
       eigenvalues_2x2(k_, v);
       return v;
     }
-    solver_.compute(k_, false);
+    solver_.compute(k_, threshold_, false);
     return solver_.eigenvalues();
   }
 
@@ -81,18 +83,15 @@ class Evaluator {
       if (!vector) return {best, {}};
       return {best, eigenvector_2x2(k_, best)};
     }
-    solver_.compute(k_, vector);
-    Eigen::Index best = 0;
-    solver_.eigenvalues().unaryExpr([&](cplx v) { return std::abs(v - target); }).minCoeff(&best);
-    if (!vector) return {solver_.eigenvalues()(best), {}};
-    return {solver_.eigenvalues()(best), solver_.eigenvectors().col(best)};
+    return solver_.nearest(k_, target, vector);
   }
 
  private:
   const MatrixFunction& f_;
   long long& count_;
+  double threshold_;
   Eigen::MatrixXcd k_;
-  Eigen::ComplexEigenSolver<Eigen::MatrixXcd> solver_;
+  detail::LargeEigenvalues solver_;
 };
 
 struct Candidate {
@@ -172,13 +171,14 @@ void find_candidates(Evaluator& ev, double theta_a, double theta_b, long long n,
 
 BoundaryScanReport scan_boundary(const MatrixFunction& evaluate, const BoundaryScanOptions& o) {
   BoundaryScanReport report;
-  Evaluator ev(evaluate, report.evaluations);
-  const double span = o.theta_max - o.theta_min;
-  const auto n = static_cast<long long>(std::max(1.0, std::ceil(span / o.theta_step)));
   // Eigenvalues that may matter at the next grid point: a margin below min_eigenvalue lets
   // an eigenvalue that crosses the real axis just above it be followed from a sample where
-  // it was slightly smaller.
+  // it was slightly smaller. The samples hold every eigenvalue of half that modulus, so that
+  // one that matters is matched to its own successor, not to another.
   const double keep = 0.5 * o.min_eigenvalue;
+  Evaluator ev(evaluate, report.evaluations, 0.5 * keep, o.dense);
+  const double span = o.theta_max - o.theta_min;
+  const auto n = static_cast<long long>(std::max(1.0, std::ceil(span / o.theta_step)));
 
   std::vector<Candidate> candidates;
   std::vector<BoundaryPoint> direct;  // real eigenvalues at the end points

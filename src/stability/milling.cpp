@@ -110,7 +110,7 @@ PeriodicCoefficient tooth_coefficient(const MillingProcess& m, double spindle, d
       double phase = std::fmod(edge + c, span);
       if (phase < 0.0) phase += span;
       const double t = phase / spindle;
-      if (t > 0.0 && t < period_s) h.breakpoints_s.push_back(t);
+      if (t >= 0.0 && t < period_s) h.breakpoints_s.push_back(t);
     }
   }
   std::sort(h.breakpoints_s.begin(), h.breakpoints_s.end());
@@ -247,6 +247,7 @@ MillingBoundary critical_depth_at(const MillingProcess& model, double rpm,
       MultiFrequencyOptions mf;
       mf.harmonics = o.method == MillingMethod::kZeroOrder ? 0 : o.harmonics;
       mf.exact_harmonics = o.exact_harmonics;
+      mf.dense_eigenvalues = o.dense_eigenvalues;
       // Uneven pitch: H has the period of a revolution, so the same resolution in frequency
       // needs z harmonics of the spindle frequency per harmonic of the tooth frequency.
       if (!model.tool.even_pitch()) {
@@ -258,15 +259,23 @@ MillingBoundary critical_depth_at(const MillingProcess& model, double rpm,
         out.boundary = multi_frequency_critical_depth(system_at(0.0), mf);
         break;
       }
-      // H depends on the depth: the boundary is where a = w_crit(H(a)).
+      // H depends on the depth: the boundary is where a = w_crit(H(a)). The margin's sign only
+      // asks whether H(a) has a boundary below a, and its value matters near the root: the
+      // frozen system's scan looks no deeper than 2a (where it finds nothing, the margin is
+      // −a). A shallow limit lets the scan leave out the small eigenvalues, which are most of
+      // its cost.
+      const auto frozen = [&](double a) {
+        MultiFrequencyOptions near = mf;
+        near.depth_max_m = std::min(2.0 * a, mf.depth_max_m);
+        return multi_frequency_critical_depth(system_at(a), near);
+      };
       const auto margin = [&](double a) {
-        const CriticalDepth c = multi_frequency_critical_depth(system_at(a), mf);
-        return a - (c.found ? c.depth_m : o.depth_max_m * 2.0);
+        const CriticalDepth c = frozen(a);
+        return a - (c.found ? c.depth_m : 2.0 * a);
       };
       out.boundary = critical_depth_by_bracketing(margin, o.depth_max_m, o.coarse_steps, o.rel_tol);
       if (out.boundary.found) {
-        const CriticalDepth at =
-            multi_frequency_critical_depth(system_at(out.boundary.depth_m), mf);
+        const CriticalDepth at = frozen(out.boundary.depth_m);
         out.boundary.chatter_hz = at.chatter_hz;
         out.boundary.bifurcation = at.bifurcation;
         out.boundary.truncated = at.truncated;

@@ -7,6 +7,7 @@
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/stability/detail/boundary_scan.hpp"
+#include "cutdyn/stability/detail/large_eigenvalues.hpp"
 
 namespace cutdyn {
 
@@ -55,21 +56,24 @@ double response_band_rad_s(const DelayedSystem& system) {
 
 namespace {
 
-// The shortest stretch of the period between two jumps of any term's coefficient, as a
-// fraction of the period (t = 0 counted as a jump: conservative); 1 when nothing jumps.
+// The shortest contact pulse or gap of any term's coefficient: the shortest stretch between
+// two of its jumps, taken around the period (the last jump to the first one of the next
+// period), as a fraction of the period; 1 when a term has at most one jump. Each term by
+// itself: the harmonics of K couple through each term's own coefficients (the header), so the
+// short stretches between one tooth's jump and another's (uneven pitch) do not spread them.
 double shortest_segment_fraction(const DelayedSystem& system) {
   const double T = system.H.period_s;
-  std::vector<double> b;
-  for (const DelayTerm& term : system.delay_terms())
-    b.insert(b.end(), term.H.breakpoints_s.begin(), term.H.breakpoints_s.end());
-  if (b.empty()) return 1.0;
-  b.push_back(0.0);
-  b.push_back(T);
-  std::sort(b.begin(), b.end());
   double shortest = 1.0;
-  for (std::size_t i = 0; i + 1 < b.size(); ++i) {
-    const double length = (b[i + 1] - b[i]) / T;
-    if (length > 1e-9) shortest = std::min(shortest, length);  // coinciding jumps: one
+  for (const DelayTerm& term : system.delay_terms()) {
+    std::vector<double> b;
+    for (double t : term.H.breakpoints_s) b.push_back(std::fmod(std::fmod(t, T) + T, T));
+    if (b.size() < 2) continue;
+    std::sort(b.begin(), b.end());
+    b.push_back(b.front() + T);
+    for (std::size_t i = 0; i + 1 < b.size(); ++i) {
+      const double length = (b[i + 1] - b[i]) / T;
+      if (length > 1e-9) shortest = std::min(shortest, length);  // coinciding jumps: one
+    }
   }
   return shortest;
 }
@@ -89,7 +93,7 @@ int multi_frequency_harmonics(const DelayedSystem& system, const MultiFrequencyO
   // within about 0.5 % of the full discretization (docs/models/milling-stability.md).
   constexpr double kHarmonicsPerPulse = 1.5;
   const double needed = std::ceil(response_band_rad_s(system) / Omega) +
-                        std::ceil(kHarmonicsPerPulse / shortest_segment_fraction(system));
+                        std::ceil(kHarmonicsPerPulse / shortest_segment_fraction(system) - 1e-9);
   if (needed > o.max_harmonics) {
     if (truncated) *truncated = true;
     return std::max(o.harmonics, o.max_harmonics);
@@ -133,7 +137,8 @@ class HillMatrix {
         hk.push_back(t.H.fourier(m));
         if (periodic || m == 0) norm_ += hk.back().norm();
       }
-      if (r_ == 2) h0_.push_back(hk[static_cast<std::size_t>(max_index)]);
+      if (r_ == 1) h1_.emplace_back(hk.begin(), hk.end());
+      if (r_ == 2) h2_.emplace_back(hk.begin(), hk.end());
       h_.push_back(std::move(hk));
     }
   }
@@ -142,19 +147,6 @@ class HillMatrix {
 
   void build(double w, int lo, int hi, Eigen::MatrixXcd& K) {
     const int n = hi - lo + 1;
-    if (n == 1 && r_ == 2) {
-      // One harmonic of a two-direction structure (the zero-order method in milling, at every
-      // frequency of its scan): the same product in fixed-size 2×2 arithmetic.
-      const double wp = w + lo * omega_;
-      G_.resize(1);
-      system_.frequency_response(wp, G_[0]);
-      Eigen::Matrix2cd sum = Eigen::Matrix2cd::Zero();
-      for (std::size_t k = 0; k < terms_.size(); ++k)
-        sum += h0_[k] * (std::polar(1.0, -wp * terms_[k].delay_s) - 1.0);
-      K.resize(2, 2);
-      K.noalias() = Eigen::Matrix2cd(G_[0]) * sum;
-      return;
-    }
     G_.resize(static_cast<std::size_t>(n));
     regen_.resize(terms_.size());
     for (std::vector<cplx>& r : regen_) r.resize(static_cast<std::size_t>(n));
@@ -166,6 +158,11 @@ class HillMatrix {
         regen_[k][i] = std::polar(1.0, -wp * terms_[k].delay_s) - 1.0;
     }
     K.resize(r_ * n, r_ * n);
+    // One or two directions (turning, milling): fixed-size arithmetic, several times faster
+    // than dynamic blocks; with many harmonics, building K costs as much as the eigenvalues
+    // the scan needs of it.
+    if (r_ == 1) return build_fixed(lo, hi, h1_, G1_, K);
+    if (r_ == 2) return build_fixed(lo, hi, h2_, G2_, K);
     sum_.resize(r_, r_);
     for (int p = lo; p <= hi; ++p) {
       for (int q = lo; q <= hi; ++q) {
@@ -190,15 +187,37 @@ class HillMatrix {
   std::vector<Eigen::MatrixXcd> G_;
   std::vector<std::vector<cplx>> regen_;
   Eigen::MatrixXcd sum_;  // Σ_k H_k(p − q)·(e^(−iω_q τ_k) − 1), reused
-  std::vector<Eigen::Matrix2cd> h0_;  // H_k(0) of each term, fixed-size (two directions)
+  // The same in fixed size, for one and two directions.
+  std::vector<std::vector<Eigen::Matrix<cplx, 1, 1>>> h1_;
+  std::vector<Eigen::Matrix<cplx, 1, 1>> G1_;
+  std::vector<std::vector<Eigen::Matrix2cd>> h2_;
+  std::vector<Eigen::Matrix2cd> G2_;
+
+  template <int R>
+  void build_fixed(int lo, int hi, const std::vector<std::vector<Eigen::Matrix<cplx, R, R>>>& h,
+                   std::vector<Eigen::Matrix<cplx, R, R>>& G, Eigen::MatrixXcd& K) const {
+    using Block = Eigen::Matrix<cplx, R, R>;
+    G.assign(G_.begin(), G_.end());
+    for (int q = lo; q <= hi; ++q) {
+      const auto j = static_cast<std::size_t>(q - lo);
+      for (int p = lo; p <= hi; ++p) {
+        Block sum = Block::Zero();
+        for (std::size_t k = 0; k < terms_.size(); ++k)
+          sum += h[k][static_cast<std::size_t>(p - q + max_index_)] * regen_[k][j];
+        K.template block<R, R>(R * (p - lo), R * (q - lo)).noalias() =
+            G[static_cast<std::size_t>(p - lo)] * sum;
+      }
+    }
+  }
 };
 
 // Real eigenvalues λ >= min_eigenvalue of K: boundary points at the scan's ends, where K is
 // similar to its complex conjugate (real eigenvalues are real up to rounding).
 void real_boundary_points(const Eigen::MatrixXcd& K, double theta, double min_eigenvalue,
-                          std::vector<BoundaryPoint>& points, long long& evaluations) {
+                          bool dense, std::vector<BoundaryPoint>& points, long long& evaluations) {
   ++evaluations;
-  Eigen::ComplexEigenSolver<Eigen::MatrixXcd> solver(K, true);
+  detail::LargeEigenvalues solver(dense);
+  solver.compute(K, min_eigenvalue, true);
   const Eigen::VectorXcd& values = solver.eigenvalues();
   for (Eigen::Index i = 0; i < values.size(); ++i) {
     const cplx v = values(i);
@@ -241,17 +260,20 @@ CriticalDepth multi_frequency_critical_depth(const DelayedSystem& system,
   scan.theta_max = w_max;
   scan.theta_step = step;
   scan.min_eigenvalue = min_eigenvalue;
+  scan.dense = o.dense_eigenvalues;
   BoundaryScanReport report = scan_boundary(evaluate, scan);
   if (periodic) {
     // Flip (ω = Ω/2) and fold (ω = 0) boundaries: real eigenvalues at the ends.
     Eigen::MatrixXcd K;
     if (0.5 * Omega <= w_limit) {
       hill.build(0.5 * Omega, lo, hi, K);
-      real_boundary_points(K, 0.5 * Omega, min_eigenvalue, report.points, report.evaluations);
+      real_boundary_points(K, 0.5 * Omega, min_eigenvalue, o.dense_eigenvalues, report.points,
+                           report.evaluations);
     }
     hill.build(0.0, -P, P, K);
     if (K.norm() >= min_eigenvalue)
-      real_boundary_points(K, 0.0, min_eigenvalue, report.points, report.evaluations);
+      real_boundary_points(K, 0.0, min_eigenvalue, o.dense_eigenvalues, report.points,
+                           report.evaluations);
     std::sort(report.points.begin(), report.points.end(),
               [](const BoundaryPoint& a, const BoundaryPoint& b) { return a.depth < b.depth; });
   }

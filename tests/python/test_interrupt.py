@@ -100,3 +100,50 @@ def test_ctrl_c_stops_one_long_simulation():
     # Turning too: 60 s of the vibration-assisted cut (about 3.4 s).
     what, seconds = interrupted_after(0.5, "turning-ultrasonic", "simulate", "duration_s=60")
     assert what == "interrupted" and seconds < 1.5, (what, seconds)
+
+
+def test_progress_callback_counts_the_speeds_and_can_stop_the_run():
+    # The callable is called on the calling thread with (done, total): counts that never
+    # decrease, the last one the whole grid; it can stop the run by raising.
+    d = cutdyn.example("milling-insperger").to_dict()
+    d["lobes"]["rpm_steps"] = 3000
+    d["lobes"]["refine"] = False
+    case = cutdyn.Case(d)
+    import threading
+
+    calls = []
+    caller = threading.get_ident()
+    lobes = cutdyn.lobes(case, method="full-discretization", threads=1,
+                         progress=lambda done, total: calls.append((done, total,
+                                                                    threading.get_ident())))
+    assert len(lobes.spindle_rpm) == 3000
+    assert calls, "no progress reported"
+    assert all(t == caller for _, _, t in calls)
+    assert all(total == 3000 for _, total, _ in calls)
+    dones = [done for done, _, _ in calls]
+    assert dones == sorted(dones) and len(set(dones)) == len(dones)
+    assert dones[-1] == 3000
+
+    class Stop(Exception):
+        pass
+
+    def stop(done, total):
+        if done >= 10:
+            raise Stop()
+
+    d["lobes"]["rpm_steps"] = 100000
+    start = time.time()
+    try:
+        cutdyn.lobes(cutdyn.Case(d), method="full-discretization", threads=1, progress=stop)
+        assert False, "the callback's exception was not raised"
+    except Stop:
+        pass
+    assert time.time() - start < 10.0  # stopped, not run to the end (about 17 s)
+
+
+def test_progress_callback_of_a_sweep():
+    case = cutdyn.example("milling-insperger")
+    calls = []
+    cutdyn.sweep(case, "modes[0].damping_ratio", [0.011, 0.012, 0.013], rpm=9000, depth_mm=0.2,
+                 progress=lambda done, total: calls.append((done, total)))
+    assert calls and calls[-1] == (3, 3)

@@ -2,11 +2,15 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/stability/milling.hpp"
 #include "cutdyn/stability/tlusty.hpp"
+#include "cutdyn/stability/turning.hpp"
 #include "support/reference_cases.hpp"
 
 namespace cutdyn {
@@ -139,6 +143,51 @@ TEST(MultiFrequency, HarmonicWindowReachesTheResponseBand) {
     o.harmonics = 0;  // the averaged solution is never raised
     EXPECT_EQ(multi_frequency_harmonics(s, o), 0);
   }
+}
+
+// The spread of the pulse's spectrum in the window (multi_frequency_harmonics) is each
+// regenerative term's own: with uneven pitch a tooth's contact, not the stretches between the
+// jumps of different teeth; and around the period, so a contact starting just after t = 0 is
+// one pulse. The window this gives agrees with the full discretization to 0.5 % (the method's
+// stated accuracy, measured 0.14 % at most) on three cutters and immersions.
+TEST(MultiFrequency, PulseSpreadIsEachTermsOwn) {
+  struct Cutter {
+    std::vector<double> pitch_deg;
+    double immersion;
+    bool down;
+    double window_fraction;  // one tooth's contact, as a fraction of the revolution
+    double depth_max_m;
+  };
+  for (const Cutter& c : {Cutter{{70, 110, 70, 110}, 0.5, true, 0.25, 1e-3},
+                          Cutter{{80, 100, 80, 100}, 0.1, false, 0.1024, 5e-3},
+                          Cutter{{60, 100, 90, 110}, 1.0, true, 0.5, 1e-3}}) {
+    MillingProcess m = testing::insperger_benchmark(c.immersion, true, c.down);
+    m.tool.teeth = 4;
+    m.tool.pitch_rad.clear();
+    for (double d : c.pitch_deg) m.tool.pitch_rad.push_back(units::deg_to_rad(d));
+    for (double rpm : {5000.0, 8000.0, 11000.0}) {
+      const std::string where =
+          "a/D " + std::to_string(c.immersion) + " at " + std::to_string(rpm) + " rpm";
+      const DelayedSystem s = milling_system(m, rpm);
+      MultiFrequencyOptions o;
+      o.harmonics = 1;
+      const double omega = units::kTwoPi / s.H.period_s;
+      const int band = static_cast<int>(std::ceil(response_band_rad_s(s) / omega));
+      EXPECT_EQ(multi_frequency_harmonics(s, o),
+                band + static_cast<int>(std::ceil(1.5 / c.window_fraction - 1e-6)))
+          << where;
+      const auto [a, b] = reference_and_multi_frequency(m, rpm, c.depth_max_m);
+      ASSERT_TRUE(a.boundary.found && b.boundary.found) << where;
+      EXPECT_NEAR(b.boundary.depth_m, a.boundary.depth_m, 0.005 * a.boundary.depth_m) << where;
+    }
+  }
+  // Vibration-assisted turning: a contact of 0.245 of the period starting at 0.03 of it.
+  DelayedSystem s = turning_system(table2_vibration(), 200.0);
+  s.H = windowed_coefficient(s.H.mean(0.0, s.H.period_s) / 0.6, s.H.period_s, 0.245,
+                             0.03 * s.H.period_s);
+  MultiFrequencyOptions o;
+  o.harmonics = 1;
+  EXPECT_EQ(multi_frequency_harmonics(s, o), 1 + 7);  // band under Ω; ceil(1.5/0.245)
 }
 
 TEST(MultiFrequency, FlipBoundaryAtTheEndOfTheScan) {

@@ -104,6 +104,15 @@ def test_the_page_draws_changes_checks_and_simulates(server, browser):
     wait(browser, lambda d: not d.find_element(By.ID, "error").is_displayed())
     assert all("status of 400" in e["message"] for e in console_errors(browser))
 
+    # The busy note: hidden once the lobes are drawn; while a computation runs it appears after
+    # half a second with the seconds spent, and goes when it ends.
+    assert not browser.find_element(By.ID, "busy").is_displayed()
+    browser.execute_script("setBusy(true);")
+    wait(browser, lambda d: d.find_element(By.ID, "busy").is_displayed(), 5)
+    assert "Computing the lobes" in browser.find_element(By.ID, "busy").text
+    browser.execute_script("setBusy(false);")
+    assert not browser.find_element(By.ID, "busy").is_displayed()
+
     # Another example: a turning case with vibration draws its conventional lobes too.
     Select(browser.find_element(By.ID, "example")).select_by_value("turning-ultrasonic")
     wait(browser, lambda d: "turning-ultrasonic" in d.find_element(By.ID, "lobes-caption").text, 60)

@@ -40,6 +40,9 @@ struct MultiFrequencyOptions {
   int max_harmonics = 150;
   double depth_max_m = 0.03;     // search limit
   double samples_per_turn = 16;  // frequency samples per 2π of delay phase
+  /// Every eigenvalue of K by the dense Schur decomposition (the method before 2026-12-02, for
+  /// comparisons), not only those that can reach 1/depth_max by Arnoldi's method.
+  bool dense_eigenvalues = false;
 
   std::vector<std::string> validate() const;
 };

@@ -34,6 +34,10 @@ struct BoundaryScanOptions {
   /// Also take real eigenvalues at the end points θ_min and θ_max (where K is real for the
   /// Floquet methods: multipliers +1 and −1).
   bool real_at_ends = false;
+  /// Every eigenvalue at every sample by the dense Schur decomposition, instead of those that
+  /// can matter by Arnoldi's method and inverse iteration (detail/large_eigenvalues.hpp): the
+  /// reference for tests and benchmarks.
+  bool dense = false;
 };
 
 struct BoundaryPoint {
