@@ -261,17 +261,20 @@ MillingBoundary critical_depth_at(const MillingProcess& model, double rpm,
       }
       // H depends on the depth: the boundary is where a = w_crit(H(a)). The margin's sign only
       // asks whether H(a) has a boundary below a, and its value matters near the root: the
-      // frozen system's scan looks no deeper than 2a (where it finds nothing, the margin is
-      // −a). A shallow limit lets the scan leave out the small eigenvalues, which are most of
-      // its cost.
+      // frozen system's scan looks no deeper than 2a (a > 0; where it finds nothing, the
+      // margin is taken as a − 4a). A shallow limit lets the scan leave out the small
+      // eigenvalues, which are most of its cost.
+      const auto limit = [&](double a) {
+        return a > 0.0 ? std::min(2.0 * a, mf.depth_max_m) : mf.depth_max_m;
+      };
       const auto frozen = [&](double a) {
         MultiFrequencyOptions near = mf;
-        near.depth_max_m = std::min(2.0 * a, mf.depth_max_m);
+        near.depth_max_m = limit(a);
         return multi_frequency_critical_depth(system_at(a), near);
       };
       const auto margin = [&](double a) {
         const CriticalDepth c = frozen(a);
-        return a - (c.found ? c.depth_m : 2.0 * a);
+        return a - (c.found ? c.depth_m : 2.0 * limit(a));
       };
       out.boundary = critical_depth_by_bracketing(margin, o.depth_max_m, o.coarse_steps, o.rel_tol);
       if (out.boundary.found) {

@@ -128,6 +128,25 @@ TEST(MillingHelix, MultiFrequencyAndFullDiscretizationAgree) {
   }
 }
 
+TEST(MillingHelix, MultiFrequencyFindsABoundaryFarBelowTheLimit) {
+  // The helical multi-frequency search asks each trial depth a for a boundary no deeper than
+  // 2a; at a = 0 (the first coarse step already unstable) the whole limit. A 30° helix on the
+  // Insperger–Stépán structure, a/D 0.5, depth limit 30 mm: boundaries of 0.1–0.6 mm, inside
+  // the first coarse cell (1.9 mm), against the full discretization to 0.5 %.
+  MillingProcess m = insperger_benchmark(0.5);
+  m.tool.helix_rad = units::deg_to_rad(30.0);
+  for (double rpm : {5000.0, 9500.0, 14000.0}) {
+    const MillingBoundary fd =
+        milling_critical_depth(m, rpm, options(MillingMethod::kFullDiscretization, 0.03));
+    const MillingBoundary mf =
+        milling_critical_depth(m, rpm, options(MillingMethod::kMultiFrequency, 0.03));
+    ASSERT_TRUE(fd.boundary.found && mf.boundary.found) << rpm;
+    EXPECT_LT(fd.boundary.depth_m, 0.03 / 16.0) << rpm;
+    EXPECT_NEAR(mf.boundary.depth_m, fd.boundary.depth_m, 5e-3 * fd.boundary.depth_m) << rpm;
+    EXPECT_EQ(mf.boundary.bifurcation, fd.boundary.bifurcation) << rpm;
+  }
+}
+
 TEST(MillingPitch, EqualPitchAnglesGiveTheEvenCutter) {
   // Four teeth given as four equal pitch angles: one delay term per tooth over a revolution
   // instead of one term over a tooth period. Same boundary to the step error.
