@@ -191,7 +191,7 @@ TEST(LargeEigenvalues, EdgesFallBackToTheDenseSolverOrStopAtAnInvariantSpace) {
   // Rank two: both nonzero eigenvalues, exactly (invariant space after three vectors).
   Eigen::MatrixXcd a = random_matrix(64), b = random_matrix(64);
   const Eigen::MatrixXcd rank2 = a.leftCols(2) * b.topRows(2);
-  const Eigen::ComplexEigenSolver<Eigen::MatrixXcd> dense(rank2.topLeftCorner(64, 64), false);
+  const Eigen::ComplexEigenSolver<Eigen::MatrixXcd> dense(rank2, false);
   solver.compute(rank2, 1e-6, false);
   int matched = 0;
   for (Eigen::Index i = 0; i < dense.eigenvalues().size(); ++i) {
