@@ -245,13 +245,14 @@ function drawLobes() {
                  y(p.critical_depth_mm)]), [x(rpm[rpm.length - 1]), y(0)]];
   el("polygon", { points: under.map(([a, b]) => `${a},${b}`).join(" "), fill: "var(--stable)",
                   class: "stable" }, inside);
-  // The boundary, Hopf (solid) and flip (dashed) runs told apart.
+  // The boundary, Hopf (solid), flip (dashed) and fold (dotted) runs told apart.
+  const styles = { flip: ["var(--flip)", "6 3"], fold: ["var(--fold)", "2 2"] };
+  const style = (kind) => styles[kind] || ["var(--hopf)", "none"];
   let run = [];
   const flush = (kind) => {
     if (run.length > 1)
-      polyline(run, { stroke: kind === "flip" ? "var(--flip)" : "var(--hopf)",
-                      "stroke-width": 2, "stroke-dasharray": kind === "flip" ? "6 3" : "none",
-                      class: `boundary ${kind}` }, inside);
+      polyline(run, { stroke: style(kind)[0], "stroke-width": 2,
+                      "stroke-dasharray": style(kind)[1], class: `boundary ${kind}` }, inside);
   };
   let kind = pts[0].bifurcation;
   for (const p of pts) {
@@ -270,9 +271,10 @@ function drawLobes() {
                  "stroke-width": 2, "stroke-dasharray": dash }, legend);
     el("text", { x: area.right - 140, y: ly + 4 }, legend).textContent = text;
   };
-  item(0, "var(--hopf)", "none", "Hopf boundary");
-  item(1, "var(--flip)", "6 3", "flip boundary");
-  if (pts[0].conventional_depth_mm !== undefined) item(2, "#777", "2 3", "conventional");
+  const items = [[...style("hopf"), "Hopf boundary"], [...style("flip"), "flip boundary"]];
+  if (pts.some((p) => p.bifurcation === "fold")) items.push([...style("fold"), "fold boundary"]);
+  if (pts[0].conventional_depth_mm !== undefined) items.push(["#777", "2 3", "conventional"]);
+  items.forEach(([color, dash, text], i) => item(i, color, dash, text));
   if (state.point) {
     const [r, d] = state.point;
     el("circle", { cx: x(r), cy: y(Math.min(d, top)), r: 6, fill: "none", stroke: "#000",

@@ -42,6 +42,20 @@ class _Result:
     def __str__(self) -> str:
         return self._text
 
+    def _headline(self) -> str:
+        lines = self._text.strip().splitlines()
+        return lines[0].strip() if lines else ""
+
+    def __repr__(self) -> str:
+        """One line: the kind of result and the first line of its text."""
+        return f"<cutdyn.{type(self).__name__}: {self._headline()}>"
+
+    def _repr_html_(self) -> str:
+        """Jupyter: the text the command line prints."""
+        import html
+
+        return f"<pre>{html.escape(self._text)}</pre>"
+
     @property
     def warnings(self) -> List[str]:
         """Where the method is weak, as the command line warns."""
@@ -58,6 +72,12 @@ class _Table(_Result):
         self.columns = dict(native["columns"])
         for name, values in self.columns.items():
             setattr(self, name, values)
+
+    def __repr__(self) -> str:
+        """The kind, the first line of the text, and the table's size and columns."""
+        rows = len(next(iter(self.columns.values()))) if self.columns else 0
+        return (f"<cutdyn.{type(self).__name__}: {self._headline()}; {rows} rows of "
+                f"{', '.join(self.columns)}>")
 
     def to_pandas(self) -> Any:
         """The table as a pandas DataFrame (pandas must be installed)."""

@@ -161,6 +161,23 @@ MillingProcess milling_process_as_given(const io::Case& c) {
   return m;
 }
 
+void require_depth(Validator& v, const std::string& name, double depth_m) {
+  const double mm = depth_m * 1e3;
+  if (!(mm > 0.0 && mm <= io::kMaxDepthMm))
+    v.add(fmt::format("{} = {:.6g} mm: must be greater than 0 and at most {:.0f} mm", name, mm,
+                      io::kMaxDepthMm));
+}
+
+std::string spindle_warning(const io::Case& c, double rpm, const std::string& name) {
+  if (!(rpm > c.spindle_max_rpm)) return {};
+  return fmt::format(
+      "{} = {:.6g} rpm is above the spindle limit of {:.6g} rpm (spindle_max_rpm{}): the "
+      "answer is for a speed no spindle of this case reaches; if yours does, raise "
+      "spindle_max_rpm",
+      name, rpm, c.spindle_max_rpm,
+      c.spindle_max_rpm == io::kDefaultSpindleMaxRpm ? ", the default" : "");
+}
+
 LobesOptions lobes_grid(const io::Case& c, int threads) {
   LobesOptions grid;
   grid.rpm_min = c.lobes.rpm_min;

@@ -4,6 +4,7 @@
 #include <limits>
 #include <utility>
 
+#include "cutdyn/app/detail/text.hpp"
 #include "cutdyn/core/detail/parallel.hpp"
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
@@ -12,6 +13,7 @@
 namespace cutdyn::app {
 namespace {
 
+using units::m_to_mm;
 using units::m_to_um;
 
 // The cutter's force and deflection over the whole cut, one sample per distinct instant.
@@ -92,12 +94,14 @@ void require_drive_case(const io::Case& c) {
 
 DriveReport run_drive(const io::Case& c, const DriveCut& cut, const DriveOptions& options) {
   require_drive_case(c);
-  DriveReport run{cut, options, {}, 0.0};
+  DriveReport run{cut, options, {}, 0.0, false, {}};
   DriveCut& s = run.cut;
   s.options.max_recorded_samples = 4'000'000;  // the whole run at full resolution
   MillingSimulationResult r;
   rethrow_as(s.where, "simulate", [&] { r = simulate_milling(s.cut, s.options); });
   s.options.progress = nullptr;  // the report outlives the caller's progress
+  run.chatter = r.chatter;
+  run.verdict = r.verdict();
   // The drives run over the whole cut and are summarised over their periodic steady state at
   // the spindle revolution (the force's period); the traces shown are of the last summary
   // revolutions.
@@ -122,6 +126,13 @@ DriveReport run_drive(const io::Case& c, const DriveCut& cut, const DriveOptions
     run.axes.push_back(run_axis(c, std::move(axis), traces, feed, steady, run.traces_from_s));
   }
   return run;
+}
+
+std::string chatter_warning(const DriveReport& run) {
+  if (!run.chatter) return {};
+  return "the cut chatters at " + human(run.cut.rpm) + " rpm, depth " +
+         human(m_to_mm(run.cut.cut.width_m)) + " mm (the simulation's verdict: " + run.verdict +
+         "): the ripples, kδ and ε are those of a chattering cut, not of the steady process";
 }
 
 const std::vector<std::string>& drive_metric_names() {
@@ -222,6 +233,7 @@ DriveReport run_drive(const io::Case& c, const SimulateRequest& request,
 DriveSweepReport run_drive_sweep(const io::Case& c, const Sweep& sweep,
                                  const SimulateRequest& request, const DriveOptions& options,
                                  int threads, const std::function<void(int, int)>& progress) {
+  require_values(sweep);
   return run_drive_sweep(
       c, sweep.key, sweep.values, [&](const io::Case& v) { return milling_setup(v, request); },
       options, threads, progress);

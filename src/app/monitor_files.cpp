@@ -2,16 +2,19 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <initializer_list>
 #include <stdexcept>
 #include <system_error>
 
 #include "cutdyn/core/error.hpp"
+#include "cutdyn/io/inputs.hpp"
 
 namespace cutdyn::app {
 namespace {
@@ -51,8 +54,12 @@ void reject_unknown(const json& j, std::initializer_list<const char*> known,
 }
 
 json read_json_file(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw InvalidInput({"is a folder, not a file"}, path);
   std::ifstream in(path);
   if (!in) throw InvalidInput({"cannot read the file"}, path);
+  io::note_input(path);
   try {
     return json::parse(in);
   } catch (const json::exception& e) {  // parse_error, and out_of_range for a number like 1e999
@@ -288,6 +295,12 @@ LogInput::LogInput(const std::string& path) : buffer_(new char[kChunk]) {
   fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd_ < 0) throw InvalidInput({"cannot read: " + std::generic_category().message(errno)}, path);
   own_ = true;
+  struct stat s {};
+  if (::fstat(fd_, &s) == 0 && S_ISDIR(s.st_mode)) {
+    ::close(fd_);  // (a constructor that throws has no destructor run)
+    throw InvalidInput({"is a folder, not a current log"}, path);
+  }
+  io::note_input(path);
 }
 
 LogInput::LogInput(std::string name, std::string text)

@@ -42,14 +42,19 @@ void write_text(std::ostream& out, const io::Case& c, const DriveSweepReport& sw
   for (const DriveAxisReport& a : sweep.runs.front().axes)
     out << fmt::format("  {:>16}", a.axis.name + ": " + metric);
   out << "\n";
+  bool any_chatter = false;
   for (std::size_t i = 0; i < sweep.runs.size(); ++i) {
     out << fmt::format("  {:>14}", human(sweep.values[i]));
     for (const DriveAxisReport& a : sweep.runs[i].axes) {
       const double m = drive_metrics(a)[column];
       out << fmt::format("  {:>16}", std::isnan(m) ? "–" : human(m, 4));
     }
-    out << "\n";
+    out << (sweep.runs[i].chatter ? "  chatter" : "") << "\n";
+    any_chatter = any_chatter || sweep.runs[i].chatter;
   }
+  if (any_chatter)
+    out << "  chatter: the cut chatters there (the simulation's verdict): the values are those "
+           "of a chattering cut\n";
 }
 
 // The metric of each axis against the swept key.
@@ -80,6 +85,7 @@ void write_text(std::ostream& out, const io::Case& c, const DriveReport& run) {
       << human(m_to_mm(s.cut.width_m)) << " mm, feed " << human(m_to_mm(s.cut.feed_per_tooth_m))
       << " mm/tooth; summaries over each axis' periodic steady state, traces of the last "
       << human(s.options.summary_revolutions) << " revolutions\n";
+  if (run.chatter) out << "  warning: " << chatter_warning(run) << "\n";
   for (const DriveAxisReport& a : run.axes) {
     const FeedDriveResult& d = a.drive;
     out << fmt::format("  axis {} ({} drive, {:.4g} mm/s):\n", a.axis.name,

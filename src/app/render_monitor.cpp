@@ -130,7 +130,7 @@ void write_text(std::ostream& out, const CalibrateReport& report) {
 }
 
 void write_text(std::ostream& report, const EstimateReport& r) {
-  report << "monitor estimate: " << r.samples << " samples";
+  report << "cutdyn monitor estimate: " << r.samples << " samples";
   if (!r.band.empty()) report << ", " << plural(r.alarms.size(), "alarm", "alarms");
   report << "\n";
   for (const EstimatedAxis& e : r.axes) describe_filter(report, e.axis, e.filter);

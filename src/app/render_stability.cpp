@@ -40,7 +40,7 @@ void print_table(const LobesJobReport& r, std::ostream& out) {
       row += fmt::format("  {:>20.4f}{}", m_to_mm((*ref)[i].depth_m), (*ref)[i].found ? ' ' : '+');
     out << row << "\n";
   }
-  if (stride > 1) out << "  (every " << stride << "th speed shown; --out F.csv writes them all)\n";
+  if (stride > 1) out << "  (one speed in " << stride << " shown; --out F.csv writes them all)\n";
   if (std::any_of(pts.begin(), pts.end(), [](const LobePoint& p) { return !p.boundary.found; }))
     out << "  + stable up to the depth limit at that speed\n";
 }
@@ -51,10 +51,13 @@ void print_findings(const LobesJobReport& r, std::ostream& out) {
   out << "\n  lowest critical depth " << depth_text(pts[r.lowest].boundary) << " at "
       << human(pts[r.lowest].rpm) << " rpm\n";
   if (!r.pockets.empty()) {
-    out << "  stable pockets (local maxima):";
-    for (std::size_t k = 0; k < r.pockets.size(); ++k)
+    out << "  stable pockets (local maxima; 90 % of the depth over):";
+    for (std::size_t k = 0; k < r.pockets.size(); ++k) {
+      const SpeedRange w = pocket_width(pts, r.pockets[k]);
       out << (k ? ";" : "") << " " << human(pts[r.pockets[k]].rpm) << " rpm, "
-          << depth_text(pts[r.pockets[k]].boundary);
+          << depth_text(pts[r.pockets[k]].boundary) << " (" << human(w.rpm_from) << "–"
+          << human(w.rpm_to) << " rpm)";
+    }
     out << "\n";
   }
   if (!r.target_depth_m) return;
@@ -96,20 +99,57 @@ io::PlotSpec figure(const LobesJobReport& r) {
   spec.title = r.title;
   spec.x_label = "spindle speed (rpm)";
   spec.y_label = "critical depth of cut (mm)";
-  spec.y_min = 0.0;
-  spec.y_max = m_to_mm(r.depth_max_m);
   io::PlotSeries main{r.label, {}, {}, "stable-region"};
   io::PlotSeries reference{r.reference_label, {}, {}, "lines"};
+  // The kinds of boundary told apart: Hopf the line itself, flip and fold marked on it.
+  io::PlotSeries flip{"flip boundary (period doubling)", {}, {}, "points"};
+  io::PlotSeries fold{"fold boundary (a multiplier at +1)", {}, {}, "points"};
+  double top = 0.0;
+  bool limit_reached = false;
   for (std::size_t i = 0; i < pts.size(); ++i) {
+    const double depth = m_to_mm(pts[i].boundary.depth_m);
     main.x.push_back(pts[i].rpm);
-    main.y.push_back(m_to_mm(pts[i].boundary.depth_m));
+    main.y.push_back(depth);
+    top = std::max(top, depth);
+    limit_reached = limit_reached || !pts[i].boundary.found;
+    if (pts[i].boundary.found && pts[i].boundary.bifurcation == Bifurcation::kFlip) {
+      flip.x.push_back(pts[i].rpm);
+      flip.y.push_back(depth);
+    } else if (pts[i].boundary.found && pts[i].boundary.bifurcation == Bifurcation::kFold) {
+      fold.x.push_back(pts[i].rpm);
+      fold.y.push_back(depth);
+    }
     if (ref) {
       reference.x.push_back(pts[i].rpm);
       reference.y.push_back(m_to_mm((*ref)[i].depth_m));
+      top = std::max(top, reference.y.back());
+      limit_reached = limit_reached || !(*ref)[i].found;
     }
   }
+  const double limit = m_to_mm(r.depth_max_m);
+  if (r.target_depth_m) top = std::max(top, m_to_mm(*r.target_depth_m));
+  // The depth axis fits the lobes; the search's limit is drawn only where a speed reaches it.
+  spec.y_min = 0.0;
+  spec.y_max = limit_reached || !(top > 0.0) ? limit : std::min(limit, 1.15 * top);
   spec.series.push_back(std::move(main));
   if (ref) spec.series.push_back(std::move(reference));
+  if (!flip.x.empty()) spec.series.push_back(std::move(flip));
+  if (!fold.x.empty()) spec.series.push_back(std::move(fold));
+  if (limit_reached && !pts.empty())
+    spec.series.push_back({"depth limit of the search (lobes.depth_max_mm): stable up to it",
+                           {pts.front().rpm, pts.back().rpm},
+                           {limit, limit},
+                           "dashed"});
+  if (r.target_depth_m && !pts.empty()) {
+    const double target = m_to_mm(*r.target_depth_m);
+    spec.series.push_back(
+        {"target depth", {pts.front().rpm, pts.back().rpm}, {target, target}, "dashed"});
+    if (r.advice.found)
+      spec.series.push_back({"recommended speed " + human(r.advice.rpm, 5) + " rpm",
+                             {r.advice.rpm},
+                             {target},
+                             "marker"});
+  }
   return spec;
 }
 

@@ -128,10 +128,12 @@ ReportTable sweep_table(const DriveSweepReport& sweep) {
   const auto& names = drive_metric_names();
   ReportTable out{{sweep.key, "axis"}, {}};
   out.columns.insert(out.columns.end(), names.begin(), names.end());
+  out.columns.emplace_back("chatter");
   for (std::size_t i = 0; i < sweep.runs.size(); ++i)
     for (const DriveAxisReport& a : sweep.runs[i].axes) {
       std::vector<io::CsvCell> row{sweep.values[i], a.axis.name};
       for (double m : drive_metrics(a)) row.emplace_back(m);  // NaN: none for this drive
+      row.emplace_back(static_cast<long long>(sweep.runs[i].chatter ? 1 : 0));
       out.rows.push_back(std::move(row));
     }
   return out;
@@ -458,8 +460,12 @@ json to_json(const io::Case& c, const DriveReport& run) {
          {"load_lag_um", d.load_lag_max_m ? json(m_to_um(*d.load_lag_max_m)) : json()},
          {"program_error_um", a.program_error_m ? json(m_to_um(*a.program_error_m)) : json()}});
   }
-  return {{"command", "drive"}, {"schema_version", kJsonSchemaVersion}, {"case", io::to_json(c)},
-          {"source", c.source}, {"spindle_rpm", run.cut.rpm},           {"axes", std::move(axes)}};
+  json warnings = json::array();
+  if (run.chatter) warnings.push_back(chatter_warning(run));
+  return {
+      {"command", "drive"},     {"schema_version", kJsonSchemaVersion}, {"case", io::to_json(c)},
+      {"source", c.source},     {"spindle_rpm", run.cut.rpm},           {"chatter", run.chatter},
+      {"verdict", run.verdict}, {"warnings", std::move(warnings)},      {"axes", std::move(axes)}};
 }
 
 json to_json(const io::Case& c, const DriveSweepReport& sweep, const std::string& metric) {
@@ -475,7 +481,10 @@ json to_json(const io::Case& c, const DriveSweepReport& sweep, const std::string
         p[names[k]] = std::isnan(m[k]) ? json() : json(m[k]);
       axes.push_back(std::move(p));
     }
-    points.push_back({{"value", sweep.values[i]}, {"axes", std::move(axes)}});
+    points.push_back({{"value", sweep.values[i]},
+                      {"chatter", sweep.runs[i].chatter},
+                      {"verdict", sweep.runs[i].verdict},
+                      {"axes", std::move(axes)}});
   }
   return {{"command", "drive"},         {"schema_version", kJsonSchemaVersion},
           {"case", io::to_json(c)},     {"source", c.source},

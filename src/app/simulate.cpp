@@ -34,6 +34,7 @@ TurningSimulationOptions turning_options(const io::Case& c, const SimulateReques
     v.add(
         "cutting.uncut_chip_thickness_mm: missing (required by `cutdyn simulate`: the feed per "
         "revolution)");
+  if (depth_m) require_depth(v, r.depth_m ? r.names.depth : "simulate.depth_mm", *depth_m);
   v.throw_if_any(c.source);
   TurningSimulationOptions o;
   o.rpm = *rpm;
@@ -64,6 +65,8 @@ TurningSimulationJobReport simulate_turning_case(const io::Case& c, const Simula
   const std::string where = r.where(c);
   rethrow_as(where, "simulate", [&] { check_speed_domain(model, o.rpm); });
   report.description = describe_turning(c, model);
+  if (std::string w = spindle_warning(c, o.rpm, r.rpm ? r.names.rpm : "simulate.rpm"); !w.empty())
+    report.warnings.push_back(std::move(w));
   struct Run {
     std::string name;
     TurningProcess model;
@@ -102,9 +105,7 @@ MillingSetup milling_setup(const io::Case& c, const SimulateRequest& r) {
     v.add("operation.feed_per_tooth_mm: missing (required by `cutdyn simulate` for milling)");
   if (rpm && !(*rpm > 0.0))
     v.add((r.rpm ? n.rpm : "simulate.rpm") + " = " + human(*rpm) + ": must be positive");
-  if (depth_m && !(*depth_m > 0.0))
-    v.add((r.depth_m ? n.depth : "simulate.depth_mm") + " = " + human(m_to_mm(*depth_m)) +
-          ": must be positive");
+  if (depth_m) require_depth(v, r.depth_m ? n.depth : "simulate.depth_mm", *depth_m);
   if (r.duration_s && !(*r.duration_s > 0.0))
     v.add(n.duration + " = " + human(*r.duration_s) + ": must be positive");
   if (!c.force_law && !c.cutting.kt_pa)
@@ -133,6 +134,12 @@ MillingSetup milling_setup(const io::Case& c, const SimulateRequest& r) {
   for (const auto& p : cut.validate()) problems.add("simulate: " + p);
   for (const auto& p : o.validate()) problems.add("simulate: " + p);
   problems.throw_if_any(s.where);
+  const ModalModel modes = cut.process.structure_modes();
+  if (cut.regenerative && !modes.modes.empty())
+    rethrow_as(s.where, r.rpm ? n.rpm : "simulate.rpm", [&] {
+      check_milling_speed(cut.process.tool.teeth, units::rad_per_s_to_hz(modes.max_natural_rad_s()),
+                          s.rpm);
+    });
   return s;
 }
 
@@ -143,6 +150,8 @@ MillingSimulationJobReport simulate_milling_case(const io::Case& c, const Simula
   rethrow_as(s.where, "simulate", [&] { report.result = simulate_milling(s.cut, s.options); });
   report.setup.options.progress = nullptr;  // the report outlives the caller's progress
   report.s1_law = c.force_law.has_value();
+  if (std::string w = spindle_warning(c, s.rpm, r.rpm ? r.names.rpm : "simulate.rpm"); !w.empty())
+    report.warnings.push_back(std::move(w));
   // The stability prediction at this speed, for the mechanistic law with regeneration.
   if (!report.s1_law && s.cut.regenerative && !s.cut.process.structure_modes().modes.empty()) {
     // The simulated process itself (its [[frf]] tables read and fitted once, by the setup).
@@ -243,7 +252,8 @@ Sweep parse_sweep(const std::string& spec, const std::string& flag, const std::s
   if (!(step > 0.0)) return fail("STEP must be positive");
   if (to < from) return fail("TO must not be less than FROM");
   const double count = std::floor((to - from) / step + 1e-9) + 1.0;
-  if (count > 10000.0) return fail(fmt::format("{:.0f} values; at most 10000", count));
+  if (count > static_cast<double>(kMaxSweepValues))
+    return fail(fmt::format("{:.0f} values; at most {}", count, kMaxSweepValues));
   for (int i = 0; i < static_cast<int>(count); ++i) {
     const double x = from + step * i;
     // Clean decimal values (0.1·3 = 0.30000000000000004 → 0.3).
@@ -252,9 +262,20 @@ Sweep parse_sweep(const std::string& spec, const std::string& flag, const std::s
   return sweep;
 }
 
+void require_values(const Sweep& sweep) {
+  if (sweep.values.empty())
+    throw InvalidInput({"values: none given (a sweep of " + sweep.key + " needs at least one)"},
+                       "request");
+  if (sweep.values.size() > kMaxSweepValues)
+    throw InvalidInput({"values: " + std::to_string(sweep.values.size()) + " given, at most " +
+                        std::to_string(kMaxSweepValues)},
+                       "request");
+}
+
 MillingSweepJobReport sweep_milling_case(const io::Case& c, const Sweep& sweep,
                                          const SimulateRequest& r, int threads,
                                          const std::function<void(int, int)>& progress) {
+  require_values(sweep);
   std::vector<MillingSetup> setups;
   for (double value : sweep.values) {
     const io::Case varied = io::with_value(c, sweep.key, value);

@@ -168,23 +168,30 @@ void turning_check(const io::Case& c, const CheckRequest& request, CheckJobRepor
   }
 }
 
+}  // namespace
+
 // ---- milling ----------------------------------------------------------------------------
 
-// The full discretization's work grows with the structural periods in one tooth period.
-void check_milling_speed(const MillingProcess& m, double rpm) {
+void check_milling_speed(int teeth, double top_mode_hz, double rpm) {
   constexpr double kMaxModeCycles = 500.0;
   Validator v;
   v.require_positive("spindle speed", rpm, "rpm");
   v.throw_if_any();
-  const double tooth_period = 60.0 / (rpm * m.tool.teeth);
-  const double f_top = units::rad_per_s_to_hz(m.modal.max_natural_rad_s());
-  if (tooth_period * f_top > kMaxModeCycles) {
-    v.add(
-        fmt::format("spindle speed = {} rpm: one tooth period spans {:.0f} periods of the {} Hz "
-                    "mode; the milling stability methods take at most {:.0f} (raise the speed)",
-                    human(rpm), tooth_period * f_top, human(f_top), kMaxModeCycles));
+  const double tooth_period = 60.0 / (rpm * teeth);
+  if (tooth_period * top_mode_hz > kMaxModeCycles) {
+    v.add(fmt::format(
+        "spindle speed = {} rpm: one tooth period spans {:.0f} periods of the {} Hz mode; the "
+        "milling stability methods and the regenerative simulation take at most {:.0f} (raise "
+        "the speed)",
+        human(rpm), tooth_period * top_mode_hz, human(top_mode_hz), kMaxModeCycles));
   }
   v.throw_if_any();
+}
+
+namespace {
+
+void check_milling_speed(const MillingProcess& m, double rpm) {
+  app::check_milling_speed(m.tool.teeth, units::rad_per_s_to_hz(m.modal.max_natural_rad_s()), rpm);
 }
 
 MillingStabilityOptions milling_options(const io::Case& c, MillingMethod method) {
@@ -292,7 +299,7 @@ void milling_check(const io::Case& c, const CheckRequest& request, CheckJobRepor
 LobesJobReport run_lobes(const io::Case& c, const LobesRequest& request) {
   if (request.target_depth_m) {
     Validator v;
-    v.require_positive(request.names.depth, m_to_mm(*request.target_depth_m), "mm");
+    require_depth(v, request.names.depth, *request.target_depth_m);
     v.throw_if_any(request.names.where);
   }
   LobesJobReport r;
@@ -303,6 +310,8 @@ LobesJobReport run_lobes(const io::Case& c, const LobesRequest& request) {
   for (std::size_t i = 1; i < pts.size(); ++i)
     if (pts[i].boundary.depth_m < pts[r.lowest].boundary.depth_m) r.lowest = i;
   r.pockets = stable_pockets(pts, 3);
+  if (std::string w = spindle_warning(c, c.lobes.rpm_max, "lobes.rpm_max"); !w.empty())
+    r.warnings.push_back(std::move(w));
   if (request.target_depth_m) {
     r.target_depth_m = request.target_depth_m;
     // The ends found between the traced speeds (the margin holds over the whole interval).
@@ -315,7 +324,7 @@ LobesJobReport run_lobes(const io::Case& c, const LobesRequest& request) {
 CheckJobReport run_check(const io::Case& c, const CheckRequest& request) {
   Validator v;
   v.require_positive(request.names.rpm, request.rpm, "rpm");
-  v.require_positive(request.names.depth, m_to_mm(request.depth_m), "mm");
+  require_depth(v, request.names.depth, request.depth_m);
   v.throw_if_any(request.names.where);
   CheckJobReport r;
   r.rpm = request.rpm;
@@ -324,6 +333,8 @@ CheckJobReport run_check(const io::Case& c, const CheckRequest& request) {
     milling_check(c, request, r);
   else
     turning_check(c, request, r);
+  if (std::string w = spindle_warning(c, request.rpm, request.names.rpm); !w.empty())
+    r.warnings.push_back(std::move(w));
   r.stable = !r.boundary.found || request.depth_m < r.boundary.depth_m;
   if (r.boundary.depth_m > 0.0)
     r.margin = (r.boundary.depth_m - request.depth_m) / r.boundary.depth_m;

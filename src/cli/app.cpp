@@ -10,8 +10,10 @@
 #include "cli/commands.hpp"
 #include "cutdyn/app/drive.hpp"
 #include "cutdyn/app/simulate.hpp"
+#include "cutdyn/core/detail/parallel.hpp"
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/io/case_file.hpp"
+#include "cutdyn/io/inputs.hpp"
 #include "cutdyn/io/output.hpp"
 
 namespace cutdyn::cli {
@@ -37,7 +39,7 @@ bool writes_to_standard_output(const CLI::App& command) {
     const CLI::Option* option = command.get_option_no_throw(name);
     if (!option || option->count() == 0) continue;
     for (const std::string& value : option->results())
-      if (value == "-") return true;
+      if (io::standard_stream(value) == 1) return true;
   }
   return false;
 }
@@ -75,7 +77,7 @@ void add_stability_commands(CLI::App& app, Commands& c) {
                         " (overrides [lobes].method; zero-order and closed-form are one method: "
                         "in turning the closed form, in milling the averaged solution)");
   lobes->add_option("--threads", c.lobes.threads, "threads (default: all cores)")
-      ->check(CLI::Range(0, 1024));
+      ->check(CLI::Range(0, kMaxThreads));
   lobes->add_option("--target-depth-mm", c.lobes.target_depth_mm,
                     "list the spindle-speed ranges that are stable at this depth and recommend "
                     "the speed with the widest margin");
@@ -116,7 +118,7 @@ void add_simulate_command(CLI::App& app, Commands& c) {
   sim->add_option("--metric", c.sim.metric,
                   "with --sweep: the metric to plot (" + metrics + "; default force_pulsation)");
   sim->add_option("--threads", c.sim.threads, "with --sweep: threads (default: all cores)")
-      ->check(CLI::Range(0, 1024));
+      ->check(CLI::Range(0, kMaxThreads));
 }
 
 void add_drive_command(CLI::App& app, Commands& c) {
@@ -147,7 +149,7 @@ void add_drive_command(CLI::App& app, Commands& c) {
   drive->add_option("--metric", c.drive.metric,
                     "with --sweep: " + metrics + " (default epsilon_um)");
   drive->add_option("--threads", c.drive.threads, "with --sweep: threads (default: all cores)")
-      ->check(CLI::Range(0, 1024));
+      ->check(CLI::Range(0, kMaxThreads));
 }
 
 void add_plan_and_force_commands(CLI::App& app, Commands& c) {
@@ -239,9 +241,15 @@ int run_example(const Commands& c, std::ostream& out) {
 int dispatch(Commands& c, CLI::App& app, std::ostream& out, std::ostream& err) {
   if (c.example->parsed()) return run_example(c, out);
   io::OutputTransaction::set_standard_output(&out);
-  struct ResetStandardOutput {
-    ~ResetStandardOutput() { io::OutputTransaction::set_standard_output(nullptr); }
-  } reset_standard_output;
+  io::OutputTransaction::set_standard_error(&err);
+  struct ResetStandardStreams {
+    ~ResetStandardStreams() {
+      io::OutputTransaction::set_standard_output(nullptr);
+      io::OutputTransaction::set_standard_error(nullptr);
+    }
+  } reset_standard_streams;
+  // The files the command reads, which none of its outputs may replace.
+  io::InputScope inputs;
   std::ostream* report = &out;
   for (const CLI::App* sub : {c.lobes_cmd, c.check_cmd, c.sim_cmd, c.drive_cmd, c.plan_cmd,
                               c.force_cmd, c.identify_cmd, c.fit_cmd})

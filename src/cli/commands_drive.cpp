@@ -20,6 +20,8 @@ constexpr const char* kDefaultDriveCase = "ermolaev2020";
 // Each axis' warnings on stderr, "cutdyn: warning: SOURCE: [PREFIX]axis x: …".
 void warn(std::ostream& err, const std::string& source, const std::string& prefix,
           const app::DriveReport& run) {
+  if (run.chatter)
+    err << "cutdyn: warning: " << source << ": " << prefix << app::chatter_warning(run) << "\n";
   for (const app::DriveAxisReport& a : run.axes)
     for (const std::string& w : a.drive.warnings)
       err << "cutdyn: warning: " << source << ": " << prefix << "axis " << a.axis.name << ": " << w
@@ -69,9 +71,9 @@ void write_traces(const DriveArgs& args, const app::DriveReport& run,
 }  // namespace
 
 int run_drive(const DriveArgs& args, std::ostream& out, std::ostream& err) {
-  check_outputs(args.outputs, {args.case_path});
-  if (!args.currents.empty()) check_outputs({args.currents, "", ""});
-  const io::Case c = load_case(args.case_path, kDefaultDriveCase, err);
+  std::vector<OutputFlag> files = output_flags(args.outputs);
+  files.push_back({"--currents", args.currents});
+  const io::Case c = load_case(args.case_path, kDefaultDriveCase, err, files);
   if (!args.sweep.empty()) {
     if (!args.currents.empty())
       throw InvalidInput({"--currents: not with --sweep"}, "command line");

@@ -26,8 +26,9 @@ app::FitRequest fit_request(const FitArgs& args) {
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used != args.modes.size() || n < 1 || n > 40)
-      v.add("--modes = " + args.modes + ": must be auto or a whole number from 1 to 40");
+    if (used != args.modes.size() || n < 1 || n > kMaxFitModes)
+      v.add("--modes = " + args.modes + ": must be auto or a whole number from 1 to " +
+            std::to_string(kMaxFitModes));
     r.fit.modes = n;
   }
   if (!args.band.empty()) {
@@ -63,6 +64,13 @@ int run_fit(const FitArgs& args, std::ostream& out, std::ostream& err) {
   check_outputs(args.outputs, {args.file});
   const app::FitRequest request = fit_request(args);
   const app::FitJobReport r = app::run_fit(request);
+  // A modes file without modes would stand for a structure with none: nothing is written.
+  if (r.fit.modes.empty() && !args.outputs.csv.empty())
+    throw InvalidInput(
+        {"--out = " + args.outputs.csv + ": no mode found in the band " + human(r.fit.lo_hz) + "–" +
+         human(r.fit.hi_hz) + " Hz, so no [[modes]] to write" +
+         (args.band.empty() ? "" : " (widen --band " + args.band + "?)")},
+        r.source);
   app::write_text(out, r);
   for (const std::string& w : r.warnings)
     err << "cutdyn: warning: " << r.source << ": " << w << "\n";

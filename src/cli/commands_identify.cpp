@@ -16,10 +16,9 @@ namespace cutdyn::cli {
 namespace {}  // namespace
 
 int run_identify(const IdentifyArgs& args, std::ostream& out, std::ostream& err) {
-  std::vector<std::string> inputs = args.force_files;
-  inputs.push_back(args.case_path);
-  check_outputs(args.outputs, inputs);
-  const io::Case c = load_case(args.case_path, "milling-insperger", err);
+  check_outputs(args.outputs, args.force_files);
+  const io::Case c =
+      load_case(args.case_path, "milling-insperger", err, output_flags(args.outputs));
   app::IdentifyRequest request;
   for (const std::string& f : args.force_files) request.force_files.emplace_back(f);
   request.names = flag_names();

@@ -59,11 +59,18 @@ bool stop_at_bad_line(const std::string& policy) {
   throw InvalidInput({"--on-bad-line = \"" + policy + "\": must be stop or skip"}, "command line");
 }
 
-void check_out_flag(const std::string& out, const char* flag) {
-  Validator v;
-  if (out.empty()) v.add(std::string(flag) + ": missing (where to write)");
-  check_output_folder(v, flag, out);
-  v.throw_if_any("command line");
+// A required output: given, and checked as every output (cli/common.hpp) against `inputs`.
+void check_out_flag(const std::string& out, const char* flag,
+                    const std::vector<std::string>& inputs) {
+  if (out.empty())
+    throw InvalidInput({std::string(flag) + ": missing (where to write)"}, "command line");
+  check_output_files({{flag, out}}, inputs);
+}
+
+// The report on standard error when the output file is standard output: that then holds the
+// file and nothing else.
+std::ostream& report_stream(const std::string& out_file, std::ostream& out, std::ostream& err) {
+  return io::standard_stream(out_file) == 1 ? err : out;
 }
 
 void throw_if(const std::vector<std::string>& problems) {
@@ -101,7 +108,10 @@ int run_calibrate(const CalibrateArgs& args, std::ostream& out, std::ostream& er
   app::CalibrateOptions options = args.options;
   options.stop_at_bad_line = stop_at_bad_line(args.on_bad_line);
   options.names = flag_names();
-  check_out_flag(args.out, "--out");
+  std::vector<std::string> inputs = options.idle;
+  inputs.insert(inputs.end(), options.loaded.begin(), options.loaded.end());
+  inputs.push_back(options.base);
+  check_out_flag(args.out, "--out", inputs);
   throw_if(options.fit.validate());
   if (!args.measure.empty()) {
     options.measure = parse_current_measure(args.measure);
@@ -113,11 +123,12 @@ int run_calibrate(const CalibrateArgs& args, std::ostream& out, std::ostream& er
   options.inertia_kg_m2 = axis_values(args.inertia, "--inertia");
 
   const app::CalibrateReport report = app::calibrate(options, listener(err));
-  app::write_text(out, report);
+  std::ostream& text = report_stream(args.out, out, err);
+  app::write_text(text, report);
   io::OutputTransaction outputs;
   io::write_json(outputs.open(args.out), app::calibration_json(report.axes));
   outputs.commit();
-  out << "  wrote " << args.out << "\n";
+  text << "  wrote " << args.out << "\n";
   return 0;
 }
 
@@ -130,10 +141,9 @@ app::EstimateOptions estimate_options(const EstimateArgs& args) {
   options.names = flag_names();
   throw_if(options.estimator.validate());
   throw_if(options.alarms.validate());
+  check_output_files({{"--out", args.out}, {"--alarms", args.alarms}, {"--json", args.json}},
+                     {args.calib, args.band, args.input});
   Validator v;
-  check_output_folder(v, "--out", args.out);
-  check_output_folder(v, "--alarms", args.alarms);
-  check_output_folder(v, "--json", args.json);
   if (!args.alarms.empty() && args.band.empty()) v.add("--alarms needs --band");
   if (!(options.tooth_frequency_hz >= 0.0) || !std::isfinite(options.tooth_frequency_hz))
     v.add("--tooth-frequency-hz = " + human(options.tooth_frequency_hz) +
@@ -142,15 +152,20 @@ app::EstimateOptions estimate_options(const EstimateArgs& args) {
   return options;
 }
 
+// Whether the estimate goes to standard output, line by line as it is computed.
+bool streams(const EstimateArgs& args) {
+  return args.out.empty() || io::standard_stream(args.out) == 1;
+}
+
 void print_estimate(const EstimateArgs& args, const app::EstimateReport& r, std::ostream& out,
                     std::ostream& err) {
-  std::ostream& report = args.out.empty() ? err : out;
-  report << (args.out.empty() ? "cutdyn: " : "");
+  std::ostream& report = streams(args) ? err : out;
   app::write_text(report, r);
   // With the estimate on standard output the report goes to stderr, the lines that name the
   // files written too: standard output holds the CSV and nothing else.
   for (const std::string* f : {&args.out, &args.alarms, &args.json})
-    if (!f->empty()) report << "  wrote " << *f << "\n";
+    if (!f->empty())
+      report << "  wrote " << (io::standard_stream(*f) == 1 ? "standard output" : *f) << "\n";
 }
 
 // The reader of the estimate on standard output has closed it (`... | head -1`).
@@ -163,7 +178,7 @@ int run_estimate(const EstimateArgs& args, std::ostream& out, std::ostream& err)
   if (!args.band.empty()) band = app::read_band(args.band);
 
   io::OutputTransaction outputs;
-  const bool streaming = args.out.empty();
+  const bool streaming = streams(args);
   std::ostream& sink = streaming ? out : outputs.open(args.out);
   if (streaming) {
     // A closed reader shows as a failed write (EPIPE), not as a signal, whatever SIGPIPE's
@@ -211,7 +226,9 @@ int run_estimate(const EstimateArgs& args, std::ostream& out, std::ostream& err)
 int run_teach(const TeachArgs& args, std::ostream& out, std::ostream& err) {
   app::TeachOptions options = args.options;
   options.stop_at_bad_line = stop_at_bad_line(args.on_bad_line);
-  check_out_flag(args.out, "--out");
+  std::vector<std::string> inputs = options.references;
+  inputs.push_back(options.calibration);
+  check_out_flag(args.out, "--out", inputs);
   throw_if(options.estimator.validate());
   if (options.rpm.has_value() != options.teeth.has_value())
     throw InvalidInput({options.rpm ? "--rpm needs --teeth (the tooth period is 60/(teeth·rpm))"
@@ -222,11 +239,12 @@ int run_teach(const TeachArgs& args, std::ostream& out, std::ostream& err) {
     throw InvalidInput({"REFERENCE: give at least one reference run"}, "command line");
 
   const app::TeachReport report = app::teach(options, listener(err));
-  app::write_text(out, report);
+  std::ostream& text = report_stream(args.out, out, err);
+  app::write_text(text, report);
   io::OutputTransaction outputs;
   io::write_json(outputs.open(args.out), app::band_json(report.band));
   outputs.commit();
-  out << "  wrote " << args.out << "\n";
+  text << "  wrote " << args.out << "\n";
   return 0;
 }
 

@@ -13,8 +13,8 @@
 namespace cutdyn::cli {
 
 int run_plan(const PlanArgs& args, std::ostream& out, std::ostream& err) {
-  check_outputs({"", args.json, args.plot}, {args.case_path});
-  const io::Case c = load_case(args.case_path, "bore-plan", err);
+  const io::Case c =
+      load_case(args.case_path, "bore-plan", err, {{"--json", args.json}, {"--plot", args.plot}});
   if (!args.plot.empty() && c.bore && !c.bore_limits)
     throw InvalidInput({"--plot: the trade-off needs the [limits] table"}, c.source);
   app::PlanRequest request;

@@ -25,6 +25,7 @@ struct ServeArgs {
   int port = 8080;
   bool open = false;
   bool quiet = false;
+  std::string data;  // --data DIR: the files a request's case may name
 };
 
 // Opens `url` in the desktop's browser, if there is one to ask.
@@ -52,6 +53,7 @@ int run_serve(const ServeArgs& args, std::ostream& out, std::ostream& err) {
   server::ServerOptions options;
   options.host = args.host;
   options.port = args.port;
+  options.data_folder = args.data;
   if (!args.quiet)
     options.log = [&err](const std::string& method, const std::string& path, int status,
                          double ms) {
@@ -93,6 +95,9 @@ std::function<int(std::ostream&, std::ostream&)> add_serve_command(CLI::App& app
                 "address to listen on (default 127.0.0.1: this machine only)");
   c->add_flag("--open", args->open, "open the page in the desktop's browser");
   c->add_flag("--quiet", args->quiet, "do not log each request on stderr");
+  c->add_option("--data", args->data,
+                "a folder whose files (FRFs) the cases sent by the page may name, by their path "
+                "within it; without it, only the starting case's own [[frf]] files");
   return [c, args](std::ostream& out, std::ostream& err) -> int {
     if (!c->parsed()) return -1;
     return run_serve(*args, out, err);

@@ -18,6 +18,7 @@
 #include "cli/common.hpp"
 #include "cli/sweep_mpi.hpp"
 #include "cutdyn/app/lobes_sweep.hpp"
+#include "cutdyn/core/detail/parallel.hpp"
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/io/output.hpp"
 
@@ -171,11 +172,15 @@ int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err,
   const bool writer = !world || world->rank == 0;
   Validator v;
   if (args.out.empty()) v.add("--out: missing (where to write the CSV)");
-  check_output_folder(v, "--out", args.out);
+  if (io::standard_stream(args.out) != 0)
+    v.add("--out = " + args.out +
+          ": a sweep keeps its rows in OUT.partial as it goes (for --resume) and needs a file");
   v.throw_if_any("command line");
+  const std::vector<OutputFlag> files{{"--out", args.out},
+                                      {"--out (its partial file)", args.out + ".partial"}};
   std::vector<io::Case> cases;
-  for (const std::string& path : args.cases) cases.push_back(load_case(path, "", err));
-  if (cases.empty()) cases.push_back(load_case("", "milling-insperger", err));
+  for (const std::string& path : args.cases) cases.push_back(load_case(path, "", err, files));
+  if (cases.empty()) cases.push_back(load_case("", "milling-insperger", err, files));
   std::vector<app::Sweep> vary;
   for (const std::string& spec : args.vary)
     vary.push_back(app::parse_sweep(spec, "--vary", "command line"));
@@ -277,7 +282,7 @@ std::function<int(std::ostream&, std::ostream&)> add_sweep_command(CLI::App& app
   c->add_option("--out", args->out, "write the CSV: the varied keys, then the lobes' columns")
       ->required();
   c->add_option("--threads", args->threads, "threads for each variant's lobes (default: all)")
-      ->check(CLI::Range(0, 1024));
+      ->check(CLI::Range(0, kMaxThreads));
   c->add_flag("--resume", args->resume,
               "go on from OUT.partial, the variants a stopped run finished");
   return [c, args](std::ostream& out, std::ostream& err) -> int {

@@ -22,8 +22,8 @@ constexpr std::string_view kDefaultForceCase = "ultrasonic-force";
 }  // namespace
 
 int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
-  check_outputs(args.outputs, {args.case_path});
-  const io::Case c = load_case(args.case_path, kDefaultTurningCase, err);
+  const io::Case c =
+      load_case(args.case_path, kDefaultTurningCase, err, output_flags(args.outputs));
   app::LobesRequest request;  // the job checks the request (a positive target depth, …)
   request.method = args.method;
   request.threads = args.threads;
@@ -48,17 +48,14 @@ int run_lobes(const LobesArgs& args, std::ostream& out, std::ostream& err) {
 }
 
 int run_check(const CheckArgs& args, std::ostream& out, std::ostream& err) {
-  Validator v;
-  check_output_folder(v, "--json", args.json);
-  v.throw_if_any("command line");
-  const io::Case c = load_case(args.case_path, kDefaultTurningCase, err);
+  const io::Case c = load_case(args.case_path, kDefaultTurningCase, err, {{"--json", args.json}});
   app::CheckRequest request;
   request.rpm = args.rpm;
   request.depth_m = mm_to_m(args.depth_mm);
   request.method = args.method;
   request.names = flag_names();
   const app::CheckJobReport r = app::run_check(c, request);
-  app::write_text(out, c, r);
+  app::write_text(out, c, r);  // (its warnings in the text)
   if (args.json.empty()) return 0;
   io::OutputTransaction outputs;
   io::write_json(outputs.open(args.json), app::to_json(c, r));
@@ -68,8 +65,8 @@ int run_check(const CheckArgs& args, std::ostream& out, std::ostream& err) {
 }
 
 int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err) {
-  check_outputs(args.outputs, {args.case_path});
-  const io::Case c = load_case(args.case_path, kDefaultTurningCase, err);
+  const io::Case c =
+      load_case(args.case_path, kDefaultTurningCase, err, output_flags(args.outputs));
   if (c.process == io::Process::kMilling) return run_simulate_milling(args, c, out, err);
   if (!args.sweep.empty() || !args.metric.empty())
     throw InvalidInput({"--sweep, --metric: sweeps take milling cases in this version"},
@@ -90,8 +87,8 @@ int run_simulate(const SimulateArgs& args, std::ostream& out, std::ostream& err)
 }
 
 int run_force(const ForceArgs& args, std::ostream& out, std::ostream& err) {
-  check_outputs({"", args.json, args.plot}, {args.case_path});
-  const io::Case c = load_case(args.case_path, kDefaultForceCase, err);
+  const io::Case c = load_case(args.case_path, kDefaultForceCase, err,
+                               {{"--json", args.json}, {"--plot", args.plot}});
   const app::ForceJobReport r = app::run_force(c);
   app::write_text(out, c, r);
 

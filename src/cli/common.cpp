@@ -15,6 +15,7 @@
 
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
+#include "cutdyn/io/inputs.hpp"
 #include "cutdyn/io/output.hpp"
 #include "cutdyn/io/plot.hpp"
 #include "cutdyn/stability/advice.hpp"
@@ -25,6 +26,18 @@ io::Case load_case(const std::string& path, std::string_view default_example, st
   io::Case c = app::load_case(path, default_example);
   for (const std::string& w : c.warnings)
     err << "cutdyn: warning: " << c.source << ": " << w << "\n";
+  return c;
+}
+
+std::vector<OutputFlag> output_flags(const Outputs& o) {
+  return {{"--out", o.csv}, {"--json", o.json}, {"--plot", o.plot}};
+}
+
+io::Case load_case(const std::string& path, std::string_view default_example, std::ostream& err,
+                   const std::vector<OutputFlag>& outputs) {
+  check_output_files(outputs, {path});
+  io::Case c = load_case(path, default_example, err);
+  check_output_files(outputs);
   return c;
 }
 
@@ -59,39 +72,57 @@ app::RequestNames flag_names() {
 
 namespace {
 
-// Both paths name the same file (a path that cannot be resolved names none).
-bool same_file(const std::string& a, const std::string& b) {
-  if (a.empty() || b.empty()) return false;
+// The identity of an output target for telling two outputs apart: "-" and the other names of
+// standard output alike, else the absolute, normalised path with links resolved.
+std::string output_identity(const std::string& path) {
+  if (const int stream = io::standard_stream(path); stream != 0)
+    return stream == 1 ? "<standard output>" : "<standard error>";
   std::error_code ec;
-  const std::filesystem::path x = std::filesystem::weakly_canonical(a, ec);
-  if (ec) return false;
-  const std::filesystem::path y = std::filesystem::weakly_canonical(b, ec);
-  return !ec && x == y;
+  const std::filesystem::path canonical = std::filesystem::weakly_canonical(path, ec);
+  return (ec ? std::filesystem::path(path) : canonical).lexically_normal().string();
 }
 
 }  // namespace
 
-void check_outputs(const Outputs& o, const std::vector<std::string>& inputs) {
-  if (!o.plot.empty()) io::check_figure_path(o.plot);
+void check_output_files(const std::vector<OutputFlag>& outputs,
+                        const std::vector<std::string>& inputs) {
+  for (const std::string& input : inputs) io::note_input(input);
   Validator v;
-  check_output_folder(v, "--out", o.csv);
-  check_output_folder(v, "--json", o.json);
-  check_output_folder(v, "--plot", o.plot);
-  if (same_file(o.csv, o.json) || same_file(o.csv, o.plot) || same_file(o.json, o.plot))
-    v.add("--out, --json and --plot must name different files");
-  // An output that names an input would overwrite it. Only files count: a case argument may
-  // name a built-in example instead.
-  for (const auto& [flag, path] :
-       {std::pair{"--out", &o.csv}, std::pair{"--json", &o.json}, std::pair{"--plot", &o.plot}}) {
-    if (path->empty() || *path == "-") continue;
-    for (const std::string& input : inputs) {
-      std::error_code ec;
-      if (std::filesystem::is_regular_file(input, ec) && same_file(*path, input))
-        v.add(std::string(flag) + " = " + *path + ": it is an input of the command (" + input +
-              ") and would be overwritten");
+  // Every file the outputs write, with the option that writes it.
+  std::vector<std::pair<std::string, std::string>> files;
+  for (const OutputFlag& o : outputs) {
+    if (o.path.empty()) continue;
+    check_output_folder(v, o.flag.c_str(), o.path);
+    std::error_code ec;
+    if (io::standard_stream(o.path) == 0 && std::filesystem::is_directory(o.path, ec))
+      v.add(o.flag + " = " + o.path + ": is a folder (name a file in it)");
+    if (o.flag == "--plot") {
+      io::check_figure_path(o.path);
+      const std::vector<std::filesystem::path> written = io::figure_files(o.path);
+      files.emplace_back(o.flag, o.path);
+      for (std::size_t i = 1; i < written.size(); ++i)
+        files.emplace_back(o.flag + " (its " + written[i].extension().string().substr(1) +
+                               " file " + written[i].string() + ")",
+                           written[i].string());
+    } else {
+      files.emplace_back(o.flag, o.path);
     }
   }
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j)
+      if (output_identity(files[i].second) == output_identity(files[j].second)) {
+        v.add(files[j].first + " and " + files[i].first + " name the same file (" +
+              files[i].second + ")");
+      }
+    if (const std::string problem = io::input_overwrite_problem(files[i].second, files[i].first);
+        !problem.empty())
+      v.add(problem);
+  }
   v.throw_if_any("command line");
+}
+
+void check_outputs(const Outputs& o, const std::vector<std::string>& inputs) {
+  check_output_files(output_flags(o), inputs);
 }
 
 void commit_outputs(io::OutputTransaction& outputs, const Outputs& o, std::ostream& out) {

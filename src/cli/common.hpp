@@ -29,6 +29,18 @@ namespace cutdyn::cli {
 /// app::load_case, with the case's load warnings (an old key name) printed on `err` as
 /// "cutdyn: warning: SOURCE: ...".
 io::Case load_case(const std::string& path, std::string_view default_example, std::ostream& err);
+
+/// An output option and the file it names ("" when not given).
+struct OutputFlag {
+  std::string flag;
+  std::string path;
+};
+std::vector<OutputFlag> output_flags(const Outputs& o);  // --out, --json, --plot
+
+/// load_case for a command that writes `outputs`: they are checked (check_output_files)
+/// before the case is read, against the case file, and after, against the files it names.
+io::Case load_case(const std::string& path, std::string_view default_example, std::ostream& err,
+                   const std::vector<OutputFlag>& outputs);
 using app::lobes_grid;
 using app::milling_process;
 using app::OxleyPrediction;
@@ -43,7 +55,15 @@ app::RequestNames flag_names();
 using app::json_document;  // the frame of every JSON document (cutdyn/app/report_json.hpp)
 using app::kJsonSchemaVersion;
 
-/// Checks --out/--json/--plot before any work: figure format, existing folders, distinct files.
+/// Checks the output files of a command before any work: existing folders, a known figure
+/// format for --plot, no file named by two outputs (a figure's .dat and .gp companions and
+/// "-" = /dev/stdout included), and none that is an input of the command: `inputs` (files the
+/// command will read; a name that is not a file, such as a built-in example's, is ignored) and
+/// every file read so far in the command's InputScope (the case and the files it names).
+/// Throws InvalidInput listing every problem.
+void check_output_files(const std::vector<OutputFlag>& outputs,
+                        const std::vector<std::string>& inputs = {});
+/// The same for --out/--json/--plot.
 void check_outputs(const Outputs& o, const std::vector<std::string>& inputs = {});
 
 /// Commits the outputs (they appear together) and lists the files written.

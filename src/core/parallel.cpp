@@ -5,11 +5,18 @@
 #include <atomic>
 #include <exception>
 #include <mutex>
+#include <string>
+
+#include "cutdyn/core/error.hpp"
 
 namespace cutdyn {
 
 void parallel_for(int count, int threads, const std::function<void(int)>& job,
                   const std::function<void(int, int)>& progress) {
+  if (threads < 0 || threads > kMaxThreads)
+    throw InvalidInput({"threads = " + std::to_string(threads) + ": must be 0 (all cores) to " +
+                        std::to_string(kMaxThreads)},
+                       "request");
   std::exception_ptr error;
   std::mutex mutex;
   std::atomic<int> done{0};

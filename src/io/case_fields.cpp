@@ -368,7 +368,16 @@ std::vector<Section> make_sections() {
                           c.process =
                               text_of(v) == "turning" ? Process::kTurning : Process::kMilling;
                           return {};
-                        })};
+                        }),
+                number("spindle_max_rpm", unit("rpm"), kPositive)
+                    .label("spindle speed limit")
+                    .deflt("60000")
+                    .meaning("the fastest the spindle turns: a speed asked above it (`--rpm`, "
+                             "`[lobes] rpm_max`, `[simulate] rpm`) is warned about")
+                    .echo_if([](const Case& c, std::size_t) {
+                      return c.spindle_max_rpm != kDefaultSpindleMaxRpm;
+                    })
+                    .member(whole, &Case::spindle_max_rpm)};
   top.count = always();
   top.create = refuse("");
   all.push_back(std::move(top));
@@ -473,7 +482,15 @@ std::vector<Section> make_sections() {
           .required()
           .meaning("the measured FRF, relative to the case file: CutPro text (`.frf`), CSV or "
                    "UFF 58/58b (docs/frf-files.md)")
-          .access(frf_text(&FrfTable::file), set_frf_text(&FrfTable::file)),
+          // Echoed as the file read (absolute for a case file's), so that the echo of a case
+          // reads the same files from any folder.
+          .access(
+              [](const Case& c, std::size_t i) -> std::optional<Value> {
+                if (i >= c.frfs.size() || c.frfs[i].file.empty()) return std::nullopt;
+                const FrfTable& t = c.frfs[i];
+                return Value(t.path.empty() ? t.file : t.path.string());
+              },
+              set_frf_text(&FrfTable::file)),
       choice("format", {"frf", "csv", "uff"})
           .deflt("from the content")
           .access(frf_text(&FrfTable::format), set_frf_text(&FrfTable::format)),
@@ -1056,7 +1073,7 @@ std::vector<Section> make_sections() {
       integer("rpm_steps", 2, 100000)
           .label("spindle speeds")
           .member(lobes, &LobesSection::rpm_steps),
-      number("depth_max_mm", kMm, open_closed(0.0, 10000.0))
+      number("depth_max_mm", kMm, open_closed(0.0, kMaxDepthMm))
           .label("depth limit")
           .member(lobes, &LobesSection::depth_max_m),
       choice("method", {"auto", "zero-order", "closed-form", "multi-frequency",
@@ -1099,7 +1116,7 @@ std::vector<Section> make_sections() {
       number("rpm", unit("rpm"), kPositive)
           .label("spindle speed")
           .member(simulate, &SimulateSection::rpm),
-      number("depth_mm", kMm, kPositive)
+      number("depth_mm", kMm, open_closed(0.0, kMaxDepthMm))
           .label("depth of cut")
           .member(simulate, &SimulateSection::depth_m),
       number("duration_s", unit("s"), open_closed(0.0, 1000.0))

@@ -19,6 +19,7 @@
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
 #include "cutdyn/io/frf_file.hpp"
+#include "cutdyn/io/inputs.hpp"
 
 namespace cutdyn::io {
 
@@ -787,19 +788,20 @@ void read_frfs(Reading& r, const toml::table& root) {
 
 // The measured FRFs of [[frf]], read from their files (relative to the case file's folder).
 // A file's faults name the file and its line; its reader's assumptions become warnings.
-void load_frf_files(Case& c) {
+// Files are read by `read_frf` when there is one (their path is then as the case names them).
+void load_frf_files(Case& c, const FrfFileReader& read_frf) {
   const std::filesystem::path base = std::filesystem::path(c.source).parent_path();
   for (std::size_t i = 0; i < c.frfs.size(); ++i) {
     FrfTable& t = c.frfs[i];
-    t.path =
-        std::filesystem::path(t.file).is_absolute() ? std::filesystem::path(t.file) : base / t.file;
+    t.path = read_frf ? std::filesystem::path(t.file)
+                      : std::filesystem::absolute(base / t.file).lexically_normal();
     FrfFileOptions options;
     if (!t.format.empty()) options.format = parse_frf_format(t.format);
     options.dataset = t.dataset;
     if (!t.units.empty()) options.units = t.units;
     FrfReadResult read;
     try {
-      read = read_frf_file(t.path, options);
+      read = read_frf ? read_frf(t.file, options) : read_frf_file(t.path, options);
     } catch (const InvalidInput& e) {
       std::vector<std::string> problems;
       for (const std::string& p : e.problems())
@@ -1002,7 +1004,8 @@ std::optional<toml::table> table_of(const nlohmann::json& j, const std::string& 
 
 nlohmann::json case_schema() { return detail::schema_json(); }
 
-Case parse_case_json(const nlohmann::json& j, std::string_view source) {
+Case parse_case_json(const nlohmann::json& j, std::string_view source,
+                     const FrfFileReader& read_frf) {
   if (!j.is_object())
     throw InvalidInput({"a case is a table of keys (a JSON object or Python dict), not " +
                         std::string(j.type_name())},
@@ -1012,10 +1015,11 @@ Case parse_case_json(const nlohmann::json& j, std::string_view source) {
   if (!table) throw InvalidInput(problems, std::string(source));
   std::ostringstream text;
   text << *table;
-  return parse_case(text.str(), source);
+  return parse_case(text.str(), source, read_frf);
 }
 
-Case parse_case(std::string_view toml_text, std::string_view source) {
+Case parse_case(std::string_view toml_text, std::string_view source,
+                const FrfFileReader& read_frf) {
   toml::table root;
   try {
     root = toml::parse(toml_text, source);
@@ -1078,7 +1082,8 @@ Case parse_case(std::string_view toml_text, std::string_view source) {
   report_unknown(r, top, root, 0);
 
   if (!problems.empty()) throw InvalidInput(problems.take(), std::string(source));
-  load_frf_files(c);
+  load_frf_files(c, read_frf);
+  for (std::string& w : plausibility_warnings(c)) c.warnings.push_back(std::move(w));
   return c;
 }
 
@@ -1193,6 +1198,7 @@ Case load_case_file(const std::filesystem::path& path) {
   std::ostringstream content;
   content << in.rdbuf();
   if (in.bad()) return fail(errno != 0 ? errno : EIO);
+  note_input(path);
   return parse_case(content.str(), where);
 }
 

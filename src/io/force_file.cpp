@@ -13,6 +13,7 @@
 
 #include "cutdyn/core/error.hpp"
 #include "cutdyn/core/units.hpp"
+#include "cutdyn/io/inputs.hpp"
 
 namespace cutdyn::io {
 namespace {
@@ -417,6 +418,7 @@ std::vector<MeanForce> read_force_files(const std::vector<std::filesystem::path>
     std::ostringstream content;
     content << in.rdbuf();
     if (in.bad()) fail(errno != 0 ? errno : EIO);
+    note_input(path);
     const std::vector<MeanForce> samples = parse_force_file(content.str(), where);
     out.insert(out.end(), samples.begin(), samples.end());
   }

@@ -11,6 +11,7 @@
 #include <numbers>
 #include <system_error>
 
+#include "cutdyn/io/inputs.hpp"
 #include "frf_detail.hpp"
 
 namespace cutdyn {
@@ -241,6 +242,7 @@ FrfReadResult read_frf_file(const std::filesystem::path& file, const FrfFileOpti
   if (!in) throw InvalidInput({"cannot be opened for reading"}, where);
   const std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw InvalidInput({"could not be read to its end"}, where);
+  io::note_input(file);
   return parse_frf(content, where, options, file.extension().string());
 }
 

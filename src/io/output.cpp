@@ -20,6 +20,9 @@
 #include <system_error>
 #include <utility>
 
+#include "cutdyn/core/error.hpp"
+#include "cutdyn/io/inputs.hpp"
+
 namespace cutdyn::io {
 namespace fs = std::filesystem;
 
@@ -238,6 +241,11 @@ void write_text(std::ostream& out, const std::string& text) {
 }
 
 thread_local std::ostream* standard_output = nullptr;
+thread_local std::ostream* standard_error = nullptr;
+
+// The identities of the standard streams among the targets of a transaction.
+const fs::path kStandardOutputId = "-";
+const fs::path kStandardErrorId = "<standard error>";
 
 // An existing target that is neither a regular file nor a folder (after following links): a
 // FIFO, a device or a socket, written through rather than replaced.
@@ -268,20 +276,48 @@ OutputTransaction::~OutputTransaction() {
 
 void OutputTransaction::set_standard_output(std::ostream* out) { standard_output = out; }
 
+void OutputTransaction::set_standard_error(std::ostream* err) { standard_error = err; }
+
+int standard_stream(const fs::path& target) {
+  const std::string& t = target.native();
+  if (t == "-" || t == "/dev/stdout" || t == "/dev/fd/1" || t == "/proc/self/fd/1") return 1;
+  if (t == "/dev/stderr" || t == "/dev/fd/2" || t == "/proc/self/fd/2") return 2;
+  return 0;
+}
+
+namespace {
+
+// Refuses a second output to the same target, and an output that would replace an input of
+// the command (cutdyn/io/inputs.hpp); both are mistakes of the command line.
+void check_target(const fs::path& requested, const fs::path& id,
+                  const std::vector<fs::path>& opened) {
+  for (const fs::path& other : opened)
+    if (other == id)
+      throw InvalidInput({requested.string() + ": named by two outputs of the command"},
+                         "command line");
+  if (const std::string problem = input_overwrite_problem(requested); !problem.empty())
+    throw InvalidInput({problem}, "command line");
+}
+
+}  // namespace
+
 std::ostream& OutputTransaction::open(const fs::path& requested) {
   if (committed_) throw std::logic_error("OutputTransaction: open after commit");
-  // "-": standard output; a symbolic link: the file it points to.
-  const bool to_standard_output = requested == "-";
-  if (to_standard_output && !standard_output)
+  // "-" (or /dev/stdout): standard output; /dev/stderr: standard error, when the program set
+  // them; a symbolic link: the file it points to.
+  const int stream_number = standard_stream(requested);
+  if (requested == "-" && !standard_output)
     throw_cannot_write(requested, "standard output is not available here");
-  const fs::path target = to_standard_output ? requested : resolve_links(requested);
-  const fs::path id = to_standard_output ? fs::path("-") : identity(target);
-  for (const Entry& entry : entries_) {
-    if (entry.target == id) {
-      throw std::logic_error("OutputTransaction: " + requested.string() + " is opened twice");
-    }
-  }
-  if (to_standard_output || is_special(target)) {
+  const bool to_stream =
+      (stream_number == 1 && standard_output) || (stream_number == 2 && standard_error);
+  const fs::path target = to_stream ? requested : resolve_links(requested);
+  const fs::path id = !to_stream           ? identity(target)
+                      : stream_number == 1 ? kStandardOutputId
+                                           : kStandardErrorId;
+  std::vector<fs::path> opened;
+  for (const Entry& entry : entries_) opened.push_back(entry.target);
+  check_target(requested, id, opened);
+  if (to_stream || is_special(target)) {
     auto held = std::make_unique<std::ostringstream>();
     std::ostream& out = *held;
     entries_.push_back(Entry{{}, id, nullptr, std::move(held)});
@@ -325,11 +361,9 @@ std::ostream& OutputTransaction::open(const fs::path& requested) {
 void OutputTransaction::adopt(const fs::path& temporary, const fs::path& target) {
   if (committed_) throw std::logic_error("OutputTransaction: adopt after commit");
   const fs::path id = identity(target);
-  for (const Entry& entry : entries_) {
-    if (entry.target == id) {
-      throw std::logic_error("OutputTransaction: " + target.string() + " is opened twice");
-    }
-  }
+  std::vector<fs::path> opened;
+  for (const Entry& entry : entries_) opened.push_back(entry.target);
+  check_target(target, id, opened);
   track(temporary, kFile);
   entries_.push_back(Entry{temporary, id, nullptr, nullptr});
 }
@@ -384,10 +418,14 @@ void OutputTransaction::commit() {
     if (entry.held) {
       const std::string content = entry.held->str();
       entry.held.reset();
-      if (entry.target == "-") {
-        standard_output->write(content.data(), static_cast<std::streamsize>(content.size()));
-        standard_output->flush();
-        if (!*standard_output) throw_cannot_write(entry.target, "write to standard output failed");
+      if (entry.target == kStandardOutputId || entry.target == kStandardErrorId) {
+        const bool out = entry.target == kStandardOutputId;
+        std::ostream& stream = out ? *standard_output : *standard_error;
+        stream.write(content.data(), static_cast<std::streamsize>(content.size()));
+        stream.flush();
+        if (!stream)
+          throw_cannot_write(entry.target, out ? "write to standard output failed"
+                                               : "write to standard error failed");
       } else {
         std::ofstream through(entry.target, std::ios::out | std::ios::binary);
         through.write(content.data(), static_cast<std::streamsize>(content.size()));

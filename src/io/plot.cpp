@@ -499,6 +499,12 @@ PlotSeries envelope(const PlotSeries& series, std::size_t buckets) {
   return thin;
 }
 
+std::vector<fs::path> figure_files(const fs::path& figure) {
+  const fs::path folder = figure.parent_path();
+  const std::string stem = figure.stem().string();
+  return {figure, folder / (stem + ".dat"), folder / (stem + ".gp")};
+}
+
 void write_plot(const PlotSpec& spec, const fs::path& figure, OutputTransaction& outputs) {
   write_plot(PlotFigure{spec.title, {spec}}, figure, outputs);
 }
@@ -516,10 +522,10 @@ void write_plot(const PlotFigure& spec, const fs::path& figure, OutputTransactio
 
   // Final names, written in a scratch folder beside the figure so that the script's
   // relative names stay right after the files are renamed into place.
-  const std::string figure_name = figure.filename().string();
-  const std::string stem = figure.stem().string();
-  const std::string data_name = stem + ".dat";
-  const std::string script_name = stem + ".gp";
+  const std::vector<fs::path> files = figure_files(figure);
+  const std::string figure_name = files[0].filename().string();
+  const std::string data_name = files[1].filename().string();
+  const std::string script_name = files[2].filename().string();
   const fs::path scratch = outputs.scratch_dir(figure);
 
   write_file(scratch / data_name, figure,
@@ -543,10 +549,9 @@ void write_plot(const PlotFigure& spec, const fs::path& figure, OutputTransactio
                              (fs::exists(stderr_file) ? ": " + read_text(stderr_file) : ""));
   }
 
-  const fs::path folder = figure.parent_path();
-  outputs.adopt(scratch / figure_name, figure);
-  outputs.adopt(scratch / data_name, folder / data_name);
-  outputs.adopt(scratch / script_name, folder / script_name);
+  outputs.adopt(scratch / figure_name, files[0]);
+  outputs.adopt(scratch / data_name, files[1]);
+  outputs.adopt(scratch / script_name, files[2]);
 }
 
 }  // namespace cutdyn::io

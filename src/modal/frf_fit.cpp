@@ -90,8 +90,10 @@ BandData band_of(const MeasuredFrf& frf, const FrfFitOptions& options, FrfFit& o
   const std::string band_text = "band " + format_value(lo) + "…" + format_value(hi) + " Hz";
   if (options.lo_hz) v.require(lo >= 0.0, "band.lo_hz", lo, "Hz", "must be at least 0");
   if (options.hi_hz) v.require(hi > lo, "band.hi_hz", hi, "Hz", "must be above band.lo_hz");
-  v.require(options.modes >= 0, "modes", options.modes, "", "must be at least 0 (0 = automatic)");
-  v.require(options.max_modes >= 1, "max_modes", options.max_modes, "", "must be at least 1");
+  v.require(options.modes >= 0 && options.modes <= kMaxFitModes, "modes", options.modes, "",
+            "must be 0 (automatic) to " + std::to_string(kMaxFitModes));
+  v.require(options.max_modes >= 1 && options.max_modes <= kMaxFitModes, "max_modes",
+            options.max_modes, "", "must be 1 to " + std::to_string(kMaxFitModes));
   v.throw_if_any("fit");
   BandData band;
   std::vector<double> gamma2;  // the coherence in the band, where the table has one

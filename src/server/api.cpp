@@ -67,21 +67,25 @@ class Query {
   Validator v_;
 };
 
-// The body's case: JSON, then the case file's rules. Relative [[frf]] files are the starting
-// case's: relative to its folder (`folder`, empty for an example).
-io::Case case_of(const std::string& body, const std::filesystem::path& folder) {
+// The body's case: JSON, then the case file's rules; its [[frf]] files are read by `read_frf`.
+io::Case case_of(const std::string& body, const io::FrfFileReader& read_frf) {
   json j;
   try {
     j = json::parse(body);
   } catch (const json::exception& e) {  // parse_error, and out_of_range for a number like 1e999
     throw InvalidInput({std::string("not JSON: ") + e.what()}, "body");
   }
-  if (!folder.empty() && j.is_object() && j.contains("frf") && j["frf"].is_array())
-    for (json& table : j["frf"])
-      if (table.is_object() && table.contains("file") && table["file"].is_string() &&
-          std::filesystem::path(table["file"].get<std::string>()).is_relative())
-        table["file"] = (folder / table["file"].get<std::string>()).string();
-  return io::parse_case_json(j, "body");
+  return io::parse_case_json(j, "body", read_frf);
+}
+
+// Whether `path` lies within `folder` (both absolute and normalised, links resolved).
+bool within(const std::filesystem::path& path, const std::filesystem::path& folder) {
+  auto p = path.begin();
+  for (auto f = folder.begin(); f != folder.end(); ++f, ++p) {
+    if (f->empty()) continue;  // a trailing separator
+    if (p == path.end() || *p != *f) return false;
+  }
+  return true;
 }
 
 std::function<void(int, int)> stop_on(const std::atomic<bool>* cancel) {
@@ -193,13 +197,57 @@ json case_document(const io::Case& c) {
 
 }  // namespace
 
-Api::Api(io::Case start) : start_(std::move(start)) {
-  // A case file's folder (an example's source is "example NAME", and has none).
-  if (start_.source.rfind("example ", 0) != 0)
-    folder_ = std::filesystem::absolute(std::filesystem::path(start_.source)).parent_path();
+Api::Api(io::Case start, const std::filesystem::path& data_folder) : start_(std::move(start)) {
+  // By the name the case file gives and by the name its echo gives (GET /api/case).
+  for (const io::FrfTable& t : start_.frfs) {
+    start_files_[t.file] = t.path;
+    start_files_[t.path.string()] = t.path;
+  }
+  if (data_folder.empty()) return;
+  std::error_code ec;
+  data_folder_ = std::filesystem::canonical(data_folder, ec);
+  if (ec || !std::filesystem::is_directory(data_folder_, ec))
+    throw InvalidInput({"--data = " + data_folder.string() + ": not a folder"}, "command line");
+}
+
+FrfReadResult Api::read_frf(const std::string& file, const FrfFileOptions& options) const {
+  namespace fs = std::filesystem;
+  // The starting case's own files, by the names it gives them (the page sends them back).
+  if (const auto it = start_files_.find(file); it != start_files_.end())
+    return reread(file, it->second, options);
+  // One answer for every path outside the data folder, whether it exists or not.
+  const auto refuse = [&]() -> FrfReadResult {
+    throw InvalidInput({"not a file the server reads: name a file of its data folder (cutdyn "
+                        "serve --data DIR) by its path within the folder, or one of the "
+                        "starting case's [[frf]] files"},
+                       "request");
+  };
+  const fs::path name(file);
+  if (data_folder_.empty() || name.empty() || name.has_root_path()) return refuse();
+  for (const fs::path& part : name)
+    if (part == "..") return refuse();
+  std::error_code ec;
+  const fs::path resolved = fs::weakly_canonical(data_folder_ / name, ec);
+  if (ec || !within(resolved, data_folder_)) return refuse();  // a link out of the folder
+  if (!fs::is_regular_file(resolved, ec))
+    throw InvalidInput({"no such file in the data folder"}, file);
+  return reread(file, resolved, options);
+}
+
+// Reads `path`, the problems naming the file as the request does (not the server's path).
+FrfReadResult Api::reread(const std::string& file, const std::filesystem::path& path,
+                          const FrfFileOptions& options) {
+  try {
+    return read_frf_file(path, options);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(e.problems(), file);
+  }
 }
 
 Response Api::handle(const Request& request, const std::atomic<bool>* cancel) const {
+  const io::FrfFileReader reader = [this](const std::string& file, const FrfFileOptions& options) {
+    return read_frf(file, options);
+  };
   try {
     const std::string& path = request.path;
     if (request.method == "GET") {
@@ -218,10 +266,10 @@ Response Api::handle(const Request& request, const std::atomic<bool>* cancel) co
       if (path == "/api/case") {
         Query q(request.query, {});
         q.throw_if_any();
-        return json_response(200, case_document(case_of(request.body, folder_)));
+        return json_response(200, case_document(case_of(request.body, reader)));
       }
       if (path == "/api/lobes" || path == "/api/check" || path == "/api/simulate") {
-        const io::Case c = case_of(request.body, folder_);
+        const io::Case c = case_of(request.body, reader);
         if (path == "/api/lobes") {
           Query q(request.query, {"method", "target_depth_mm", "format"});
           return lobes(c, q, cancel);

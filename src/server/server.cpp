@@ -143,7 +143,9 @@ int worker_count(int requested) {
 
 struct Server::State {
   State(io::Case start, ServerOptions o)
-      : options(std::move(o)), api(std::move(start)), workers(worker_count(options.workers)) {}
+      : options(std::move(o)),
+        api(std::move(start), options.data_folder),
+        workers(worker_count(options.workers)) {}
   ServerOptions options;
   Api api;
   Workers workers;

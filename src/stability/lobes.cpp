@@ -22,7 +22,8 @@ std::vector<std::string> LobesOptions::validate() const {
             "must be greater than rpm_min = " + format_value(rpm_min));
   v.require(rpm_steps >= 2 && rpm_steps <= 100000, "rpm_steps", rpm_steps, "",
             "must be 2 to 100000");
-  v.require(threads >= 0, "threads", threads, "", "must not be negative");
+  v.require(threads >= 0 && threads <= kMaxThreads, "threads", threads, "",
+            "must be 0 (all cores) to " + std::to_string(kMaxThreads));
   v.require(refine_levels >= 0 && refine_levels <= 20, "refine_levels", refine_levels, "",
             "must be 0 to 20");
   v.require(refine_change > 0.0 && refine_change <= 10.0, "refine_change", refine_change, "",

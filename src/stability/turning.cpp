@@ -87,6 +87,9 @@ void check_speed_domain(const TurningProcess& model, double rpm) {
   // number of vibration cycles in one revolution; bound it rather than run for hours.
   constexpr double kMaxModeCycles = 20000.0;
   constexpr double kMaxVibrationPeriods = 500000.0;
+  // With vibration the period is the vibration's: revolutions within it multiply the steps
+  // (0.4 s at 100 per period, a minute at 800; 100 is 1.2e8 rpm at 20 kHz).
+  constexpr double kMaxRevolutionsPerVibration = 100.0;
   Validator v;
   v.require_positive("spindle speed", rpm, "rpm");
   v.throw_if_any();
@@ -103,6 +106,13 @@ void check_speed_domain(const TurningProcess& model, double rpm) {
           rounded(std::round(tau * model.vibration->frequency_hz)) +
           " vibration periods; the stability methods take at most " +
           rounded(kMaxVibrationPeriods) + " (raise the speed)");
+  }
+  if (model.vibration && rpm / 60.0 > kMaxRevolutionsPerVibration * model.vibration->frequency_hz) {
+    v.add("spindle speed = " + rounded(rpm) + " rpm: one period of the " +
+          rounded(model.vibration->frequency_hz) + " Hz vibration spans " +
+          rounded(rpm / 60.0 / model.vibration->frequency_hz) +
+          " revolutions; the stability methods take at most " +
+          rounded(kMaxRevolutionsPerVibration) + " (lower the speed)");
   }
   v.throw_if_any();
 }

@@ -799,7 +799,7 @@ TEST_F(Cli, MillingSimulationRejectsIncompleteCases) {
   expect_rejected({"simulate", "milling-insperger", "--rpm", "-5", "--out", path("x.csv")},
                   "command line: --rpm = -5: must be positive");
   expect_rejected({"simulate", "milling-insperger", "--depth-mm", "0", "--out", path("x.csv")},
-                  "--depth-mm = 0: must be positive");
+                  "--depth-mm = 0 mm: must be greater than 0 and at most 10000 mm");
   std::string law = text + "\n[force_law]\nt2_s = -1\n";
   expect_rejected({"simulate", write("law.toml", law), "--out", path("x.csv")},
                   "force_law.c_n_per_mm: missing");
@@ -973,7 +973,8 @@ TEST_F(Cli, PlanSaysWhenItsLimitsAreNotUsed) {
 
 // Runaway growth is chatter, said so, with only finite numbers written: milling-insperger at
 // 1 mm (4.9e47 µm and "stable" before) and 1000 mm (exit 1, "CsvWriter: … non-finite"
-// before), turning at 1e6 mm (−1e306 µm before). Exit 0 each time.
+// before), turning at 10 000 mm, the deepest a request may ask (1e6 mm gave −1e306 µm before).
+// Exit 0 each time.
 TEST_F(Cli, SimulateStopsARunawayAndSaysChatter) {
   const auto finite_numbers = [](const std::string& file) {
     std::ifstream in(file);
@@ -998,7 +999,7 @@ TEST_F(Cli, SimulateStopsARunawayAndSaysChatter) {
     // The prediction stays the lobes' 0.0715 mm whatever the simulated depth.
     EXPECT_NEAR(summary["predicted_critical_depth_mm"].get<double>(), 0.0715, 0.001) << depth;
   }
-  const Result t = cutdyn({"simulate", "--depth-mm", "1e6", "--duration-s", "1", "--out",
+  const Result t = cutdyn({"simulate", "--depth-mm", "10000", "--duration-s", "1", "--out",
                            path("t.csv"), "--json", path("t.json")});
   ASSERT_EQ(t.code, 0) << t.err;
   EXPECT_NE(t.out.find("CHATTER (runaway growth, stopped at t = "), std::string::npos) << t.out;

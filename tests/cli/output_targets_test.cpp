@@ -33,8 +33,7 @@ TEST(OutputTargets, DashWritesTheFileToStandardOutputAndTheReportToStandardError
 TEST(OutputTargets, TwoFilesCannotBothBeStandardOutput) {
   const auto r = run_cutdyn({"lobes", "milling-insperger", "--out", "-", "--json", "-"});
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("--out, --json and --plot must name different files"), std::string::npos)
-      << r.err;
+  EXPECT_NE(r.err.find("--out and --json name the same file (-)"), std::string::npos) << r.err;
   EXPECT_EQ(r.out, "");  // nothing written
 }
 

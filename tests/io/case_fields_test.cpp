@@ -411,9 +411,10 @@ TEST(CaseFields, RangeErrorsNameTheKeyAndTheUsersUnit) {
   text.replace(text.find("diameter_mm = 19.05"), 19, "diameter_mm = -19.05");
   text.replace(text.find("depth_mm = 1\n"), 13, "depth_mm = 0\n");
   text.replace(text.find("lead_mm = 10"), 12, "lead_mm = 0");
-  EXPECT_THAT(problems_of(text), ElementsAre("drives[1].lead_mm = 0: must be positive",
-                                             "tool.diameter_mm = -19.05: must be positive",
-                                             "simulate.depth_mm = 0: must be positive"));
+  EXPECT_THAT(problems_of(text),
+              ElementsAre("drives[1].lead_mm = 0: must be positive",
+                          "tool.diameter_mm = -19.05: must be positive",
+                          "simulate.depth_mm = 0: must be greater than 0 and at most 10000"));
   // The rule is in the key's unit (mm), not SI.
   const Case c = parse_case(kFullMilling, "m.toml");
   EXPECT_THAT(sweep_problems(c, "lobes.depth_max_mm", 20000),
@@ -485,7 +486,7 @@ TEST(CaseFields, SweepOfAnAbsentTableCreatesIt) {
   EXPECT_EQ(with_operation.operation->engagement.radial_immersion, 0.25);
   EXPECT_TRUE(with_operation.operation->engagement.down_milling);  // the default
   EXPECT_THAT(sweep_problems(parse_case(kFullTurning, "t"), "simulate.depth_mm", -1),
-              ElementsAre("simulate.depth_mm = -1: must be positive"));
+              ElementsAre("simulate.depth_mm = -1: must be greater than 0 and at most 10000"));
 }
 
 TEST(CaseFields, SweepProblemsNameTheKeyAndWhatIsWrong) {

@@ -2,9 +2,6 @@
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
-
-#include <sstream>
-#include <thread>
 #include <unistd.h>
 
 #include <algorithm>
@@ -16,8 +13,11 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "cutdyn/core/error.hpp"
+#include "cutdyn/io/inputs.hpp"
 #include "support/temp_dir.hpp"
 
 namespace cutdyn::io {
@@ -265,12 +265,50 @@ TEST_F(OutputTransactionTest, OpenOnAFolderThrows) {
   EXPECT_THROW(outputs.open(dir_ / "sub"), std::runtime_error);
 }
 
-TEST_F(OutputTransactionTest, SameTargetTwiceIsALogicError) {
+TEST_F(OutputTransactionTest, SameTargetTwiceIsBadInput) {
   OutputTransaction outputs;
   outputs.open(dir_ / "lobes.csv");
-  EXPECT_THROW(outputs.open(dir_ / "lobes.csv"), std::logic_error);
-  EXPECT_THROW(outputs.open(dir_ / "." / "lobes.csv"), std::logic_error);
-  EXPECT_THROW(outputs.adopt(dir_ / "x", dir_ / "lobes.csv"), std::logic_error);
+  EXPECT_THROW(outputs.open(dir_ / "lobes.csv"), InvalidInput);
+  EXPECT_THROW(outputs.open(dir_ / "." / "lobes.csv"), InvalidInput);
+  EXPECT_THROW(outputs.adopt(dir_ / "x", dir_ / "lobes.csv"), InvalidInput);
+}
+
+// An InputScope's files are refused as outputs, by identity: the path, another spelling, a
+// symbolic link, a hard link; a file outside the scope, and any file without a scope, is not.
+TEST_F(OutputTransactionTest, AnInputOfTheScopeIsNeverAnOutput) {
+  std::ofstream(dir_ / "other.toml") << "x\n";
+  {
+    OutputTransaction outputs;
+    outputs.open(dir_ / "case.toml") << "no scope: written\n";
+    outputs.commit();
+  }
+  std::ofstream(dir_ / "case.toml") << "process = \"milling\"\n";
+  std::filesystem::create_symlink(dir_ / "case.toml", dir_ / "link.toml");
+  std::filesystem::create_hard_link(dir_ / "case.toml", dir_ / "hard.toml");
+  InputScope scope;
+  note_input(dir_ / "case.toml");
+  note_input(dir_ / "missing.toml");  // (not a file: nothing noted)
+  for (const std::filesystem::path& target :
+       {dir_ / "case.toml", dir_ / "." / "case.toml", dir_ / "link.toml", dir_ / "hard.toml"}) {
+    OutputTransaction outputs;
+    try {
+      outputs.open(target);
+      ADD_FAILURE() << target << " was opened";
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(e.problems().at(0).find("is an input of the command (" +
+                                        (dir_ / "case.toml").string() + ")"),
+                std::string::npos)
+          << e.problems().at(0);
+    }
+    EXPECT_THROW(outputs.adopt(dir_ / "t", target), InvalidInput);
+  }
+  OutputTransaction outputs;
+  outputs.open(dir_ / "other.toml") << "y\n";
+  outputs.open(dir_ / "missing.toml") << "z\n";
+  outputs.commit();
+  EXPECT_EQ(read_file(dir_ / "case.toml"), "process = \"milling\"\n");
+  EXPECT_EQ(input_overwrite_problem(dir_ / "hard.toml", "--out").rfind("--out = ", 0), 0u);
+  EXPECT_EQ(input_overwrite_problem("-", "--out"), "");
 }
 
 TEST_F(OutputTransactionTest, UseAfterCommitIsALogicError) {
@@ -308,6 +346,28 @@ class WriteThroughTest : public testing::TempDirTest {
   }
 };
 
+TEST_F(WriteThroughTest, DevStdoutAndDevStderrAreTheStreamsSet) {
+  // /dev/stdout on a pipe resolves to "pipe:[…]", which no one can open by name: the
+  // program's own streams are used instead, as for "-".
+  std::ostringstream out, err;
+  OutputTransaction::set_standard_output(&out);
+  OutputTransaction::set_standard_error(&err);
+  OutputTransaction t;
+  t.open("/dev/stdout") << "o\n";
+  t.open("/dev/stderr") << "e\n";
+  EXPECT_EQ(out.str(), "");
+  t.commit();
+  OutputTransaction::set_standard_error(nullptr);
+  EXPECT_EQ(out.str(), "o\n");
+  EXPECT_EQ(err.str(), "e\n");
+  for (const char* name : {"-", "/dev/stdout", "/dev/fd/1", "/proc/self/fd/1"})
+    EXPECT_EQ(standard_stream(name), 1) << name;
+  for (const char* name : {"/dev/stderr", "/dev/fd/2", "/proc/self/fd/2"})
+    EXPECT_EQ(standard_stream(name), 2) << name;
+  for (const char* name : {"out.csv", "/dev/null", "/dev/fd/3", "-x"})
+    EXPECT_EQ(standard_stream(name), 0) << name;
+}
+
 TEST_F(WriteThroughTest, DashIsStandardOutputAfterCommitOnly) {
   std::ostringstream standard_output;
   OutputTransaction::set_standard_output(&standard_output);
@@ -320,7 +380,8 @@ TEST_F(WriteThroughTest, DashIsStandardOutputAfterCommitOnly) {
   OutputTransaction t;
   t.open("-") << "a,b\n1,2\n";
   t.open(dir_ / "x.csv") << "x\n";
-  EXPECT_THROW(t.open("-"), std::logic_error);  // one "-" per transaction
+  EXPECT_THROW(t.open("-"), InvalidInput);            // one "-" per transaction
+  EXPECT_THROW(t.open("/dev/stdout"), InvalidInput);  // (the same stream)
   t.commit();
   EXPECT_EQ(standard_output.str(), "a,b\n1,2\n");
   EXPECT_EQ(read_file(dir_ / "x.csv"), "x\n");

@@ -102,3 +102,38 @@ def test_bad_requests_raise_naming_the_argument():
     expect_case_error(lambda: cutdyn.lobes(case, method="nope"), "method")
     expect_case_error(lambda: cutdyn.check(case, rpm=-1, depth_mm=0.5), "rpm")
     expect_case_error(lambda: cutdyn.lobes(case, target_depth_mm=-1), "target_depth_mm")
+
+
+def test_a_case_with_measured_frfs_round_trips_from_any_folder(tmp, monkeypatch):
+    # The echo names the FRF files it read by their absolute paths: the dict of a case file
+    # whose [[frf]] files are relative to it is the same case from any working folder.
+    import os
+    import shutil
+
+    here = os.path.dirname(os.path.abspath(__file__))
+    measured = os.path.join(here, "..", "..", "examples", "frf")
+    for name in ("milling-measured.toml", "tool_x.csv", "tool_y.csv"):
+        shutil.copy(os.path.join(measured, name), tmp / name)
+    case = cutdyn.Case.from_toml(str(tmp / "milling-measured.toml"))
+    d = case.to_dict()
+    assert [f["file"] for f in d["frf"]] == [str(tmp / "tool_x.csv"), str(tmp / "tool_y.csv")]
+    elsewhere = tmp / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    again = cutdyn.Case(d)
+    assert again.to_dict() == d
+    a = cutdyn.check(case, rpm=12000, depth_mm=0.2)
+    b = cutdyn.check(again, rpm=12000, depth_mm=0.2)
+    assert a.critical_depth_mm == b.critical_depth_mm
+
+
+def test_results_have_a_readable_repr():
+    case = cutdyn.example("milling-insperger")
+    lobes = cutdyn.lobes(case, method="zero-order")
+    text = repr(lobes)
+    assert text.startswith("<cutdyn.Lobes: cutdyn lobes: example milling-insperger"), text
+    assert f"{len(lobes.spindle_rpm)} rows of spindle_rpm, critical_depth_mm" in text, text
+    assert lobes._repr_html_().startswith("<pre>cutdyn lobes: example milling-insperger")
+    check = cutdyn.check(case, rpm=10000, depth_mm=0.05)
+    assert repr(check).startswith("<cutdyn.Check: cutdyn check: example milling-insperger"), \
+        repr(check)

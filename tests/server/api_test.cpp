@@ -5,11 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "cutdyn/app/report_json.hpp"
 #include "cutdyn/app/stability.hpp"
+#include "cutdyn/core/error.hpp"
 
 namespace cutdyn::server {
 namespace {
@@ -70,6 +72,106 @@ TEST(ServerApi, EveryBadRequestIsAnsweredNeverThrown) {
     EXPECT_FALSE(body.at("error").get<std::string>().empty());
     EXPECT_FALSE(body.at("problems").empty());
   }
+}
+
+// ---- the files a request may name --------------------------------------------------------
+
+const std::string kMeasured = std::string(CUTDYN_EXAMPLES_DIR) + "/frf/milling-measured.toml";
+
+// The measured example with both [[frf]] tables naming `file`.
+std::string frf_case_body(const std::string& file) {
+  json j = io::to_json(io::load_case_file(kMeasured));
+  j["frf"] = json::array(
+      {json{{"direction", "x"}, {"file", file}}, json{{"direction", "y"}, {"file", file}}});
+  return j.dump();
+}
+
+// data/tool.csv and outside/secret.csv (both a valid FRF), data/link.csv -> the secret, and
+// data/inner -> data (a link that stays inside).
+std::filesystem::path make_folders() {
+  namespace fs = std::filesystem;
+  const fs::path root = fs::path(::testing::TempDir()) / "cutdyn_api_files";
+  fs::remove_all(root);
+  fs::create_directories(root / "data");
+  fs::create_directories(root / "outside");
+  const fs::path frf = fs::path(CUTDYN_EXAMPLES_DIR) / "frf" / "tool_x.csv";
+  fs::copy_file(frf, root / "data" / "tool.csv");
+  fs::copy_file(frf, root / "outside" / "secret.csv");
+  fs::create_symlink("../outside/secret.csv", root / "data" / "link.csv");
+  fs::create_symlink(".", root / "data" / "inner");
+  return root;
+}
+
+// The hostile names: absolute paths (existing or not, /proc), "..", links out of the folder.
+std::vector<std::string> hostile_names(const std::filesystem::path& root) {
+  return {"/proc/self/stat",
+          "/proc/self/environ",
+          "/etc/passwd",
+          "/no/such/file.csv",
+          (root / "outside" / "secret.csv").string(),
+          (root / "data" / "tool.csv").string(),  // inside, but absolute
+          "../outside/secret.csv",
+          "inner/../../outside/secret.csv",
+          "../outside/none.csv",
+          "link.csv",
+          "inner/link.csv"};
+}
+
+TEST(ServerApi, ARequestReadsNoPathOutsideTheDataFolderAndTellsNothingAboutIt) {
+  const std::filesystem::path root = make_folders();
+  for (const bool with_folder : {false, true}) {
+    const Api a(io::load_example("milling-insperger"),
+                with_folder ? root / "data" : std::filesystem::path());
+    std::string first;
+    for (const std::string& name : hostile_names(root)) {
+      const Response r = a.handle({"POST", "/api/case", {}, frf_case_body(name)});
+      ASSERT_EQ(r.status, 400) << name << ": " << r.body;
+      const json body = json::parse(r.body);
+      // One answer for all: the same problem once the name it quotes is taken out.
+      std::string problem = body.at("problems").at(0).get<std::string>();
+      if (const auto at = problem.find("\"" + name + "\""); at != std::string::npos)
+        problem.erase(at, name.size() + 2);
+      if (first.empty()) first = problem;
+      EXPECT_EQ(problem, first) << name;
+      EXPECT_NE(problem.find("not a file the server reads"), std::string::npos) << problem;
+      for (const char* leak : {"cutdyn)", "root:", "no such", "not a number", "directory"})
+        EXPECT_EQ(r.body.find(leak), std::string::npos) << name << ": " << r.body;
+    }
+  }
+}
+
+TEST(ServerApi, ARequestReadsTheDataFolderAndTheStartingCasesOwnFiles) {
+  const std::filesystem::path root = make_folders();
+  const Api a(io::load_example("milling-insperger"), root / "data");
+  for (const char* name : {"tool.csv", "./tool.csv", "inner/tool.csv"}) {
+    const Response r = a.handle({"POST", "/api/case", {}, frf_case_body(name)});
+    EXPECT_EQ(r.status, 200) << name << ": " << r.body;
+  }
+  const Response missing = a.handle({"POST", "/api/case", {}, frf_case_body("none.csv")});
+  EXPECT_EQ(missing.status, 400);
+  EXPECT_NE(missing.body.find("no such file in the data folder"), std::string::npos)
+      << missing.body;
+  // The starting case's own files, by the names it gives them, with no data folder; and the
+  // lobes of the case sent back are the starting case's.
+  const io::Case start = io::load_case_file(kMeasured);
+  const Api own(start);
+  const std::string body = io::to_json(start).dump();
+  const Response lobes = own.handle({"POST", "/api/lobes", {{"method", "zero-order"}}, body});
+  ASSERT_EQ(lobes.status, 200) << lobes.body;
+  app::LobesRequest request;
+  request.method = "zero-order";
+  json expected = app::to_json(start, app::run_lobes(start, request));
+  json got = json::parse(lobes.body);
+  EXPECT_EQ(got.at("points"), expected.at("points"));
+  EXPECT_EQ(got.at("fitted_modes"), expected.at("fitted_modes"));
+  // A file the starting case does not name is refused, even beside it.
+  const Response beside = own.handle({"POST", "/api/case", {}, frf_case_body("tool_x.frf")});
+  EXPECT_EQ(beside.status, 400) << beside.body;
+}
+
+TEST(ServerApi, ADataFolderThatIsNoFolderIsRefused) {
+  EXPECT_THROW(Api(io::load_example("milling-insperger"), "/no/such/folder"), InvalidInput);
+  EXPECT_THROW(Api(io::load_example("milling-insperger"), kMeasured), InvalidInput);
 }
 
 TEST(ServerApi, ACancelledJobAnswers409) {

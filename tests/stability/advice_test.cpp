@@ -107,13 +107,13 @@ TEST(Advice, PocketsAreProminentPeaksNotWobbles) {
   ASSERT_EQ(pockets.size(), 2u);
   EXPECT_NEAR(p[pockets[0]].rpm, 30.0, 0.1);
   EXPECT_NEAR(p[pockets[1]].rpm, 70.0, 0.1);
-  // Without the wobble, and past 90 rpm a third lobe of depth 1.1 with a shallow pocket
-  // (1.8 % above its sides, at 95 rpm) and a bump of 0.5 % (at 98.5 rpm): the pocket counts,
-  // the bump does not.
+  // Without the wobble, and past 90 rpm a third lobe of depth 1.1 with a pocket (13.6 % above
+  // its sides, at 95 rpm) and a notch-bounded bump of 1.8 % (at 98.5 rpm): the pocket counts,
+  // the bump does not (kPocketProminence, 10 %).
   for (LobePoint& q : p) {
     const double rpm = q.rpm;
-    const double third = 1.1 + 0.02 * std::max(0.0, 1.0 - std::abs(rpm - 95.0) / 2.0) +
-                         0.0055 * std::max(0.0, 1.0 - std::abs(rpm - 98.5) / 0.5);
+    const double third = 1.1 + 0.15 * std::max(0.0, 1.0 - std::abs(rpm - 95.0) / 2.0) +
+                         0.02 * std::max(0.0, 1.0 - std::abs(rpm - 98.5) / 0.5);
     q.boundary.depth_m = 1e-3 * (rpm < 50.0   ? 2.0 - std::abs(rpm - 30.0) / 30.0
                                  : rpm < 90.0 ? 1.5 - std::abs(rpm - 70.0) / 60.0
                                               : third);

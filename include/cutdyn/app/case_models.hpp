@@ -5,6 +5,7 @@
 #include <string>
 #include <string_view>
 
+#include "cutdyn/core/error.hpp"
 #include "cutdyn/forces/oxley.hpp"
 #include "cutdyn/io/case_file.hpp"
 #include "cutdyn/stability/lobes.hpp"
@@ -49,5 +50,12 @@ MillingProcess milling_process_as_given(const io::Case& c);
 
 /// The speed grid of the case's [lobes] table (validated), on `threads` threads (0: all).
 LobesOptions lobes_grid(const io::Case& c, int threads);
+
+/// Adds a problem to `v` unless 0 < depth_m ≤ io::kMaxDepthMm (a depth asked as `name`).
+void require_depth(Validator& v, const std::string& name, double depth_m);
+
+/// A warning when `rpm` (asked as `name`) is above the case's spindle_max_rpm: no spindle of
+/// the case turns that fast, so the answer describes no cut. Empty otherwise.
+std::string spindle_warning(const io::Case& c, double rpm, const std::string& name);
 
 }  // namespace cutdyn::app

@@ -46,7 +46,15 @@ struct DriveReport {
   DriveOptions options;
   std::vector<DriveAxisReport> axes;
   double traces_from_s = 0.0;  // the traces worth showing: the last summary revolutions
+  /// The simulation's verdict on the cut the drives carry (as `cutdyn simulate` gives it):
+  /// where it chatters, the ripples and ε are those of a chattering cut.
+  bool chatter = false;
+  std::string verdict;
 };
+
+/// "the cut chatters at N rpm, depth D mm (the simulation's verdict: …): …" for a run whose
+/// cut chatters; empty otherwise.
+std::string chatter_warning(const DriveReport& run);
 
 /// Throws InvalidInput unless the case is a milling case with at least one [[drives]] table.
 void require_drive_case(const io::Case& c);

@@ -87,7 +87,11 @@ struct Sweep {
   std::string key;
   std::vector<double> values;
 };
-/// At most 10 000 values, each rounded to 12 significant digits (0.1·3 = 0.3); a bad spec
+/// The most values a sweep may take.
+inline constexpr std::size_t kMaxSweepValues = 10000;
+/// Throws InvalidInput (where "request") if `sweep` has no values or more than kMaxSweepValues.
+void require_values(const Sweep& sweep);
+/// At most kMaxSweepValues values, each rounded to 12 significant digits (0.1·3 = 0.3); a bad spec
 /// throws InvalidInput naming `flag` at `where`.
 Sweep parse_sweep(const std::string& spec, const std::string& flag = "sweep",
                   const std::string& where = "request");

@@ -49,6 +49,12 @@ struct LobesJobReport {
 /// Throws cutdyn::InvalidInput naming the case or the request for anything it cannot run.
 LobesJobReport run_lobes(const io::Case& c, const LobesRequest& request);
 
+/// Throws InvalidInput (where() unset) when a milling cutter of `teeth` at `rpm` is outside
+/// the speeds the full discretization and the regenerative simulation take: one tooth period
+/// spanning more than 500 periods of the highest mode (`top_mode_hz`); their work grows with
+/// it (a simulation at 30 rpm of a 922 Hz mode needed more memory than the machine had).
+void check_milling_speed(int teeth, double top_mode_hz, double rpm);
+
 struct CheckRequest {
   double rpm = 0.0;
   double depth_m = 0.0;

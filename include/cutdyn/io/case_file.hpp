@@ -12,6 +12,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -22,6 +23,7 @@
 #include "cutdyn/drive/feed_drive.hpp"
 #include "cutdyn/forces/oxley.hpp"
 #include "cutdyn/forces/work_material.hpp"
+#include "cutdyn/io/frf_file.hpp"
 #include "cutdyn/modal/measured_frf.hpp"
 #include "cutdyn/modal/modal_model.hpp"
 #include "cutdyn/plan/bore_milling.hpp"
@@ -101,10 +103,18 @@ struct SimulateSection {
   bool closed_form_helix = false;  // [Ermolaev2020] eqs. 8–9 instead of slices
 };
 
+/// The deepest cut any key or request may ask for (10 m): beyond it no number means a cut.
+inline constexpr double kMaxDepthMm = 10000.0;
+
+/// The spindle speed limit of a case that states none: above the fastest machining spindles.
+inline constexpr double kDefaultSpindleMaxRpm = 60000.0;
+
 struct Case {
   std::string source;  // file path as given, or "example NAME"
   std::string text;    // the TOML it was read from
   Process process = Process::kTurning;
+  /// spindle_max_rpm: the fastest the spindle turns; a speed asked above it is warned about.
+  double spindle_max_rpm = kDefaultSpindleMaxRpm;
   ModalModel modal;  // from [[modes]], SI
   /// [[modes]] mass_kg as given, one entry per mode (nullopt: given by stiffness_n_per_m);
   /// the stiffness follows it and natural_hz.
@@ -135,15 +145,28 @@ struct Case {
   std::vector<std::string> warnings;
 };
 
-/// Parses and validates TOML text. `source` names it in error messages.
-Case parse_case(std::string_view toml_text, std::string_view source);
+/// Reads the file a [[frf]] table names: `file` as the case writes it, with the table's
+/// reader options. Throws cutdyn::InvalidInput for a file it may not or cannot read.
+using FrfFileReader =
+    std::function<FrfReadResult(const std::string& file, const FrfFileOptions& options)>;
+
+/// Values whose magnitude looks like a unit slip (Kt in Pa, a diameter in m, a stiffness in
+/// N/mm …; the table is in docs/case-files.md, "Plausible magnitudes"), each as a warning
+/// naming the key, the value and the probable fix. parse_case adds them to `warnings`.
+std::vector<std::string> plausibility_warnings(const Case& c);
+
+/// Parses and validates TOML text. `source` names it in error messages. The [[frf]] files are
+/// read by `read_frf`; without one, from disk, relative to the folder of `source`.
+Case parse_case(std::string_view toml_text, std::string_view source,
+                const FrfFileReader& read_frf = {});
 
 /// Parses and validates a case given as JSON (the same keys, tables and arrays of tables as
 /// the TOML, e.g. the `case` object of any command's --json output, or a Python dict): it is
 /// written as TOML and read by parse_case, so every key and rule is checked the same way.
 /// `null` stands for an absent key. A value TOML cannot hold (null in an array, an array
 /// mixing tables and values) throws cutdyn::InvalidInput naming its key.
-Case parse_case_json(const nlohmann::json& j, std::string_view source);
+Case parse_case_json(const nlohmann::json& j, std::string_view source,
+                     const FrfFileReader& read_frf = {});
 
 /// The case with one number key set to `value` in the key's own unit (a sweep step): set
 /// through the field table on a copy and checked again with every rule of the loader.

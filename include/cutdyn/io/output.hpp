@@ -5,10 +5,14 @@
 // transaction is destroyed without commit (an error was thrown), the temporaries are
 // removed and no output file is left behind, partial or stale.
 //
-// Other targets are written through, not replaced: "-" is standard output (the stream set by
-// `set_standard_output`), a symbolic link is followed (its target file gets the atomic
+// Other targets are written through, not replaced: "-" and /dev/stdout are standard output,
+// /dev/stderr standard error (the streams set by `set_standard_output` and
+// `set_standard_error`), a symbolic link is followed (its target file gets the atomic
 // rename, the link stays), and an existing FIFO, device or socket is opened and written at
 // commit. Their content is held in memory until then, so an error still writes nothing.
+//
+// A target named twice, or one that is an input of the command (a file noted in the thread's
+// InputScope, cutdyn/io/inputs.hpp), is refused with InvalidInput.
 #pragma once
 
 #include <filesystem>
@@ -38,6 +42,8 @@ class OutputTransaction {
   /// Where "-" goes (the command line sets its standard output; nullptr: "-" is refused).
   /// For the calling thread.
   static void set_standard_output(std::ostream* out);
+  /// Where /dev/stderr goes (nullptr: to the device, as any other). For the calling thread.
+  static void set_standard_error(std::ostream* err);
 
   /// Adds a file that was written by someone else (e.g. gnuplot) at `temporary`, to be
   /// renamed to `target` on commit and deleted on rollback.
@@ -63,6 +69,10 @@ class OutputTransaction {
   std::vector<std::filesystem::path> scratch_dirs_;
   bool committed_ = false;
 };
+
+/// 1 if `target` names standard output ("-", /dev/stdout, /dev/fd/1, /proc/self/fd/1), 2 if
+/// it names standard error (/dev/stderr, /dev/fd/2, /proc/self/fd/2), else 0.
+int standard_stream(const std::filesystem::path& target);
 
 /// One CSV cell: a number, an integer or a text (quoted if it holds , or ").
 using CsvCell = std::variant<double, long long, std::string>;

@@ -71,6 +71,9 @@ std::string case_key_label(const Case& c, std::string_view key);
 /// cutdyn::InvalidInput naming the path and the supported extensions.
 void check_figure_path(const std::filesystem::path& figure);
 
+/// The files a figure F.ext is written as: F.ext, F.dat and F.gp, in one folder.
+std::vector<std::filesystem::path> figure_files(const std::filesystem::path& figure);
+
 /// Writes F.dat and F.gp, runs gnuplot to make the figure, and registers all three with
 /// `outputs` (so they appear only on commit). Throws std::runtime_error if gnuplot is
 /// missing or fails (its stderr is included in the message).

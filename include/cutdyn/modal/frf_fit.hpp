@@ -26,6 +26,9 @@
 
 namespace cutdyn {
 
+/// The most modes a fit may be asked for (its cost grows with the cube of the order).
+inline constexpr int kMaxFitModes = 40;
+
 struct FrfFitOptions {
   int modes = 0;  // number of modes to fit; 0 = chosen from the diagram
   std::optional<double> lo_hz = std::nullopt;  // band to fit; default: the whole table

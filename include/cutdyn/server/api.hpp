@@ -14,9 +14,14 @@
 //        default 2000) and "spectrum" (of the displacement, app::trace_spectrum)
 //
 // A POST's body is a case as JSON: the case file's keys, or the `case` object of any --json
-// output as it is. Its relative [[frf]] files are read from the starting case file's folder. Bad
-// JSON, a bad case or a bad parameter: status 400 and
+// output as it is. Bad JSON, a bad case or a bad parameter: status 400 and
 // {"error": the command line's message, "where", "problems": [...]}.
+//
+// The server reads no path a request names. A case's [[frf]] `file` may only be one of the
+// starting case's own [[frf]] files (by the name that case gives it, as GET /api/case shows
+// it), or a file of the data folder the server was started with (`--data DIR`), named by its
+// path within the folder: no absolute path, no "..", no link that leads out of it. Anything
+// else gets one answer, the same whether the path exists or not.
 #pragma once
 
 #include <atomic>
@@ -47,16 +52,22 @@ struct Cancelled {};
 
 class Api {
  public:
-  /// `start`: the case GET /api/case returns.
-  explicit Api(io::Case start);
+  /// `start`: the case GET /api/case returns. `data_folder`: the folder whose files a
+  /// request's case may name (none when empty). Throws InvalidInput if it is not a folder.
+  explicit Api(io::Case start, const std::filesystem::path& data_folder = {});
 
   /// Answers one request. `cancel`, when given and set while a job runs, stops the job at its
   /// next progress report (status 409, "cancelled"). Never throws for any input.
   Response handle(const Request& request, const std::atomic<bool>* cancel = nullptr) const;
 
  private:
+  FrfReadResult read_frf(const std::string& file, const FrfFileOptions& options) const;
+  static FrfReadResult reread(const std::string& file, const std::filesystem::path& path,
+                              const FrfFileOptions& options);
+
   io::Case start_;
-  std::filesystem::path folder_;  // the starting case file's folder (none for an example)
+  std::map<std::string, std::filesystem::path> start_files_;  // [[frf]] file as named → path
+  std::filesystem::path data_folder_;                         // canonical; empty: none
 };
 
 }  // namespace cutdyn::server

@@ -8,6 +8,7 @@
 // (413) before they are read.
 #pragma once
 
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <string>
@@ -21,6 +22,8 @@ struct ServerOptions {
   int port = 8080;  // 0: any free port (see Server::port())
   std::size_t max_body_bytes = 1 << 20;
   int workers = 0;  // threads that run the jobs; 0: one per core
+  /// The folder whose files a request's case may name in [[frf]] (api.hpp); none when empty.
+  std::filesystem::path data_folder;
   /// Each request answered: method, path, status, milliseconds (for a log).
   std::function<void(const std::string&, const std::string&, int, double)> log;
 };

@@ -22,13 +22,23 @@ struct SpeedRange {
 std::vector<SpeedRange> stable_ranges(const std::vector<LobePoint>& points, double depth_m);
 
 /// How far (relative) the critical depth must fall on both sides of a local maximum for it to
-/// be a stable pocket: ten times the depth searches' tolerance.
-inline constexpr double kPocketProminence = 0.01;
+/// be a stable pocket: 10 %. A smaller dip is a notch in a lobe's flank (or the wobble of the
+/// depth searches' 0.1 % tolerance at a peak), not a pocket: the cut there is as deep a little
+/// faster or slower.
+inline constexpr double kPocketProminence = 0.10;
+
+/// The width a pocket is stated with: the speeds around it where the critical depth is at
+/// least kPocketKeep of the peak's.
+inline constexpr double kPocketKeep = 0.9;
 
 /// Indices of the stable pockets — local maxima of the critical depth, the peaks between two
 /// lobes, from which the depth falls by kPocketProminence on each side before it rises above
 /// the peak again or the speeds end — deepest first, at most `count`.
 std::vector<std::size_t> stable_pockets(const std::vector<LobePoint>& points, std::size_t count);
+
+/// The speeds around point `peak` where the critical depth, linear between the points, is at
+/// least kPocketKeep of the peak's (up to the first or last speed).
+SpeedRange pocket_width(const std::vector<LobePoint>& points, std::size_t peak);
 
 /// The recommended speed for a target depth a and its margin ε: the largest ε such that
 /// every speed within n·(1 ± ε) has a critical depth of at least a·(1 + ε) — the cut stays
