@@ -183,6 +183,14 @@ TEST_F(InputsProtected, AFolderAMissingFileOrAnOutputNamedTwiceIsBadInput) {
       }
     }
   }
+  // The pairs the walk above does not make: --currents and --out, and a figure's data file.
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"drive", "--out", p("x.csv"), "--currents", p("x.csv")},
+        std::vector<std::string>{"lobes", "--out", p("f.dat"), "--plot", p("f.svg")}}) {
+    const auto r = run_cutdyn(args);
+    EXPECT_EQ(r.code, 2) << args[0] << "\n" << r.err;  // (was 1, after the work, for drive)
+    EXPECT_NE(r.err.find("name the same file"), std::string::npos) << r.err;
+  }
 }
 
 }  // namespace
