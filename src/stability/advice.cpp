@@ -69,21 +69,10 @@ std::vector<std::size_t> stable_pockets(const std::vector<LobePoint>& p, std::si
 }
 
 SpeedRange pocket_width(const std::vector<LobePoint>& p, std::size_t peak) {
-  const double floor = p[peak].boundary.depth_m * kPocketKeep;
-  // From the peak in direction `step`: the speed where the depth falls to the floor.
-  const auto until = [&](int step) {
-    auto k = static_cast<std::ptrdiff_t>(peak);
-    for (auto j = k + step; j >= 0 && j < static_cast<std::ptrdiff_t>(p.size()); k = j, j += step) {
-      const LobePoint& a = p[static_cast<std::size_t>(k)];
-      const LobePoint& b = p[static_cast<std::size_t>(j)];
-      if (b.boundary.depth_m < floor) {
-        const double t = (a.boundary.depth_m - floor) / (a.boundary.depth_m - b.boundary.depth_m);
-        return a.rpm + t * (b.rpm - a.rpm);
-      }
-    }
-    return p[static_cast<std::size_t>(k)].rpm;
-  };
-  return {until(-1), until(1)};
+  // The stable range at kPocketKeep of the peak's depth that holds the peak.
+  for (const SpeedRange& r : stable_ranges(p, kPocketKeep * p[peak].boundary.depth_m))
+    if (r.rpm_from <= p[peak].rpm && p[peak].rpm <= r.rpm_to) return r;
+  return {p[peak].rpm, p[peak].rpm};
 }
 
 namespace {
