@@ -285,21 +285,16 @@ int standard_stream(const fs::path& target) {
   return 0;
 }
 
-namespace {
-
 // Refuses a second output to the same target, and an output that would replace an input of
 // the command (cutdyn/io/inputs.hpp); both are mistakes of the command line.
-void check_target(const fs::path& requested, const fs::path& id,
-                  const std::vector<fs::path>& opened) {
-  for (const fs::path& other : opened)
-    if (other == id)
+void OutputTransaction::check_target(const fs::path& requested, const fs::path& id) const {
+  for (const Entry& entry : entries_)
+    if (entry.target == id)
       throw InvalidInput({requested.string() + ": named by two outputs of the command"},
                          "command line");
   if (const std::string problem = input_overwrite_problem(requested); !problem.empty())
     throw InvalidInput({problem}, "command line");
 }
-
-}  // namespace
 
 std::ostream& OutputTransaction::open(const fs::path& requested) {
   if (committed_) throw std::logic_error("OutputTransaction: open after commit");
@@ -314,9 +309,7 @@ std::ostream& OutputTransaction::open(const fs::path& requested) {
   const fs::path id = !to_stream           ? identity(target)
                       : stream_number == 1 ? kStandardOutputId
                                            : kStandardErrorId;
-  std::vector<fs::path> opened;
-  for (const Entry& entry : entries_) opened.push_back(entry.target);
-  check_target(requested, id, opened);
+  check_target(requested, id);
   if (to_stream || is_special(target)) {
     auto held = std::make_unique<std::ostringstream>();
     std::ostream& out = *held;
@@ -361,9 +354,7 @@ std::ostream& OutputTransaction::open(const fs::path& requested) {
 void OutputTransaction::adopt(const fs::path& temporary, const fs::path& target) {
   if (committed_) throw std::logic_error("OutputTransaction: adopt after commit");
   const fs::path id = identity(target);
-  std::vector<fs::path> opened;
-  for (const Entry& entry : entries_) opened.push_back(entry.target);
-  check_target(target, id, opened);
+  check_target(target, id);
   track(temporary, kFile);
   entries_.push_back(Entry{temporary, id, nullptr, nullptr});
 }

@@ -65,6 +65,7 @@ class OutputTransaction {
     std::unique_ptr<std::ostringstream> held;
   };
   void rollback() noexcept;
+  void check_target(const std::filesystem::path& requested, const std::filesystem::path& id) const;
   std::vector<Entry> entries_;
   std::vector<std::filesystem::path> scratch_dirs_;
   bool committed_ = false;
