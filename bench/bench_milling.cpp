@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <map>
 #include <string>
@@ -157,12 +158,15 @@ void BM_MillingLobes(benchmark::State& state) {
 // rpm: the cost of the window that covers every mode, and how far the two agree.
 void BM_FourModeMethods(benchmark::State& state) {
   const auto method = static_cast<MillingMethod>(state.range(0));
-  const bool dense = state.range(1) != 0;
+  // Multi-frequency variants: 0 the default, 1 every eigenvalue dense (before 2026-12-02),
+  // 2 the frequency samples at the sharpest mode's equal steps (before 2026-12-02 evening).
+  const auto variant = state.range(1);
   const MillingProcess m = testing::four_mode_milling(0.5, true);
   MillingStabilityOptions o;
   o.method = method;
   o.depth_max_m = 0.03;
-  o.dense_eigenvalues = dense;
+  o.dense_eigenvalues = variant == 1;
+  o.uniform_frequency_step = variant == 2;
   LobesOptions grid;
   grid.rpm_min = 4000.0;
   grid.rpm_max = 16000.0;
@@ -170,8 +174,9 @@ void BM_FourModeMethods(benchmark::State& state) {
   grid.refine = false;
   grid.threads = 0;
   LobesReport report;
+  const char* const variants[] = {"four_mode_mf", "four_mode_mf_dense", "four_mode_mf_uniform"};
   const std::string key = method == MillingMethod::kMultiFrequency
-                              ? (dense ? "four_mode_mf_dense" : "four_mode_mf")
+                              ? variants[std::clamp<std::int64_t>(variant, 0, 2)]
                               : "four_mode_fd";
   Result& r = timed(state, key, [&] {
     report = trace_lobes(
@@ -355,9 +360,10 @@ BENCHMARK(BM_MillingLobes)
     ->Unit(kMs)
     ->UseRealTime();
 BENCHMARK(BM_FourModeMethods)
-    ->ArgNames({"method", "dense"})
+    ->ArgNames({"method", "variant"})
     ->Args({static_cast<int>(MillingMethod::kFullDiscretization), 0})
     ->Args({static_cast<int>(MillingMethod::kMultiFrequency), 0})
+    ->Args({static_cast<int>(MillingMethod::kMultiFrequency), 2})
     ->Args({static_cast<int>(MillingMethod::kMultiFrequency), 1})
     ->Iterations(1)
     ->Unit(kMs)
@@ -487,12 +493,20 @@ void print_summary() {
   std::printf(
       "\nFour-mode case (480-1500 Hz), a/D 0.5 down, 24 speeds 4000-16000 rpm, all threads:\n");
   const auto mf4_dense = result("four_mode_mf_dense");
+  const auto mf4_uniform = result("four_mode_mf_uniform");
   line("full discretization", fd4);
   line("multi-frequency (window covering every mode)", mf4);
+  line("multi-frequency, equal frequency steps (before 2026-12-02 evening)", mf4_uniform);
   line("multi-frequency, every eigenvalue dense (before 2026-12-02)", mf4_dense);
   if (mf4 && fd4)
     std::printf("  %-58s %11.2fx\n", "ratio multi-frequency / full discretization",
                 mf4->seconds / fd4->seconds);
+  if (mf4_uniform && fd4)
+    std::printf("  %-58s %11.2fx\n", "ratio equal steps / full discretization",
+                mf4_uniform->seconds / fd4->seconds);
+  if (mf4 && mf4_uniform)
+    std::printf("  %-58s %11.2fx\n", "ratio equal / widening frequency steps",
+                mf4_uniform->seconds / mf4->seconds);
   if (mf4 && mf4_dense)
     std::printf("  %-58s %11.2fx\n", "ratio dense / Arnoldi eigenvalues",
                 mf4_dense->seconds / mf4->seconds);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 
 #include "cutdyn/core/detail/roots.hpp"
 #include "cutdyn/stability/detail/large_eigenvalues.hpp"
@@ -105,22 +106,30 @@ struct Candidate {
 
 namespace {
 
-// Crossings of the positive real axis by eigenvalues followed from one sample of [θa, θb]
-// to the next (n equal steps; `first` holds the eigenvalues at θa). Where the matching of an
+// n equal steps from a to b: the n + 1 samples, both ends exact.
+std::vector<double> uniform_grid(double a, double b, long long n) {
+  std::vector<double> grid(static_cast<std::size_t>(n) + 1);
+  const double h = (b - a) / static_cast<double>(n);
+  for (long long s = 0; s < n; ++s)
+    grid[static_cast<std::size_t>(s)] = a + static_cast<double>(s) * h;
+  grid.back() = b;
+  return grid;
+}
+
+// Crossings of the positive real axis by eigenvalues followed from one sample of `grid` to
+// the next (`first` holds the eigenvalues at grid.front()). Where the matching of an
 // eigenvalue that matters is ambiguous — its nearest successor is not clearly nearer than the
 // next one, as when eigenvalues crowd — the step is split in kSplit and followed again (at
 // most kMaxSplits times), so that a crossing is neither missed nor made up by a swap.
-void find_candidates(Evaluator& ev, double theta_a, double theta_b, long long n,
-                     Eigen::VectorXcd first, double keep, int level,
-                     std::vector<Candidate>& candidates, Eigen::VectorXcd* last = nullptr,
-                     int splits = 0) {
+void find_candidates(Evaluator& ev, const std::vector<double>& grid, Eigen::VectorXcd first,
+                     double keep, int level, std::vector<Candidate>& candidates,
+                     Eigen::VectorXcd* last = nullptr, int splits = 0) {
   constexpr long long kSplit = 4;
   constexpr int kMaxSplits = 3;
-  const double h = (theta_b - theta_a) / static_cast<double>(n);
   Eigen::VectorXcd prev = std::move(first);
-  double prev_theta = theta_a;
-  for (long long s = 1; s <= n; ++s) {
-    const double theta = s == n ? theta_b : theta_a + static_cast<double>(s) * h;
+  double prev_theta = grid.front();
+  for (std::size_t s = 1; s < grid.size(); ++s) {
+    const double theta = grid[s];
     Eigen::VectorXcd cur = ev.values(theta);
     if (prev.size() > 0 && cur.size() > 0) {
       std::vector<Candidate> found;
@@ -155,8 +164,8 @@ void find_candidates(Evaluator& ev, double theta_a, double theta_b, long long n,
         found.push_back({prev_theta, theta, a, b, 1.0 / re, level});
       }
       if (ambiguous && splits < kMaxSplits) {
-        find_candidates(ev, prev_theta, theta, kSplit, prev, keep, level, candidates, nullptr,
-                        splits + 1);
+        find_candidates(ev, uniform_grid(prev_theta, theta, kSplit), prev, keep, level, candidates,
+                        nullptr, splits + 1);
       } else {
         candidates.insert(candidates.end(), found.begin(), found.end());
       }
@@ -179,6 +188,22 @@ BoundaryScanReport scan_boundary(const MatrixFunction& evaluate, const BoundaryS
   Evaluator ev(evaluate, report.evaluations, 0.5 * keep, o.dense);
   const double span = o.theta_max - o.theta_min;
   const auto n = static_cast<long long>(std::max(1.0, std::ceil(span / o.theta_step)));
+  std::vector<double> grid;
+  if (o.step_at) {
+    // Steps of at most theta_step, shorter where step_at says K changes fast; the last one
+    // is stretched or shortened to end on theta_max (never more than by half a step).
+    grid.push_back(o.theta_min);
+    for (;;) {
+      const double theta = grid.back();
+      const double h = std::min(o.theta_step, o.step_at(theta));
+      if (!(h > 0.0)) throw std::logic_error("scan_boundary: step_at must be positive");
+      if (theta + 1.5 * h >= o.theta_max) break;
+      grid.push_back(theta + h);
+    }
+    grid.push_back(o.theta_max);
+  } else {
+    grid = uniform_grid(o.theta_min, o.theta_max, n);
+  }
 
   std::vector<Candidate> candidates;
   std::vector<BoundaryPoint> direct;  // real eigenvalues at the end points
@@ -193,7 +218,7 @@ BoundaryScanReport scan_boundary(const MatrixFunction& evaluate, const BoundaryS
   };
   Eigen::VectorXcd first = ev.values(o.theta_min), last;
   if (o.real_at_ends) take_real_at(o.theta_min, first);
-  find_candidates(ev, o.theta_min, o.theta_max, n, std::move(first), keep, 0, candidates, &last);
+  find_candidates(ev, grid, std::move(first), keep, 0, candidates, &last);
   if (o.real_at_ends) take_real_at(o.theta_max, last);
 
   // Refine in order of the interpolated depth; stop once an estimate exceeds the best
@@ -235,8 +260,8 @@ BoundaryScanReport scan_boundary(const MatrixFunction& evaluate, const BoundaryS
         continue;
       }
       std::vector<Candidate> finer;
-      find_candidates(ev, c.theta_a, c.theta_b, kRescan, ev.values(c.theta_a), keep, c.level + 1,
-                      finer);
+      find_candidates(ev, uniform_grid(c.theta_a, c.theta_b, kRescan), ev.values(c.theta_a), keep,
+                      c.level + 1, finer);
       candidates.insert(candidates.end(), finer.begin(), finer.end());
       std::sort(candidates.begin() + static_cast<std::ptrdiff_t>(next) + 1, candidates.end(),
                 by_depth);

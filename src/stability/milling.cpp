@@ -248,6 +248,7 @@ MillingBoundary critical_depth_at(const MillingProcess& model, double rpm,
       mf.harmonics = o.method == MillingMethod::kZeroOrder ? 0 : o.harmonics;
       mf.exact_harmonics = o.exact_harmonics;
       mf.dense_eigenvalues = o.dense_eigenvalues;
+      mf.uniform_step = o.uniform_frequency_step;
       // Uneven pitch: H has the period of a revolution, so the same resolution in frequency
       // needs z harmonics of the spindle frequency per harmonic of the tooth frequency.
       if (!model.tool.even_pitch()) {

@@ -247,8 +247,28 @@ CriticalDepth multi_frequency_critical_depth(const DelayedSystem& system,
   // Beyond w_limit every harmonic ω + pΩ of a base ω in [w_limit, Ω/2] is too, so no
   // eigenvalue can reach the depth limit there.
   const double w_max = periodic ? std::min(0.5 * Omega, w_limit) : w_limit;
-  const double step =
-      std::min(kTwoPi / (o.samples_per_turn * tau), 0.25 * sharpest_half_bandwidth(system));
+  // Steps of at most 1/samples_per_turn of the delay's phase turn, and, near a resonance, a
+  // quarter of the distance from the nearest harmonic iω' = i(ω + pΩ) of the window to the
+  // nearest pole s_r of the structure: G(ω') changes by a fraction of about h/|iω' − s_r| over
+  // a step h, so a quarter of that distance moves the eigenvalues as little as a quarter of the
+  // half-bandwidth does at the peak (docs/models/milling-stability.md, "Frequency samples",
+  // MF-1 and MF-2).
+  const double delay_step = kTwoPi / (o.samples_per_turn * tau);
+  const Eigen::VectorXcd poles = system.A0.eigenvalues();
+  const auto pole_distance = [&](double w) {
+    double d = std::numeric_limits<double>::infinity();
+    for (Eigen::Index i = 0; i < poles.size(); ++i) {
+      const cplx s = poles(i);
+      // The harmonic of the window nearest the pole's frequency, and its neighbours.
+      double p_near = periodic ? std::round((s.imag() - w) / Omega) : 0.0;
+      p_near = std::clamp(p_near, static_cast<double>(lo), static_cast<double>(hi));
+      for (double p = std::max<double>(lo, p_near - 1); p <= std::min<double>(hi, p_near + 1);
+           p += 1.0)
+        d = std::min(d, std::abs(cplx(0.0, w + p * Omega) - s));
+    }
+    return d;
+  };
+  const double step = std::min(delay_step, 0.25 * sharpest_half_bandwidth(system));
 
   const double min_eigenvalue = 1.0 / o.depth_max_m;
   const MatrixFunction evaluate = [&](double w, Eigen::MatrixXcd& K) {
@@ -258,7 +278,12 @@ CriticalDepth multi_frequency_critical_depth(const DelayedSystem& system,
   BoundaryScanOptions scan;
   scan.theta_min = 0.0;
   scan.theta_max = w_max;
-  scan.theta_step = step;
+  if (o.uniform_step) {
+    scan.theta_step = step;
+  } else {
+    scan.theta_step = delay_step;
+    scan.step_at = [&](double w) { return 0.25 * pole_distance(w); };
+  }
   scan.min_eigenvalue = min_eigenvalue;
   scan.dense = o.dense_eigenvalues;
   BoundaryScanReport report = scan_boundary(evaluate, scan);

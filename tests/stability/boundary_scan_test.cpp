@@ -5,6 +5,7 @@
 #include <cmath>
 #include <complex>
 #include <limits>
+#include <stdexcept>
 #include <string>
 
 #include "cutdyn/core/units.hpp"
@@ -110,6 +111,67 @@ TEST(BoundaryScan, ClosedForm2x2MatchesTheGeneralSolverAtItsEdges) {
   };
   o.min_eigenvalue = 10.0;
   expect_closed_form_matches_general(close, o, "eigenvalues 1e-6 apart", 1e-7);
+}
+
+// Steps that widen away from the resonances (step_at) find the same boundary points as equal
+// steps of the sharpest mode's quarter half-bandwidth, with fewer samples: zero-order K of the
+// four-mode cutter, up and down, three immersions and speeds, every crossing refined. A
+// step_at that is not positive is a programming error, not a hang.
+TEST(BoundaryScan, StepsThatWidenAwayFromTheResonancesFindTheSamePoints) {
+  for (bool down : {false, true}) {
+    for (double immersion : {1.0, 0.5, 0.1}) {
+      for (double rpm : {3000.0, 9000.0, 21000.0}) {
+        const std::string name = std::string(down ? "down" : "up") + " a/D " +
+                                 std::to_string(immersion) + " at " + std::to_string(rpm) + " rpm";
+        const DelayedSystem s = milling_system(testing::four_mode_milling(immersion, down), rpm);
+        const Eigen::MatrixXcd h0 = s.H.fourier(0);
+        const MatrixFunction k = [&](double w, Eigen::MatrixXcd& m) {
+          m = s.frequency_response(w) * h0 * (std::polar(1.0, -w * s.delay_s) - 1.0);
+          return true;
+        };
+        const Eigen::VectorXcd poles = s.A0.eigenvalues();
+        double sharpest = std::numeric_limits<double>::infinity();
+        for (Eigen::Index i = 0; i < poles.size(); ++i)
+          sharpest = std::min(sharpest, -poles(i).real());
+        BoundaryScanOptions o;
+        o.theta_min = 0.0;
+        o.theta_max = units::hz_to_rad_per_s(3000.0);
+        o.min_eigenvalue = 1.0 / 0.05;
+        o.refine_factor = std::numeric_limits<double>::infinity();
+        const double delay_step = units::kTwoPi / (16.0 * s.delay_s);
+        o.theta_step = std::min(delay_step, 0.25 * sharpest);
+        const BoundaryScanReport equal = scan_boundary(k, o);
+        o.theta_step = delay_step;
+        o.step_at = [&](double w) {
+          double d = std::numeric_limits<double>::infinity();
+          for (Eigen::Index i = 0; i < poles.size(); ++i)
+            d = std::min(d, std::abs(cplx(0.0, w) - poles(i)));
+          return 0.25 * d;
+        };
+        const BoundaryScanReport widening = scan_boundary(k, o);
+        ASSERT_FALSE(equal.points.empty()) << name;
+        ASSERT_EQ(widening.points.size(), equal.points.size()) << name;
+        for (std::size_t i = 0; i < equal.points.size(); ++i) {
+          EXPECT_NEAR(widening.points[i].depth, equal.points[i].depth, 1e-9 * equal.points[i].depth)
+              << name << " point " << i;
+          EXPECT_NEAR(widening.points[i].theta, equal.points[i].theta, 1e-9 * equal.points[i].theta)
+              << name << " point " << i;
+        }
+        EXPECT_EQ(widening.unresolved, 0) << name;
+        EXPECT_LT(widening.evaluations, equal.evaluations) << name;
+      }
+    }
+  }
+  BoundaryScanOptions o;
+  o.theta_max = 1.0;
+  o.theta_step = 0.1;
+  o.min_eigenvalue = 1.0;
+  o.step_at = [](double) { return 0.0; };
+  const MatrixFunction one = [](double, Eigen::MatrixXcd& m) {
+    m = Eigen::MatrixXcd::Identity(1, 1);
+    return true;
+  };
+  EXPECT_THROW(scan_boundary(one, o), std::logic_error);
 }
 
 }  // namespace

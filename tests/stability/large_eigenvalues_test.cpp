@@ -212,12 +212,14 @@ TEST(LargeEigenvalues, EdgesFallBackToTheDenseSolverOrStopAtAnInvariantSpace) {
 // The critical depth, chatter frequency and bifurcation with the eigenvalues from Arnoldi's
 // method equal those with every eigenvalue from the dense solver: milling with even and
 // uneven pitch, low immersion, four modes, up and down, and vibration-assisted turning.
-TEST(LargeEigenvalues, MultiFrequencyDepthIsTheDenseSolversOne) {
-  struct Case {
-    std::string name;
-    DelayedSystem system;
-    double depth_max_m;
-  };
+struct MultiFrequencyCase {
+  std::string name;
+  DelayedSystem system;
+  double depth_max_m;
+};
+
+std::vector<MultiFrequencyCase> multi_frequency_cases() {
+  using Case = MultiFrequencyCase;
   std::vector<Case> cases;
   for (double rpm : {4000.0, 7000.0, 13000.0})
     cases.push_back({"four modes " + std::to_string(rpm),
@@ -239,7 +241,11 @@ TEST(LargeEigenvalues, MultiFrequencyDepthIsTheDenseSolversOne) {
   for (double rpm : {600.0, 2000.0})
     cases.push_back(
         {"vibration-assisted turning " + std::to_string(rpm), turning_system(vat, rpm), 100e-3});
-  for (const Case& c : cases) {
+  return cases;
+}
+
+TEST(LargeEigenvalues, MultiFrequencyDepthIsTheDenseSolversOne) {
+  for (const MultiFrequencyCase& c : multi_frequency_cases()) {
     MultiFrequencyOptions o;
     o.depth_max_m = c.depth_max_m;
     o.harmonics = c.system.more_delays.empty() ? 5 : 20;
@@ -252,6 +258,35 @@ TEST(LargeEigenvalues, MultiFrequencyDepthIsTheDenseSolversOne) {
     EXPECT_NEAR(fast.chatter_hz, dense.chatter_hz, 1e-6 * dense.chatter_hz) << c.name;
     EXPECT_EQ(fast.bifurcation, dense.bifurcation) << c.name;
     EXPECT_EQ(fast.unresolved, 0) << c.name;
+  }
+}
+
+// The frequency samples that widen away from the resonances (default) find the critical
+// depth, chatter frequency and bifurcation of the former equal steps of the sharpest mode's
+// quarter half-bandwidth, on the same cuts and on two edges: a mode 50 times sharper than
+// the others (ζ = 0.001) and a stiff mode far above the tooth frequency.
+TEST(LargeEigenvalues, WideningFrequencyStepsGiveTheEqualStepsDepth) {
+  std::vector<MultiFrequencyCase> cases = multi_frequency_cases();
+  MillingProcess sharp = testing::four_mode_milling();
+  sharp.modal.modes.front().damping_ratio = 0.001;
+  for (double rpm : {5000.0, 11000.0})
+    cases.push_back({"a sharp mode " + std::to_string(rpm), milling_system(sharp, rpm), 30e-3});
+  MillingProcess high = testing::four_mode_milling();
+  high.modal.modes.back().natural_rad_s = units::hz_to_rad_per_s(6000.0);
+  cases.push_back({"a mode at 6 kHz", milling_system(high, 6000.0), 30e-3});
+  for (const MultiFrequencyCase& c : cases) {
+    MultiFrequencyOptions o;
+    o.depth_max_m = c.depth_max_m;
+    o.harmonics = c.system.more_delays.empty() ? 5 : 20;
+    const CriticalDepth widening = multi_frequency_critical_depth(c.system, o);
+    o.uniform_step = true;
+    const CriticalDepth equal = multi_frequency_critical_depth(c.system, o);
+    ASSERT_EQ(widening.found, equal.found) << c.name;
+    ASSERT_TRUE(equal.found) << c.name << ": nothing to compare";
+    EXPECT_NEAR(widening.depth_m, equal.depth_m, 1e-9 * equal.depth_m) << c.name;
+    EXPECT_NEAR(widening.chatter_hz, equal.chatter_hz, 1e-6 * equal.chatter_hz) << c.name;
+    EXPECT_EQ(widening.bifurcation, equal.bifurcation) << c.name;
+    EXPECT_EQ(widening.unresolved, 0) << c.name;
   }
 }
 

@@ -57,6 +57,9 @@ struct MillingStabilityOptions {
   /// Multi-frequency: every eigenvalue of K by the dense solver, as before 2026-12-02
   /// (MultiFrequencyOptions::dense_eigenvalues; for comparisons and benchmarks).
   bool dense_eigenvalues = false;
+  /// Multi-frequency: frequency samples at the sharpest mode's equal steps, as before
+  /// 2026-12-02 evening (MultiFrequencyOptions::uniform_step; for comparisons and benchmarks).
+  bool uniform_frequency_step = false;
   /// Full discretization: quadratic interpolation (order 2) on steps of at most 1/32 of the
   /// shortest period of the structure — where a tooth cuts, of the structure stiffened by the
   /// cut at the boundary, with at least 8 steps per contact window — and the boundary

@@ -43,6 +43,9 @@ struct MultiFrequencyOptions {
   /// Every eigenvalue of K by the dense Schur decomposition (the method before 2026-12-02, for
   /// comparisons), not only those that can reach 1/depth_max by Arnoldi's method.
   bool dense_eigenvalues = false;
+  /// Frequency samples at equal steps set by the sharpest mode everywhere (the method before
+  /// 2026-12-02 evening, for comparisons), instead of steps that widen away from the resonances.
+  bool uniform_step = false;
 
   std::vector<std::string> validate() const;
 };

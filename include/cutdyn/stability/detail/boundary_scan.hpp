@@ -23,7 +23,11 @@ namespace cutdyn {
 struct BoundaryScanOptions {
   double theta_min = 0.0;
   double theta_max = 0.0;
-  double theta_step = 0.0;      // grid spacing, > 0
+  double theta_step = 0.0;  // grid spacing, > 0 (the largest one when step_at is set)
+  /// The largest step the scan may take from θ, where K changes faster in some places than
+  /// in others (near a resonance): the grid then follows it, never wider than theta_step.
+  /// Empty: equal steps of theta_step.
+  std::function<double(double theta)> step_at;
   double min_eigenvalue = 0.0;  // ignore λ below this (depths above 1/min_eigenvalue)
   /// Refine only candidates whose interpolated depth is within this factor of the smallest
   /// refined one (the others cannot be the critical depth). Near a sharp resonance the
