@@ -19,7 +19,8 @@ constexpr double kPi = std::numbers::pi;
 constexpr const char* kWhere = "Oxley machining theory";
 
 // Boothroyd's fraction of the shear-zone heat conducted into the work [Oxley1989, eq. 3.9],
-// clamped to [0, 1] outside its range (the solution is checked against the range).
+// clamped to [0, 1] outside its range (the solution is checked against the range): β of
+// eq. OX-7 (docs/models/oxley.md).
 double heat_into_work(double thermal_number, double tan_phi) {
   const double x = thermal_number * tan_phi;
   const double beta = x <= 10.0 ? 0.5 - 0.35 * std::log10(x) : 0.3 - 0.15 * std::log10(x);
@@ -110,7 +111,8 @@ OxleyState oxley_state(const WorkMaterial& material, const OrthogonalCut& cut, d
   s.delta = delta;
   const double sin_phi = std::sin(phi), cos_pa = std::cos(phi - alpha);
   const double tan_phi = std::tan(phi);
-  // Shear-plane geometry and kinematics [Oxley1989, eqs. 7.1–7.4].
+  // Shear-plane geometry and kinematics [Oxley1989, eqs. 7.1–7.4]; eqs. OX-3 and OX-4
+  // (docs/models/oxley.md).
   const double l = t1 / sin_phi;
   s.shear_plane_length_m = l;
   s.shear_velocity_m_per_s = V * std::cos(alpha) / cos_pa;
@@ -120,7 +122,8 @@ OxleyState oxley_state(const WorkMaterial& material, const OrthogonalCut& cut, d
   s.strain_ab = gamma_ab / kSqrt3;
   s.strain_rate_ab_per_s = c0 * s.shear_velocity_m_per_s / l / kSqrt3;
 
-  // Angle of the resultant and the friction angle [Oxley1989, eq. 7.9; Lalwani2009, eq. 8].
+  // Angle of the resultant and the friction angle [Oxley1989, eq. 7.9; Lalwani2009, eq. 8];
+  // eq. OX-5 (docs/models/oxley.md), n_eq of eq. OX-2 at ε_AB.
   s.hardening_index = jc.hardening_index(s.strain_ab);
   const double tan_theta = 1.0 + 2.0 * (kPi / 4.0 - phi) - c0 * s.hardening_index;
   s.theta_rad = std::atan(tan_theta);
@@ -131,7 +134,9 @@ OxleyState oxley_state(const WorkMaterial& material, const OrthogonalCut& cut, d
 
   // Shear-plane temperature T_AB = Tw + η·ΔT_SZ(T_AB): properties and flow stress at T_AB
   // [Oxley1989, eqs. 3.9–3.11; Lalwani2009, eqs. 9–12]. g(T) = Tw + η·ΔT_SZ − T is ≥ 0 at Tw
-  // and Tw − Tm < 0 at Tm (no flow stress), so Brent's method has a bracket.
+  // and Tw − Tm < 0 at Tm (no flow stress), so Brent's method has a bracket. R_T and β of
+  // eq. OX-7, ΔT_SZ and T_AB of eq. OX-8, k_AB = σ/√3 of eqs. OX-1 and OX-2
+  // (docs/models/oxley.md).
   const double k_unsoftened =
       jc.hardening_pa(s.strain_ab) * jc.rate_factor(s.strain_rate_ab_per_s) / kSqrt3;
   const auto softening = [&](double T) { return jc.softening(T); };
@@ -157,7 +162,7 @@ OxleyState oxley_state(const WorkMaterial& material, const OrthogonalCut& cut, d
   s.heat_into_work = beta;
   s.shear_flow_stress_pa = k_unsoftened * softening(T_ab);
 
-  // Forces [Oxley1989, eqs. 7.10–7.14].
+  // Forces [Oxley1989, eqs. 7.10–7.14]; eq. OX-6 (docs/models/oxley.md).
   s.shear_force_n = s.shear_flow_stress_pa * l * w;
   s.resultant_n = s.shear_force_n / std::cos(s.theta_rad);
   s.cutting_force_n = s.resultant_n * std::cos(lambda - alpha);
@@ -165,7 +170,8 @@ OxleyState oxley_state(const WorkMaterial& material, const OrthogonalCut& cut, d
   s.friction_force_n = s.resultant_n * std::sin(lambda);
   s.normal_force_n = s.resultant_n * std::cos(lambda);
 
-  // Tool–chip contact length and the stresses on it [Oxley1989, eqs. 7.15–7.17].
+  // Tool–chip contact length and the stresses on it [Oxley1989, eqs. 7.15–7.17]; eqs. OX-9
+  // and OX-10 (docs/models/oxley.md).
   s.contact_length_m = t1 * std::sin(s.theta_rad) / (std::cos(lambda) * sin_phi) *
                        (1.0 + c0 * s.hardening_index / (3.0 * tan_theta));
   s.interface_shear_stress_pa = s.friction_force_n / (s.contact_length_m * w);
@@ -175,7 +181,8 @@ OxleyState oxley_state(const WorkMaterial& material, const OrthogonalCut& cut, d
 
   // Interface temperature [Oxley1989, eqs. 3.12–3.13]: the mean chip temperature
   // T_c = Tw + ΔT_SZ + ΔT_C with S at T_c (a contracting fixed point: ΔT_C depends on T_c
-  // only through S), then ΔT_M from the thermal number at T_c, T_int = Tw + ΔT_SZ + ψ·ΔT_M.
+  // only through S), then ΔT_M from the thermal number at T_c, T_int = Tw + ΔT_SZ + ψ·ΔT_M:
+  // eqs. OX-11, OX-12 and OX-13 (docs/models/oxley.md).
   const double t2 = s.chip_thickness_m, h = s.contact_length_m;
   const double heat_rate = s.friction_force_n * s.chip_velocity_m_per_s;
   const double T_sz = Tw + s.temperature_rise_shear_c;
@@ -197,7 +204,8 @@ OxleyState oxley_state(const WorkMaterial& material, const OrthogonalCut& cut, d
   s.temperature_rise_max_c = dT_m;
   s.temperature_interface_c = std::min(T_sz + options.psi * dT_m, jc.melting_temperature_c);
 
-  // Flow stress of the chip at the interface [Oxley1989, eqs. 7.18–7.19].
+  // Flow stress of the chip at the interface [Oxley1989, eqs. 7.18–7.19]; eqs. OX-14 and
+  // OX-15 (docs/models/oxley.md).
   const double T_int = s.temperature_interface_c;
   const double gamma_int = 2.0 * gamma_ab + 0.5 * h / (delta * t2);
   s.strain_interface = gamma_int / kSqrt3;
@@ -222,7 +230,8 @@ class Solver {
     return oxley_state(material_, cut_, phi, c0, delta, o_);
   }
 
-  // τ_int − k_chip, relative to k_AB; NaN where the geometry does not exist.
+  // τ_int − k_chip, relative to k_AB; NaN where the geometry does not exist. Condition 1 of
+  // docs/models/oxley.md §3: τ_int of eq. OX-10 against k_chip of eq. OX-15.
   double interface_mismatch(double phi, double c0, double delta) {
     const OxleyState s = state(phi, c0, delta);
     if (!s.admissible) return kNaN;
@@ -240,7 +249,8 @@ class Solver {
     double c0 = kNaN;
   };
 
-  // σ_N − σ'_N (relative to k_AB) at the shear angle of (C0, δ); NaN without one.
+  // σ_N − σ'_N (relative to k_AB) at the shear angle of (C0, δ); NaN without one. Condition 2
+  // of docs/models/oxley.md §3, both stresses of eq. OX-10.
   double normal_mismatch(double c0, double delta) {
     const double phi = shear_angle(c0, delta);
     if (std::isnan(phi)) return kNaN;

@@ -6,7 +6,8 @@
 
 namespace cutdyn {
 
-// [Johnson1983]; the clamps are documented in the header.
+// [Johnson1983]; the clamps are documented in the header. The three factors of eq. OX-1
+// (docs/models/oxley.md).
 double JohnsonCook::hardening_pa(double strain) const { return a_pa + b_pa * std::pow(strain, n); }
 
 double JohnsonCook::rate_factor(double strain_rate_per_s) const {
@@ -21,7 +22,7 @@ double JohnsonCook::softening(double temperature_c) const {
 }
 
 double JohnsonCook::hardening_index(double strain) const {
-  // [Lalwani2009, eq. 7]
+  // [Lalwani2009, eq. 7]; n_eq of eq. OX-2 (docs/models/oxley.md).
   const double b_term = b_pa * std::pow(strain, n);
   return n * b_term / (a_pa + b_term);
 }

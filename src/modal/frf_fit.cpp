@@ -59,7 +59,8 @@ std::string fixed(double value, int digits) {
 // sqrt((1 − γ²)/γ²) [Bendat2010, ch. 9: the random error of the H1 estimate is that over
 // sqrt(2·averages)], so w = 1/(|G|·sqrt((1 − γ²)/γ²)) in the first pass (the model's |G| in
 // the second, coherence_reweighted); the number of averages only scales every weight alike
-// and is left to the noise the residuals show.
+// and is left to the noise the residuals show. Eq. (4.4) of docs/models/modal-fitting.md with
+// the table's |G_k|.
 void weigh_by_coherence(const std::vector<double>& gamma2, BandData& band, FrfFit& out) {
   const double lowest = *std::min_element(gamma2.begin(), gamma2.end());
   if (lowest > kHighCoherence) {
@@ -128,6 +129,7 @@ BandData band_of(const MeasuredFrf& frf, const FrfFitOptions& options, FrfFit& o
   out.points = points;
   band.lo_rad_s = kTwoPi * out.lo_hz;
   band.hi_rad_s = kTwoPi * out.hi_hz;
+  // The relative weights of eq. FIT-9 (docs/models/modal-fitting.md).
   const double floor = 1e-6 * peak;  // keeps a zero of the table from an infinite weight
   for (const cd& g : band.g) band.w.push_back(1.0 / std::max(std::abs(g), floor));
   band.w_rel = band.w;
@@ -216,6 +218,7 @@ cd representative(const Cluster& c, const std::vector<StabilisationPoint>& point
     f.push_back(points[m].natural_hz);
     z.push_back(points[m].damping_ratio);
   }
+  // λ = −ζ·ωn + i·ωd, eq. FIT-2 (docs/models/modal-fitting.md).
   const double wn = kTwoPi * median(f), zeta = median(z);
   return {-zeta * wn, wn * std::sqrt(1.0 - zeta * zeta)};
 }
@@ -227,7 +230,7 @@ struct Selection {
 
 // The diagram's highest order: 4 per mode (2 poles per mode, doubled for the noise), at least
 // 24, and below half the band's points (the LSCF unknowns, 2·order + 1, against 2 equations
-// per point).
+// per point): eq. FIT-8 (docs/models/modal-fitting.md).
 int max_order_for(int modes, int points) {
   return std::min(std::max(4 * modes, 24), std::max(2, points / 2 - 1));
 }
@@ -418,7 +421,8 @@ FittedMode fitted_mode(const BandData& band, cd pole, cd residue) {
   m.natural_rad_s = std::abs(pole);
   m.natural_hz = m.natural_rad_s / kTwoPi;
   m.damping_ratio = -pole.real() / m.natural_rad_s;
-  // A = −i·ωn²/(2·k·ωd) for a real mode; from |A| otherwise (docs §1).
+  // A = −i·ωn²/(2·k·ωd) for a real mode; from |A| otherwise (docs §1): eq. FIT-5
+  // (docs/models/modal-fitting.md).
   m.stiffness_n_per_m = m.natural_rad_s * m.natural_rad_s / (2.0 * pole.imag() * std::abs(residue));
   m.residue_phase_deg = phase_deg(residue);
   double sum = 0.0;
@@ -429,7 +433,8 @@ FittedMode fitted_mode(const BandData& band, cd pole, cd residue) {
 }
 
 // The covariance of (fn, ζ, k) from that of (σ, ωd, Re A, Im A) (§4.2): ωn = sqrt(σ² + ωd²),
-// ζ = σ/ωn, k = ωn²/(2·ωd·|A|), to first order (the Jacobian of that map).
+// ζ = σ/ωn, k = ωn²/(2·ωd·|A|), to first order (the Jacobian of that map: eq. FIT-11 of
+// docs/models/modal-fitting.md).
 void set_uncertainty(FittedMode& m, const Eigen::Matrix4d& c) {
   const double sigma = -m.pole.real(), wd = m.pole.imag(), wn = std::abs(m.pole);
   const double a2 = std::norm(m.residue), a = std::sqrt(a2), k = m.stiffness_n_per_m;
@@ -493,7 +498,8 @@ namespace {
 
 // E y = c1·m + c0 fitted to squared residuals y of points of squared magnitude m by
 // iteratively reweighted least squares (the variance of a squared residual grows as the square
-// of its mean), both coefficients >= 0 (§4.1).
+// of its mean), both coefficients >= 0 (§4.1): the fit of eq. (4.1) of
+// docs/models/modal-fitting.md.
 std::pair<double, double> noise_coefficients(const std::vector<double>& m,
                                              const std::vector<double>& y) {
   const std::size_t n = m.size();
@@ -535,7 +541,7 @@ std::pair<double, double> noise_coefficients(const std::vector<double>& m,
 // through its two neighbours, G_k − a·G_(k−1) − b·G_(k+1), a + b = 1 — a difference whose noise
 // has 1 + a² + b² times the point's variance and whose smooth part is small wherever the table
 // is sampled finely against its peaks' widths [Gasser1986]. The same two coefficients fitted to
-// those differences.
+// those differences. d_k of eq. FIT-10, then eq. (4.1) (docs/models/modal-fitting.md).
 FrfNoise noise_from_differences(const BandData& band) {
   std::vector<double> m, y;
   for (std::size_t k = 1; k + 1 < band.size(); ++k) {
@@ -688,7 +694,7 @@ FrfFit fit_again(const BandData& band, const FrfFitOptions& options, const FrfFi
 
 // The noise of the table about `model` (§4.1): E|G_model − G|² = c1·|G_model|² + c0, scaled by
 // the degrees of freedom the fit took. Per part (real or imaginary): proportional sqrt(c1/2),
-// floor sqrt(c0/2).
+// floor sqrt(c0/2). Eq. (4.1) of docs/models/modal-fitting.md.
 FrfNoise estimate_noise(const BandData& band, const PoleResidueModel& model) {
   const std::size_t n = band.size();
   std::vector<double> m(n), y(n);
@@ -715,7 +721,7 @@ double floor_magnitude(const FrfNoise& noise) {
 
 // The band reweighted for `noise` (§4.1): w = 1/sqrt(|G_model|² + g0²), g0 = floor_magnitude,
 // and the relative error measured against max(|G|, g0). Without a model (nullptr), the
-// table's own |G| stands for |G_model|.
+// table's own |G| stands for |G_model|. Eq. (4.2) of docs/models/modal-fitting.md.
 BandData reweighted(BandData band, const PoleResidueModel* model, const FrfNoise& noise) {
   const double g0 = floor_magnitude(noise);
   double peak = 0.0;
@@ -731,7 +737,7 @@ BandData reweighted(BandData band, const PoleResidueModel* model, const FrfNoise
 
 // The band reweighted by its coherence about `model` (§4.3): w = 1/(|G_model|·sqrt((1 − γ²)/γ²)),
 // the magnitude from the model rather than the noisy table (at a point the noise dominates,
-// 1/|G_k| would weigh by the noise itself).
+// 1/|G_k| would weigh by the noise itself). Eq. (4.4) of docs/models/modal-fitting.md.
 BandData coherence_reweighted(BandData band, const PoleResidueModel& model) {
   double peak = 0.0;
   for (const cd& g : band.g) peak = std::max(peak, std::abs(g));

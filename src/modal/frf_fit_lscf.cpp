@@ -14,7 +14,8 @@ namespace {
 
 // Normal-equation blocks of the highest order: R = Re(XᴴX), S = Re(XᴴY), T = Re(YᴴY) with
 // X_kj = w_k·Ω_k^j and Y_kj = −w_k·G_k·Ω_k^j [Peeters2004]. A lower order's blocks
-// are their leading principal parts (the basis functions nest).
+// are their leading principal parts (the basis functions nest). Ω_k of eq. FIT-6, w_k the
+// band's weights: eq. FIT-9, (4.2) or (4.4) (docs/models/modal-fitting.md).
 struct NormalBlocks {
   Eigen::MatrixXd r, s, t;
 };
@@ -50,6 +51,7 @@ Eigen::VectorXcd monic_roots(const Eigen::VectorXd& a) {
 }  // namespace
 
 std::vector<std::vector<cd>> lscf_poles(const BandData& band, int max_order) {
+  // Δt of eq. FIT-6 (docs/models/modal-fitting.md): the band's top at Ω = −1.
   const double dt = std::numbers::pi / band.hi_rad_s;
   const NormalBlocks nb = normal_blocks(band, max_order, dt);
   std::vector<std::vector<cd>> out(static_cast<std::size_t>(max_order));
@@ -57,7 +59,8 @@ std::vector<std::vector<cd>> lscf_poles(const BandData& band, int max_order) {
     const Eigen::Index m = n + 1;
     const Eigen::MatrixXd r = nb.r.topLeftCorner(m, m);
     const Eigen::MatrixXd s = nb.s.topLeftCorner(m, m);
-    // Reduced normal equations M·a = 0 with a_n = 1 [Peeters2004].
+    // Reduced normal equations M·a = 0 with a_n = 1 [Peeters2004]: eq. FIT-7
+    // (docs/models/modal-fitting.md), M = T − Sᵀ·R⁻¹·S.
     const Eigen::MatrixXd rs = r.ldlt().solve(s);
     const Eigen::MatrixXd mm = nb.t.topLeftCorner(m, m) - s.transpose().lazyProduct(rs);
     const Eigen::VectorXd a = mm.topLeftCorner(n, n).ldlt().solve(-mm.col(n).head(n));

@@ -8,11 +8,13 @@
 
 namespace cutdyn::fit_detail {
 
+// One pair of terms of eq. FIT-1 (docs/models/modal-fitting.md).
 cd mode_term(cd pole, cd residue, double omega) {
   const cd s{0.0, omega};
   return residue / (s - pole) + std::conj(residue) / (s - std::conj(pole));
 }
 
+// Eq. FIT-1 (docs/models/modal-fitting.md); without its residual terms when asked.
 cd evaluate(const PoleResidueModel& model, double omega, bool with_residuals) {
   cd g{0.0, 0.0};
   for (std::size_t r = 0; r < model.poles.size(); ++r)
@@ -22,6 +24,8 @@ cd evaluate(const PoleResidueModel& model, double omega, bool with_residuals) {
   return g;
 }
 
+// The basis functions of lower(ω) and upper(ω), eqs. FIT-3 and FIT-4
+// (docs/models/modal-fitting.md).
 cd residual_basis(ResidualKind kind, double omega) {
   switch (kind) {
     case ResidualKind::kLower:
@@ -64,7 +68,8 @@ int parameter_count(const PoleResidueModel& m) {
   return static_cast<int>(4 * m.poles.size() + m.residuals.size());
 }
 
-// Parameters (σ, ωd, Re A, Im A) per pole, λ = −σ + i·ωd, then L and U when used.
+// Parameters (σ, ωd, Re A, Im A) per pole, λ = −σ + i·ωd (eq. FIT-2 with σ = ζ·ωn,
+// docs/models/modal-fitting.md), then L and U when used.
 Eigen::VectorXd pack(const PoleResidueModel& m) {
   Eigen::VectorXd p(parameter_count(m));
   Eigen::Index i = 0;
@@ -88,7 +93,9 @@ void unpack(const Eigen::VectorXd& p, PoleResidueModel& m) {
 }
 
 // Weighted residual (Re and Im of w·(G_model − G) at every point) and, when `jac` is given,
-// its Jacobian with respect to pack()'s parameters.
+// its Jacobian with respect to pack()'s parameters: its squared norm is the cost of eq. FIT-9
+// (docs/models/modal-fitting.md; the weights (4.2) or (4.4) after a reweighting), the
+// derivatives those listed after it in §4.
 Eigen::VectorXd residual(const BandData& band, const PoleResidueModel& m, Eigen::MatrixXd* jac) {
   const auto p = static_cast<Eigen::Index>(band.size());
   Eigen::VectorXd e(2 * p);

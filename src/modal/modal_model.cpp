@@ -15,7 +15,8 @@ std::pair<double, double> receptance_numerator(const Mode& m) {
   const double gain = wn / m.stiffness_n_per_m * wn;  // ωn²/k
   if (phi == 0.0) return {gain, 0.0};
   const double wd = wn * std::sqrt(1.0 - m.damping_ratio * m.damping_ratio);
-  // [modal_model.hpp]: b0 = (ωn²/k)·(cos φ + (ζωn/ωd)·sin φ), b1 = (ωn²/k)·sin φ/ωd.
+  // [modal_model.hpp]: b0 = (ωn²/k)·(cos φ + (ζωn/ωd)·sin φ), b1 = (ωn²/k)·sin φ/ωd; eq. (10.2)
+  // of docs/models/modal-fitting.md.
   return {gain * (std::cos(phi) + m.damping_ratio * wn / wd * std::sin(phi)),
           gain * std::sin(phi) / wd};
 }
@@ -62,6 +63,7 @@ std::complex<double> frf(const ModalModel& model, Direction direction, double om
       g += 1.0 / (m.stiffness_n_per_m * std::complex<double>(1.0 - r * r, 2.0 * m.damping_ratio * r));
       continue;
     }
+    // A complex residue: eq. (10.2) of docs/models/modal-fitting.md at s = iω.
     const auto [b0, b1] = receptance_numerator(m);
     const double wn = m.natural_rad_s;
     g += std::complex<double>(b0, b1 * omega_rad_s) /
@@ -92,7 +94,7 @@ ModalStateSpace modal_state_space(const ModalModel& model,
     ss.A(row + 1, row + 1) = -2.0 * m.damping_ratio * wn;
     ss.B(row + 1, used[i].second) = 1.0 / m.mass_kg();
     // y = (b0·q + b1·q̇)·m with q̈ + 2ζωn·q̇ + ωn²·q = f/m (modal_model.hpp): C = (1, 0) for a
-    // real mode.
+    // real mode. Its transfer function is eq. (10.2) of docs/models/modal-fitting.md.
     const auto [b0, b1] = receptance_numerator(m);
     ss.C(used[i].second, row) = m.residue_phase_rad == 0.0 ? 1.0 : b0 * m.mass_kg();
     ss.C(used[i].second, row + 1) = b1 * m.mass_kg();

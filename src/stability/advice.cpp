@@ -77,7 +77,8 @@ SpeedRange pocket_width(const std::vector<LobePoint>& p, std::size_t peak) {
 
 namespace {
 
-// The margin ε of speed p[i] read off the points alone (0 or less: not stable at depth_m).
+// The margin ε of speed p[i] read off the points alone (0 or less: not stable at depth_m): the
+// largest ε for which eq. MS-12 (docs/models/milling-stability.md) holds at every point.
 double margin_on_points(const std::vector<LobePoint>& p, std::size_t i, double depth_m) {
   const double first = p.front().rpm, last = p.back().rpm;
   // ε allowed by point j seen from speed n: j is further than ε away in speed, or deep enough.
@@ -229,9 +230,10 @@ SpeedAdvice recommend_speed(const std::vector<LobePoint>& points, double depth_m
                             const CriticalDepthAt& depth_at, double rpm_tol) {
   // The candidates are the traced speeds, best first by the margin the points alone give; the
   // margin of each is then found — the largest ε at which the depths at n·(1 ± ε), and at
-  // every point between (the cusps included), are at least depth_m·(1 + ε) — until no
-  // candidate left can beat the best found (the points' margin is about an upper bound: it
-  // does not see a flank falling between two points).
+  // every point between (the cusps included), are at least depth_m·(1 + ε), eq. MS-12
+  // (docs/models/milling-stability.md) — until no candidate left can beat the best found (the
+  // points' margin is about an upper bound: it does not see a flank falling between two
+  // points).
   constexpr int kMaxCandidates = 8;
   SpeedAdvice best;
   if (points.empty() || !(depth_m > 0.0)) return best;
@@ -245,6 +247,8 @@ SpeedAdvice recommend_speed(const std::vector<LobePoint>& points, double depth_m
         candidates.emplace_back(eps, k);
   std::stable_sort(candidates.begin(), candidates.end(),
                    [](const auto& x, const auto& y) { return x.first > y.first; });
+  // Whether eq. MS-12 holds for ε at n = p[k]: every point within n·(1 ± ε), and the depths
+  // at both ends, at least depth_m·(1 + ε).
   const auto holds = [&](std::size_t k, double eps) {
     const double n = p[k].rpm, floor = depth_m * (1.0 + eps);
     for (const LobePoint& q : p)

@@ -145,7 +145,8 @@ using units::kTwoPi;
 // of the step's start and end values of a linearly interpolated forcing, from one matrix
 // exponential of the block matrix [[A, I, 0], [0, 0, I], [0, 0, 0]]·h [VanLoan1978]. For the
 // quadratic interpolation also the moments Mp = ∫0^h e^(A(h−s))·s^p ds, p = 0 … 3, times E,
-// from the exponential of the longer chain [[A, I, 0, 0, 0], [0, 0, I, 0, 0], …]·h.
+// from the exponential of the longer chain [[A, I, 0, 0, 0], [0, 0, I, 0, 0], …]·h. The step
+// is eq. MS-7 of docs/models/milling-stability.md, the moments its eq. MS-10.
 struct StepIntegrals {
   double h = 0.0;        // the step length
   Eigen::MatrixXd phi0;  // d×d
@@ -204,7 +205,7 @@ StepIntegrals step_integrals(const DelayedSystem& s, double h, bool moments) {
     block = scale.asDiagonal() * block * scale.cwiseInverse().asDiagonal();
   }
   // With the scaling above, block (1, p + 2) of f is ∫0^h e^(A(h−s))·s^p/p! ds: f12 = Φ1,
-  // f13 = ∫0^h e^(A(h−s))·s ds.
+  // f13 = ∫0^h e^(A(h−s))·s ds (Mp/p!, eq. MS-10 of docs/models/milling-stability.md).
   const Eigen::MatrixXd phi1 = f.block(0, d, d, d);
   const Eigen::MatrixXd w1 = f.block(0, 2 * d, d, d) / h;
   StepIntegrals out;
@@ -305,7 +306,7 @@ class Discretization {
         } else {
           // H ≈ H̄ + H'·(s − h/2) on the step: the mean and the slope from the means of its
           // halves (the slope exact for a quadratic H, whose remainder then has neither mean
-          // nor first moment).
+          // nor first moment). Eq. MS-8 (docs/models/milling-stability.md).
           const double mid = 0.5 * (t0 + t1);
           const Eigen::MatrixXd first = H.mean(t0, mid), second = H.mean(mid, t1);
           mean = 0.5 * (first + second);
@@ -340,7 +341,8 @@ class Discretization {
           g1.noalias() = st.w1E().lazyProduct(mean);
         } else {
           // G_i = ∫0^h e^(A(h−s))·E·(H̄ + H'·(s − h/2))·ℓi(s) ds = Σp ci,p·(Mp·E·H̄ +
-          // (Mp+1 − h/2·Mp)·E·H'), ℓi(s) = Σp ci,p·s^p.
+          // (Mp+1 − h/2·Mp)·E·H'), ℓi(s) = Σp ci,p·s^p: eq. MS-9
+          // (docs/models/milling-stability.md).
           const auto slope = slopes.middleCols(st.h_col + r * k, r);
           for (std::size_t p = 0; p < 3; ++p) {
             moment_terms[p].noalias() = st.integrals->mE[p].lazyProduct(mean);
@@ -623,7 +625,8 @@ class PeriodMapT final : public PeriodMap {
       }
       // x(j+1) = Φ0·x(j) + w·Σk Σi Gki·(ŷk(i) − y(i)), i = j − 1 (quadratic only), j, j + 1:
       // (I + w·Σk Gk(j+1)·C)·x(j+1) = (Φ0 − w·Σk Gk(j)·C)·x(j) − w·Σk Gk(j−1)·y(j−1)
-      //   + w·Σk Σi Gki·ŷk(i)   [Ding2010, eq. 13, with one delayed term per delay].
+      //   + w·Σk Σi Gki·ŷk(i)   [Ding2010, eq. 13, with one delayed term per delay]; eq. MS-11
+      //   of docs/models/milling-stability.md, summed over the delay terms of eq. MS-13.
       // I + w·ΣG·C is I plus a term of the order of the step: well conditioned. G and G·C
       // are kept from the discretization: only the scaling by the depth is new.
       MatDD lhs = MatDD::Identity(d_, d_);
@@ -838,7 +841,8 @@ class PeriodMapOp {
 };
 
 // The depths at which a real multiplier μ = ±1 of the discretized period map exists, as one
-// linear eigenvalue problem (docs/models/milling-stability.md, "Unstable islands"). The steps
+// linear eigenvalue problem (docs/models/milling-stability.md, "Unstable islands", eq. MS-14).
+// The steps
 // x(j+1) = Φ0j·x(j) + w·vj, vj = Σk Σi Gki·ek(i) (i = j − 1 … j + 1, the step's nodes), are
 // driven by the displacement differences ek(i) = ŷk(i) − y(i) at the nodes the cutting steps
 // use. A solution with x(j + n) = μ·x(j) is fixed by them: x(0) = (μI − Ψ)⁻¹·(the response at
@@ -1703,7 +1707,8 @@ std::optional<WarmFound> warm_search(ScheduledRadii& at, double rho0, double dep
     }
   };
   // The exhaustive search's absolute tolerance (rel_tol times the grid point at or above the
-  // boundary; in the first cell's lowest eighth, relative to the boundary).
+  // boundary, eq. MS-15 of docs/models/milling-stability.md; in the first cell's lowest eighth,
+  // relative to the boundary).
   const auto tolerance_at = [&](double depth) {
     return boundary_tolerance(depth, depth_max, coarse_steps, rel_tol);
   };

@@ -26,7 +26,8 @@ cplx exp_integral(double kappa, double a, double b) {
 }
 
 // ∫_a^b A(φ) e^(−iκφ) dφ for Altintas' directional matrix, from the integrals of
-// e^(−iκφ), e^(i(2−κ)φ) and e^(−i(2+κ)φ) (sin 2φ and cos 2φ as exponentials).
+// e^(−iκφ), e^(i(2−κ)φ) and e^(−i(2+κ)φ) (sin 2φ and cos 2φ as exponentials). A(φ) of
+// eq. MS-2 (docs/models/milling-stability.md), entry by entry.
 Eigen::Matrix2cd directional_integral(double kappa, double a, double b, double kr) {
   const cplx i(0.0, 1.0);
   const cplx one = exp_integral(-kappa, a, b);
@@ -44,7 +45,8 @@ Eigen::Matrix2cd directional_integral(double kappa, double a, double b, double k
 
 // ∫_a^b A(φ) dφ, real and in closed form: with ∫ sin 2φ = sin(a + b)·sin(b − a) and
 // ∫ cos 2φ = cos(a + b)·sin(b − a) over [a, b] (no cancellation on short intervals). The
-// κ = 0 case of directional_integral, which the period means of every step ask for.
+// κ = 0 case of directional_integral, which the period means of every step ask for (eq. MS-2,
+// docs/models/milling-stability.md).
 Eigen::Matrix2d directional_mean_integral(double a, double b, double kr) {
   const double l = b - a, sl = std::sin(l);
   const double s2 = std::sin(a + b) * sl, c2 = std::cos(a + b) * sl;
@@ -78,6 +80,7 @@ Eigen::Matrix2cd windowed_integral(double kappa, double a, double b, double st, 
 
 }  // namespace
 
+// Eq. MS-2 (docs/models/milling-stability.md): the forces of eq. MS-1 summed, F = (a/2)·Kt·A·Δ.
 Eigen::Matrix2d milling_directional_matrix(double phi, double kr) {
   const double s2 = std::sin(2.0 * phi), c2 = std::cos(2.0 * phi);
   Eigen::Matrix2d a;
@@ -100,7 +103,8 @@ PeriodicCoefficient tooth_coefficient(const MillingProcess& m, double spindle, d
                                       const ToothSet& teeth) {
   const double st = m.engagement.entry_angle(), ex = m.engagement.exit_angle();
   const double kr = m.cutting.kr_pa / m.cutting.kt_pa;
-  const double scale = -0.5 * m.cutting.kt_pa;  // H = −(Kt/2)·A
+  // H = −(Kt/2)·A, eq. MS-3 (docs/models/milling-stability.md).
+  const double scale = -0.5 * m.cutting.kt_pa;
   const double span = spindle * period_s;
   PeriodicCoefficient h;
   h.dim = 2;
@@ -124,7 +128,8 @@ PeriodicCoefficient tooth_coefficient(const MillingProcess& m, double spindle, d
     return Eigen::MatrixXd(scale * teeth.weight * sum / (spindle * (t1 - t0)));
   };
   // H_p = (1/P)∫0^P h(t)·e^(−ipω0·t) dt; with φ = Ωs·t − c: e^(−iνc)·∫ A·g·e^(−iνφ) dφ over
-  // [−c, Ωs·P − c], ν = p·ω0/Ωs.
+  // [−c, Ωs·P − c], ν = p·ω0/Ωs. For the tooth period (ν = pz) this is eq. MS-5
+  // (docs/models/milling-stability.md).
   h.fourier = [=](int p) {
     const double nu = static_cast<double>(p) * kTwoPi / span;
     Eigen::Matrix2cd sum = Eigen::Matrix2cd::Zero();
@@ -166,7 +171,7 @@ DelayedSystem milling_system(const MillingProcess& model, double rpm, double dep
 
   if (model.tool.even_pitch()) {
     // One term: every tooth sees the previous one's surface τ = T = 2π/(z·Ωs) earlier, and the
-    // coefficient has the tooth period.
+    // coefficient has the tooth period (eq. MS-4, docs/models/milling-stability.md).
     const double pitch = kTwoPi / z;
     ToothSet set;
     set.weight = 1.0 / K;
@@ -179,7 +184,8 @@ DelayedSystem milling_system(const MillingProcess& model, double rpm, double dep
     return s;
   }
   // Uneven pitch: tooth j trails tooth j − 1 by pitch_j and cuts its surface pitch_j/Ωs later:
-  // one delay term per tooth, all with the period of one revolution.
+  // one delay term per tooth, all with the period of one revolution (eq. MS-13,
+  // docs/models/milling-stability.md).
   const std::vector<double> pitches = model.tool.pitch_angles();
   const double revolution = kTwoPi / spindle;
   double behind = 0.0;  // angle of tooth j behind tooth 0
@@ -245,6 +251,7 @@ MillingBoundary critical_depth_at(const MillingProcess& model, double rpm,
     case MillingMethod::kZeroOrder:
     case MillingMethod::kMultiFrequency: {
       MultiFrequencyOptions mf;
+      // Zero-order: no harmonics, eq. MS-6 (docs/models/milling-stability.md).
       mf.harmonics = o.method == MillingMethod::kZeroOrder ? 0 : o.harmonics;
       mf.exact_harmonics = o.exact_harmonics;
       mf.dense_eigenvalues = o.dense_eigenvalues;
@@ -309,6 +316,7 @@ MillingBoundary critical_depth_at(const MillingProcess& model, double rpm,
     }
   }
   if (out.boundary.found) {
+    // T = 60/(n·z), eq. MS-4 (docs/models/milling-stability.md).
     const double tooth_period = 60.0 / (rpm * model.tool.teeth);
     out.lobe = static_cast<int>(std::floor(out.boundary.chatter_hz * tooth_period));
   }

@@ -121,7 +121,9 @@ void require_valid(const DelayedSystem& system, const std::vector<std::string>& 
 
 namespace {
 
-// K(ω) over the harmonic window p = lo..hi (see the header), built in place.
+// K(ω) over the harmonic window p = lo..hi (see the header), built in place. With no harmonics
+// (lo = hi = 0) it is G(ω)·H0·(e^(−iωτ) − 1), the zero-order matrix of eq. MS-6
+// (docs/models/milling-stability.md).
 class HillMatrix {
  public:
   HillMatrix(const DelayedSystem& system, int max_index, bool periodic)
@@ -212,7 +214,8 @@ class HillMatrix {
 };
 
 // Real eigenvalues λ >= min_eigenvalue of K: boundary points at the scan's ends, where K is
-// similar to its complex conjugate (real eigenvalues are real up to rounding).
+// similar to its complex conjugate (real eigenvalues are real up to rounding). Each is a depth
+// w = 1/λ, as in eq. MS-6 (docs/models/milling-stability.md).
 void real_boundary_points(const Eigen::MatrixXcd& K, double theta, double min_eigenvalue,
                           bool dense, std::vector<BoundaryPoint>& points, long long& evaluations) {
   ++evaluations;

@@ -38,7 +38,7 @@ double omega_upper_bound(const ModalModel& model, Direction direction, double co
 }
 
 // ε(ω)/(2π) − ωτ/(2π) is the phase mismatch; lobes are where ωτ − ε(ω) = 2πj. `arg` is arg G
-// taken continuously in ω (unwrapped).
+// taken continuously in ω (unwrapped). Tlusty's closed form of docs/models/turning.md §3a.
 double epsilon(double arg) { return 3.0 * kPi + 2.0 * arg; }
 
 // arg g on the branch nearest `reference` (the argument at a nearby frequency).
@@ -67,7 +67,9 @@ TlustyResult tlusty_critical_depth(const ModalModel& model, Direction direction,
   if (!std::isfinite(half_bandwidth)) return result;  // no modes: never unstable
 
   const double w_hi = omega_upper_bound(model, direction, coefficient_pa, depth_max_m);
-  // Grid: 16 points per 2π of delay phase and 4 per resonance half-bandwidth.
+  // Grid: 16 points per 2π of delay phase and 4 per resonance half-bandwidth — the equal steps
+  // of eq. MF-2 (docs/models/milling-stability.md) with d(ω) at its least, the sharpest mode's
+  // half-bandwidth ζ·ωn (ζ taken as at least 1e-4).
   const double step = std::min(kTwoPi / (16.0 * delay_s), 0.25 * half_bandwidth);
   const auto n = static_cast<long long>(std::ceil(w_hi / step));
   // (ωτ − ε)/2π, with arg G unwrapped from `reference` (the argument at a point of the grid
