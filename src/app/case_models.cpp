@@ -179,12 +179,8 @@ std::string spindle_warning(const io::Case& c, double rpm, const std::string& na
 }
 
 LobesOptions lobes_grid(const io::Case& c, int threads) {
-  LobesOptions grid;
-  grid.rpm_min = c.lobes.rpm_min;
-  grid.rpm_max = c.lobes.rpm_max;
-  grid.rpm_steps = c.lobes.rpm_steps;
+  LobesOptions grid = c.lobes.grid;
   grid.threads = threads;
-  grid.refine = c.lobes.refine;
   // The refinement's budget is not a case key: a grid finer than it may still double.
   grid.refine_max_points = std::max(grid.refine_max_points, 2 * grid.rpm_steps);
   if (const auto problems = grid.validate(); !problems.empty())

@@ -310,7 +310,7 @@ LobesJobReport run_lobes(const io::Case& c, const LobesRequest& request) {
   for (std::size_t i = 1; i < pts.size(); ++i)
     if (pts[i].boundary.depth_m < pts[r.lowest].boundary.depth_m) r.lowest = i;
   r.pockets = stable_pockets(pts, 3);
-  if (std::string w = spindle_warning(c, c.lobes.rpm_max, "lobes.rpm_max"); !w.empty())
+  if (std::string w = spindle_warning(c, c.lobes.grid.rpm_max, "lobes.rpm_max"); !w.empty())
     r.warnings.push_back(std::move(w));
   if (request.target_depth_m) {
     r.target_depth_m = request.target_depth_m;

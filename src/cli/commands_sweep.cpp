@@ -158,7 +158,7 @@ std::vector<std::size_t> largest_first(const std::vector<app::LobesVariant>& var
                                        std::vector<std::size_t> remaining) {
   const auto cost = [&](std::size_t i) {
     const auto& c = variants[i].c;
-    return c ? static_cast<double>(c->lobes.rpm_steps) *
+    return c ? static_cast<double>(c->lobes.grid.rpm_steps) *
                    static_cast<double>(1 + c->modal.modes.size() + c->frfs.size())
              : 0.0;
   };

@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <initializer_list>
 #include <nlohmann/json.hpp>
+#include <span>
+#include <stdexcept>
 #include <type_traits>
 #include <utility>
 
@@ -15,49 +17,6 @@
 #include "cutdyn/drive/equivalent_current.hpp"
 
 namespace cutdyn::io::detail {
-
-// ---- ranges ------------------------------------------------------------------------------
-
-bool Range::contains(double v) const {
-  return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi) && !(nonzero && v == 0.0);
-}
-
-std::string Range::rule() const {
-  if (!rule_text.empty()) return std::string(rule_text);
-  if (lo == 0.0 && lo_open && hi == kInf) return "must be positive";
-  std::string text = "must be ";
-  if (lo > -kInf) text += (lo_open ? "greater than " : "at least ") + format_value(lo);
-  if (lo > -kInf && hi < kInf) text += " and ";
-  if (hi < kInf) text += (hi_open ? "less than " : "at most ") + format_value(hi);
-  return text;
-}
-
-namespace {
-
-// A number for the doc: "0.005", "−45" (a real minus sign), "100000", "1e6".
-std::string doc_number(double v) {
-  std::string text = number_text(v);
-  if (v >= 1e6 && text.find_first_not_of('0', 1) == std::string::npos && text[0] == '1')
-    text = "1e" + std::to_string(text.size() - 1);
-  if (!text.empty() && text[0] == '-') text = "−" + text.substr(1);
-  return text;
-}
-
-}  // namespace
-
-std::string Range::doc(bool integer) const {
-  if (integer) return doc_number(lo) + " … " + doc_number(hi);
-  if (nonzero && lo == -kInf && hi == kInf) return "≠ 0";
-  const bool has_lo = lo > -kInf, has_hi = hi < kInf;
-  if (has_lo && has_hi) {
-    if (!lo_open && !hi_open) return doc_number(lo) + " … " + doc_number(hi);
-    return doc_number(lo) + (lo_open ? " < . " : " ≤ . ") + (hi_open ? "< " : "≤ ") +
-           doc_number(hi);
-  }
-  if (has_lo) return (lo_open ? "> " : "≥ ") + doc_number(lo);
-  if (has_hi) return (hi_open ? "< " : "≤ ") + doc_number(hi);
-  return {};
-}
 
 bool Field::used_in(Process process) const {
   if (uses == Uses::kBoth) return true;
@@ -92,12 +51,6 @@ std::string key_text(std::string_view key) {
   return quoted + "\"";
 }
 
-std::string number_text(double value) {
-  if (std::isfinite(value) && value == std::trunc(value) && std::abs(value) < 1e15)
-    return std::to_string(static_cast<long long>(value));
-  return format_value(value);
-}
-
 double tidy_number(double value) {
   if (!std::isfinite(value)) return value;
   char buffer[32];
@@ -122,7 +75,7 @@ namespace {
 
 // ---- units -------------------------------------------------------------------------------
 
-double same(double v) { return v; }
+using fields::same;
 double n_per_mm_to_n_per_m(double v) { return 1e3 * v; }
 double n_per_m_to_n_per_mm(double v) { return 1e-3 * v; }
 double mpa_to_pa(double v) { return v * 1e6; }
@@ -130,8 +83,8 @@ double pa_to_mpa(double v) { return v / 1e6; }
 double per_min_to_per_s(double v) { return v / 60.0; }
 double per_s_to_per_min(double v) { return 60.0 * v; }
 
-constexpr Unit unit(std::string_view text) { return {text, same, same}; }
-constexpr Unit kNone = unit("–");
+using fields::kNone;
+using fields::unit;
 constexpr Unit kMm{"mm", units::mm_to_m, units::m_to_mm};
 constexpr Unit kUm{"µm", units::um_to_m, units::m_to_um};
 constexpr Unit kDeg{"deg", units::deg_to_rad, units::rad_to_deg};
@@ -144,21 +97,13 @@ constexpr Unit kPlanMPerMin{"m/min", per_min_to_per_s, per_s_to_per_min};
 constexpr Unit kRpmAsRevPerS{"rpm", per_min_to_per_s, per_s_to_per_min};
 constexpr Unit kCelsius = unit("°C");
 
-constexpr Range make_range(double lo, bool lo_open, double hi, bool hi_open) {
-  Range r;
-  r.lo = lo;
-  r.lo_open = lo_open;
-  r.hi = hi;
-  r.hi_open = hi_open;
-  return r;
-}
-constexpr Range kAny{};
-constexpr Range kPositive = make_range(0.0, true, kInf, true);
-constexpr Range kNonNegative = make_range(0.0, false, kInf, true);
-constexpr Range open_closed(double lo, double hi) { return make_range(lo, true, hi, false); }
-constexpr Range closed_open(double lo, double hi) { return make_range(lo, false, hi, true); }
-constexpr Range open(double lo, double hi) { return make_range(lo, true, hi, true); }
-constexpr Range closed(double lo, double hi) { return make_range(lo, false, hi, false); }
+constexpr Range kAny = Range::any();
+constexpr Range kPositive = Range::positive();
+constexpr Range kNonNegative = Range::non_negative();
+constexpr Range open_closed(double lo, double hi) { return Range::open_closed(lo, hi); }
+constexpr Range closed_open(double lo, double hi) { return Range::closed_open(lo, hi); }
+constexpr Range open(double lo, double hi) { return Range::open(lo, hi); }
+constexpr Range closed(double lo, double hi) { return Range::closed(lo, hi); }
 
 // ---- building rows -----------------------------------------------------------------------
 
@@ -258,6 +203,20 @@ class Row {
     };
     return *this;
   }
+  // A row from a library struct's field list (core/fields.hpp): its key, unit, range, label
+  // and meaning as the library spells them, the member reached through `at`.
+  template <class S>
+  static Row field(std::span<const cutdyn::Field<S>> list, std::string_view key, Locate<S> at) {
+    const cutdyn::Field<S>* lib = find_field(list, key);
+    if (lib == nullptr) throw std::logic_error("no library field " + std::string(key));
+    const Type type = lib->type == FieldType::kInteger   ? Type::kInteger
+                      : lib->type == FieldType::kBoolean ? Type::kBoolean
+                                                         : Type::kNumber;
+    Row r(lib->key, type, lib->unit, lib->range);
+    r.label(lib->label).meaning(lib->meaning);
+    std::visit([&](auto member) { r.member(at, member); }, lib->member);
+    return r;
+  }
   operator Field() const { return f_; }  // NOLINT: rows are written as fields
 
  private:
@@ -292,6 +251,8 @@ MillingEngagement* engagement(Case& c, std::size_t) {
 VibrationAssist* vibration(Case& c, std::size_t) { return c.vibration ? &*c.vibration : nullptr; }
 ErmolaevForceLaw* force_law(Case& c, std::size_t) { return c.force_law ? &*c.force_law : nullptr; }
 LobesSection* lobes(Case& c, std::size_t) { return &c.lobes; }
+LobesOptions* lobes_grid(Case& c, std::size_t) { return &c.lobes.grid; }
+Row lobes_row(std::string_view key) { return Row::field(LobesOptions::fields(), key, lobes_grid); }
 SimulateSection* simulate(Case& c, std::size_t) { return &c.simulate; }
 JohnsonCook* johnson_cook(Case& c, std::size_t) { return c.material ? &c.material->flow : nullptr; }
 ThermalProperties* thermal(Case& c, std::size_t) {
@@ -579,7 +540,7 @@ std::vector<Section> make_sections() {
           .deflt("required with `[material]`")
           .meaning("tool rake angle (Oxley)")
           .member(cutting, &CuttingSection::rake_rad),
-      number("workpiece_temperature_c", kCelsius, make_range(-273.15, true, kInf, true))
+      number("workpiece_temperature_c", kCelsius, Range::make(-273.15, true, kInf, true))
           .label("workpiece temperature")
           .uses(Uses::kTurning)
           .process("turning, with `[material]`")
@@ -639,10 +600,10 @@ std::vector<Section> make_sections() {
                number("reference_strain_rate_per_s", unit("1/s"), kPositive)
                    .label("reference strain rate")
                    .member(johnson_cook, &JohnsonCook::reference_strain_rate_per_s),
-               number("reference_temperature_c", kCelsius, make_range(-273.15, true, kInf, true))
+               number("reference_temperature_c", kCelsius, Range::make(-273.15, true, kInf, true))
                    .label("reference temperature")
                    .member(johnson_cook, &JohnsonCook::reference_temperature_c),
-               number("melting_temperature_c", kCelsius, make_range(-273.15, true, kInf, true))
+               number("melting_temperature_c", kCelsius, Range::make(-273.15, true, kInf, true))
                    .label("melting temperature")
                    .required()
                    .meaning("above the reference temperature")
@@ -1063,16 +1024,9 @@ std::vector<Section> make_sections() {
   Section lb;
   lb.name = "lobes";
   lb.fields = {
-      number("rpm_min", unit("rpm"), kPositive)
-          .label("lowest spindle speed")
-          .member(lobes, &LobesSection::rpm_min),
-      number("rpm_max", unit("rpm"), kPositive)
-          .label("highest spindle speed")
-          .meaning("greater than `rpm_min`")
-          .member(lobes, &LobesSection::rpm_max),
-      integer("rpm_steps", 2, 100000)
-          .label("spindle speeds")
-          .member(lobes, &LobesSection::rpm_steps),
+      lobes_row("rpm_min"),
+      lobes_row("rpm_max"),
+      lobes_row("rpm_steps"),
       number("depth_max_mm", kMm, open_closed(0.0, kMaxDepthMm))
           .label("depth limit")
           .member(lobes, &LobesSection::depth_max_m),
@@ -1101,10 +1055,7 @@ std::vector<Section> make_sections() {
           .label("steps per period")
           .meaning("full discretization, 0 = automatic")
           .member(lobes, &LobesSection::steps_per_period),
-      boolean("refine")
-          .meaning("add speeds where lobes meet or are narrower than the grid (adaptive "
-                   "tracing); false: the uniform grid only")
-          .member(lobes, &LobesSection::refine)};
+      lobes_row("refine")};
   lb.count = always();
   lb.create = refuse("");
   all.push_back(std::move(lb));

@@ -18,35 +18,17 @@
 #include <variant>
 #include <vector>
 
+#include "cutdyn/core/fields.hpp"
 #include "cutdyn/io/case_file.hpp"
 
 namespace cutdyn::io::detail {
 
 inline constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// An allowed interval for a number in the user's unit, with its rule text ("must be
-/// positive", "must be at least 0 and less than 1", ...).
-struct Range {
-  double lo = -kInf;
-  bool lo_open = true;
-  double hi = kInf;
-  bool hi_open = true;
-  bool nonzero = false;        // and not 0
-  std::string_view rule_text;  // the message's rule and the doc's range, instead of generated
-
-  bool contains(double v) const;
-  /// The message's rule for a number: "must be positive", "must be greater than 0 and at most 1".
-  std::string rule() const;
-  /// The doc's range: "> 0", "0 ≤ . < 1", "2 … 100000" (integer), "" for any finite number.
-  std::string doc(bool integer) const;
-};
-
-/// The unit a key is written in and its conversion to the SI value the Case holds.
-struct Unit {
-  std::string_view text;  // as the doc shows it: "mm", "N/mm²", "–"
-  double (*to_si)(double);
-  double (*from_si)(double);
-};
+/// Ranges and units are the library's (core/fields.hpp): a row made from a library struct's
+/// field list (Row::field) carries them unchanged.
+using Range = FieldRange;
+using Unit = FieldUnit;
 
 enum class Type { kNumber, kInteger, kBoolean, kChoice, kText, kNumbers };
 
@@ -124,9 +106,7 @@ const Section* find_section(std::string_view name, bool plan);
 
 /// A key as it would be written in a TOML path: bare if it can be, else quoted.
 std::string key_text(std::string_view key);
-/// A number as text: integral values without a fraction or exponent ("100000"), others
-/// shortest ("0.05", "2.26e+08").
-std::string number_text(double value);
+using cutdyn::number_text;
 /// A value converted back to the user's unit, rounded to 15 significant digits (so that the
 /// unit round trip prints what the file said); integral values as integers.
 double tidy_number(double value);

@@ -508,8 +508,8 @@ std::string shown(const Quote& q, const std::string& path, double fallback) {
 
 void rules_lobes(const Case& c, Problems& p, const Quote& q) {
   if (p.bad("lobes.rpm_min") || p.bad("lobes.rpm_max")) return;
-  if (c.lobes.rpm_max > c.lobes.rpm_min) return;
-  const LobesSection defaults;
+  if (c.lobes.grid.rpm_max > c.lobes.grid.rpm_min) return;
+  const LobesOptions defaults;
   if (auto max = q.written("lobes.rpm_max"))
     p.at_text(
         "lobes.rpm_max", *max,

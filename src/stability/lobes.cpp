@@ -15,19 +15,36 @@
 
 namespace cutdyn {
 
+std::span<const Field<LobesOptions>> LobesOptions::fields() {
+  using R = FieldRange;
+  static const Field<LobesOptions> list[] = {
+      {"rpm_min", FieldType::kNumber, fields::unit("rpm"), R::positive(), &LobesOptions::rpm_min,
+       "lowest spindle speed", ""},
+      {"rpm_max", FieldType::kNumber, fields::unit("rpm"), R::positive(), &LobesOptions::rpm_max,
+       "highest spindle speed", "greater than `rpm_min`"},
+      {"rpm_steps", FieldType::kInteger, fields::kNone, R::closed(2, 100000),
+       &LobesOptions::rpm_steps, "spindle speeds", ""},
+      {"threads", FieldType::kInteger, fields::kNone, R::closed(0, kMaxThreads),
+       &LobesOptions::threads, "threads", "0: all cores"},
+      {"refine", FieldType::kBoolean, fields::kNone, R::any(), &LobesOptions::refine, "",
+       "add speeds where lobes meet or are narrower than the grid (adaptive tracing); false: "
+       "the uniform grid only"},
+      {"refine_levels", FieldType::kInteger, fields::kNone, R::closed(0, 20),
+       &LobesOptions::refine_levels, "refinement levels", "halvings of a grid interval"},
+      {"refine_change", FieldType::kNumber, fields::kNone, R::open_closed(0.0, 10.0),
+       &LobesOptions::refine_change, "refinement threshold",
+       "relative change of the depth between neighbours that refines"},
+      {"refine_max_points", FieldType::kInteger, fields::kNone, R::closed(2, 10000000),
+       &LobesOptions::refine_max_points, "speeds at most", "at least `rpm_steps` when refining"},
+  };
+  return list;
+}
+
 std::vector<std::string> LobesOptions::validate() const {
   Validator v;
-  v.require_positive("rpm_min", rpm_min, "rpm");
+  check_fields(*this, fields(), v);
   v.require(rpm_max > rpm_min, "rpm_max", rpm_max, "rpm",
             "must be greater than rpm_min = " + format_value(rpm_min));
-  v.require(rpm_steps >= 2 && rpm_steps <= 100000, "rpm_steps", rpm_steps, "",
-            "must be 2 to 100000");
-  v.require(threads >= 0 && threads <= kMaxThreads, "threads", threads, "",
-            "must be 0 (all cores) to " + std::to_string(kMaxThreads));
-  v.require(refine_levels >= 0 && refine_levels <= 20, "refine_levels", refine_levels, "",
-            "must be 0 to 20");
-  v.require(refine_change > 0.0 && refine_change <= 10.0, "refine_change", refine_change, "",
-            "must be greater than 0 and at most 10");
   v.require(!refine || refine_max_points >= rpm_steps, "refine_max_points", refine_max_points,
             "", "must be at least rpm_steps when refining");
   return v.problems();
@@ -289,7 +306,8 @@ CriticalDepth critical_depth_by_bracketing(const std::function<double(double)>& 
       return result;
     }
   }
-  // g_lo < 0 <= g_hi: the bracket changes sign, so Brent's method returns a root.
+  // g_lo < 0 <= g_hi: the bracket changes sign, so Brent's method returns a root, to rel_tol
+  // times the grid point hi above it (eq. MS-15, docs/models/milling-stability.md).
   auto root = brent_root(margin, lo, g_lo, hi, g_hi, rel_tol * hi);
   result.found = true;
   result.depth_m = root ? root->x : hi;
@@ -320,6 +338,8 @@ CriticalDepth critical_depth_by_bracketing(const std::function<double(double)>& 
   return result;
 }
 
+// Eq. MS-15 (docs/models/milling-stability.md) from an eighth of the first grid point up; below
+// it, rel_tol times the lower end of the bracket narrowed by factors of 8.
 double boundary_tolerance(double depth_m, double depth_max_m, int coarse_steps, double rel_tol) {
   const double cell = depth_max_m / coarse_steps;
   if (depth_m >= cell / 8.0) return rel_tol * cell * std::ceil(depth_m / cell - 1e-9);

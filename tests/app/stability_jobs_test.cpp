@@ -117,8 +117,8 @@ TEST(StabilityJobsInput, EveryGridTheCaseFileAcceptsIsAGrid) {
   io::Case c = load_case("milling-insperger", "");
   for (const bool refine : {true, false}) {
     for (const int steps : {2, 200, 20000, 20001, 100000}) {
-      c.lobes.refine = refine;
-      c.lobes.rpm_steps = steps;
+      c.lobes.grid.refine = refine;
+      c.lobes.grid.rpm_steps = steps;
       const LobesOptions grid = lobes_grid(c, 1);
       EXPECT_EQ(grid.rpm_steps, steps);
       EXPECT_GE(grid.refine_max_points, std::max(20000, 2 * steps));

@@ -356,7 +356,7 @@ TEST(CaseFields, TablesReachTheCaseInSi) {
   EXPECT_EQ(t.oxley.psi, 0.85);
   EXPECT_EQ(*t.vibration->amplitude_m, 15e-6);
   EXPECT_EQ(t.lobes.method, StabilityMethod::kMultiFrequency);
-  EXPECT_FALSE(t.lobes.refine);
+  EXPECT_FALSE(t.lobes.grid.refine);
   const Case m = parse_case(kFullMilling, "m.toml");
   EXPECT_NEAR(m.tool->pitch_rad[1], units::deg_to_rad(100.0), 1e-15);
   EXPECT_FALSE(m.operation->engagement.down_milling);

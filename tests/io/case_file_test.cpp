@@ -100,9 +100,9 @@ TEST(CaseFileExamples, TurningConventionalIsTable2InSi) {
   EXPECT_FALSE(c.vibration);
   EXPECT_FALSE(c.tool);
   EXPECT_FALSE(c.operation);
-  EXPECT_DOUBLE_EQ(c.lobes.rpm_min, 500.0);
-  EXPECT_DOUBLE_EQ(c.lobes.rpm_max, 5000.0);
-  EXPECT_EQ(c.lobes.rpm_steps, 200);
+  EXPECT_DOUBLE_EQ(c.lobes.grid.rpm_min, 500.0);
+  EXPECT_DOUBLE_EQ(c.lobes.grid.rpm_max, 5000.0);
+  EXPECT_EQ(c.lobes.grid.rpm_steps, 200);
   EXPECT_DOUBLE_EQ(c.lobes.depth_max_m, 0.03);
   EXPECT_EQ(c.lobes.method, StabilityMethod::kAuto);
   ASSERT_TRUE(c.simulate.rpm);
@@ -130,7 +130,7 @@ TEST(CaseFileExamples, UltrasonicCasesCarryTheirVibration) {
   ASSERT_TRUE(speed.vibration->workpiece_diameter_m);
   EXPECT_DOUBLE_EQ(*speed.vibration->workpiece_diameter_m, 0.04);
   EXPECT_FALSE(speed.vibration->duty_cycle);
-  EXPECT_DOUBLE_EQ(speed.lobes.rpm_min, 200.0);
+  EXPECT_DOUBLE_EQ(speed.lobes.grid.rpm_min, 200.0);
   EXPECT_DOUBLE_EQ(speed.lobes.depth_max_m, 0.04);
 
   const Case force = load_example("ultrasonic-force");
@@ -141,8 +141,8 @@ TEST(CaseFileExamples, UltrasonicCasesCarryTheirVibration) {
   EXPECT_DOUBLE_EQ(*force.cutting.width_m, 0.2e-3);
   EXPECT_DOUBLE_EQ(*force.vibration->amplitude_m, 20e-6);
   // No [lobes] or [simulate]: the defaults.
-  EXPECT_DOUBLE_EQ(force.lobes.rpm_max, 5000.0);
-  EXPECT_EQ(force.lobes.rpm_steps, 200);
+  EXPECT_DOUBLE_EQ(force.lobes.grid.rpm_max, 5000.0);
+  EXPECT_EQ(force.lobes.grid.rpm_steps, 200);
   EXPECT_DOUBLE_EQ(force.simulate.duration_s, 1.0);
   EXPECT_FALSE(force.simulate.rpm);
 }
@@ -236,9 +236,9 @@ summary_revolutions = 0.5
   ASSERT_TRUE(c.operation);
   EXPECT_DOUBLE_EQ(c.operation->engagement.radial_immersion, 0.5);
   EXPECT_FALSE(c.operation->engagement.down_milling);
-  EXPECT_DOUBLE_EQ(c.lobes.rpm_min, 5000.0);
-  EXPECT_DOUBLE_EQ(c.lobes.rpm_max, 25000.0);
-  EXPECT_EQ(c.lobes.rpm_steps, 2);
+  EXPECT_DOUBLE_EQ(c.lobes.grid.rpm_min, 5000.0);
+  EXPECT_DOUBLE_EQ(c.lobes.grid.rpm_max, 25000.0);
+  EXPECT_EQ(c.lobes.grid.rpm_steps, 2);
   EXPECT_DOUBLE_EQ(c.lobes.depth_max_m, 10.0);
   EXPECT_EQ(c.lobes.method, StabilityMethod::kFullDiscretization);
   EXPECT_EQ(c.lobes.harmonics, 0);
@@ -261,8 +261,8 @@ diameter_mm = 12
   EXPECT_DOUBLE_EQ(c.operation->engagement.radial_immersion, 1.0);
   EXPECT_TRUE(c.operation->engagement.down_milling);
   EXPECT_FALSE(c.cutting.kt_pa);
-  EXPECT_DOUBLE_EQ(c.lobes.rpm_min, 500.0);
-  EXPECT_DOUBLE_EQ(c.lobes.rpm_max, 5000.0);
+  EXPECT_DOUBLE_EQ(c.lobes.grid.rpm_min, 500.0);
+  EXPECT_DOUBLE_EQ(c.lobes.grid.rpm_max, 5000.0);
   EXPECT_DOUBLE_EQ(c.lobes.depth_max_m, 0.03);
   EXPECT_EQ(c.lobes.harmonics, 5);
   EXPECT_EQ(c.lobes.steps_per_period, 0);

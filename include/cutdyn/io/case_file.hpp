@@ -29,6 +29,7 @@
 #include "cutdyn/plan/bore_milling.hpp"
 #include "cutdyn/process/milling.hpp"
 #include "cutdyn/process/turning.hpp"
+#include "cutdyn/stability/lobes.hpp"
 #include "cutdyn/stability/method.hpp"
 
 namespace cutdyn::io {
@@ -78,14 +79,12 @@ struct FrfTable {
 
 /// [lobes]: the spindle-speed grid and the depth search range.
 struct LobesSection {
-  double rpm_min = 500.0;
-  double rpm_max = 5000.0;
-  int rpm_steps = 200;        // number of speeds, >= 2, <= 100000
+  /// rpm_min, rpm_max, rpm_steps, refine: the library's grid (LobesOptions::fields()).
+  LobesOptions grid;
   double depth_max_m = 0.03;  // depth_max_mm
   StabilityMethod method = StabilityMethod::kAuto;
   int harmonics = 5;         // multi-frequency: harmonics kept each side, 0..50
   int steps_per_period = 0;  // full discretization: 0 = automatic, else 1..100000
-  bool refine = true;        // adaptive speeds where lobes meet or are narrower than the grid
 };
 
 /// [simulate]: one time-domain run (command-line flags override these).

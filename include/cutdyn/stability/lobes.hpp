@@ -2,9 +2,11 @@
 #pragma once
 
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
+#include "cutdyn/core/fields.hpp"
 #include "cutdyn/stability/critical_depth.hpp"
 
 namespace cutdyn {
@@ -24,6 +26,9 @@ struct LobesOptions {
   double refine_change = 0.2;
   int refine_max_points = 20000;
 
+  /// The members a user sets, with their keys, units and ranges (core/fields.hpp): the case
+  /// file's `[lobes]` grid keys and validate() both read them.
+  static std::span<const Field<LobesOptions>> fields();
   std::vector<std::string> validate() const;
   std::vector<double> speeds_rpm() const;
 };
