@@ -74,7 +74,7 @@ TurningSimulationJobReport simulate_turning_case(const io::Case& c, const Simula
   std::vector<Run> runs{{model.vibration ? "vibration-assisted" : "conventional", model}};
   if (model.vibration) runs.push_back({"conventional", model.conventional()});
   TurningStabilityOptions so = turning_stability_options(c, TurningMethod::kFullDiscretization);
-  so.depth_max_m = std::max(so.depth_max_m, 4.0 * o.depth_m);
+  so.depth_max_m = std::max(so.depth_max_m, std::min(4.0 * o.depth_m, kMaxDepthM));
   for (const Run& run : runs) {
     TurningSimulationRun out{run.name, {}, {}};
     rethrow_as(where, "simulate", [&] { out.result = simulate_turning(run.model, o); });

@@ -149,7 +149,7 @@ void turning_check(const io::Case& c, const CheckRequest& request, CheckJobRepor
       turning_method(asked_method(c, request.method, request.names), model.vibration.has_value());
   TurningStabilityOptions options = turning_stability_options(c, method);
   // Search far enough above the requested depth to say how much margin there is.
-  options.depth_max_m = std::max(options.depth_max_m, 4.0 * request.depth_m);
+  options.depth_max_m = std::max(options.depth_max_m, std::min(4.0 * request.depth_m, kMaxDepthM));
   if (const auto problems = options.validate(); !problems.empty())
     throw InvalidInput(problems, c.source);
   const TurningBoundary b = turning_critical_depth(model, request.rpm, options);

@@ -205,16 +205,31 @@ class Row {
   }
   // A row from a library struct's field list (core/fields.hpp): its key, unit, range, label
   // and meaning as the library spells them, the member reached through `at`.
+  // `echo_default`: the echo writes the key at its default too (false for a key added after
+  // outputs that echo the case were published: they stay the same unless the key is set).
   template <class S>
-  static Row field(std::span<const cutdyn::Field<S>> list, std::string_view key, Locate<S> at) {
+  static Row field(std::span<const cutdyn::Field<S>> list, std::string_view key, Locate<S> at,
+                   bool echo_default = true) {
     const cutdyn::Field<S>* lib = find_field(list, key);
     if (lib == nullptr) throw std::logic_error("no library field " + std::string(key));
-    const Type type = lib->type == FieldType::kInteger   ? Type::kInteger
-                      : lib->type == FieldType::kBoolean ? Type::kBoolean
-                                                         : Type::kNumber;
-    Row r(lib->key, type, lib->unit, lib->range);
-    r.label(lib->label).meaning(lib->meaning);
+    Row r = spec({lib->key, lib->type, lib->unit, lib->range, lib->label, lib->meaning});
     std::visit([&](auto member) { r.member(at, member); }, lib->member);
+    if (!echo_default) {
+      r.echo_if([at, f = *lib](const Case& c, std::size_t i) {
+        const S* s = at(const_cast<Case&>(c), i);
+        return s != nullptr && f.user_value(*s) != f.user_value(S{});
+      });
+    }
+    return r;
+  }
+  // A row from a key the library spells once for several structs (FieldSpec); the Case
+  // member is given with member() or access().
+  static Row spec(const FieldSpec& lib) {
+    const Type type = lib.type == FieldType::kInteger   ? Type::kInteger
+                      : lib.type == FieldType::kBoolean ? Type::kBoolean
+                                                        : Type::kNumber;
+    Row r(lib.key, type, lib.unit, lib.range);
+    r.label(lib.label).meaning(lib.meaning);
     return r;
   }
   operator Field() const { return f_; }  // NOLINT: rows are written as fields
@@ -252,7 +267,9 @@ VibrationAssist* vibration(Case& c, std::size_t) { return c.vibration ? &*c.vibr
 ErmolaevForceLaw* force_law(Case& c, std::size_t) { return c.force_law ? &*c.force_law : nullptr; }
 LobesSection* lobes(Case& c, std::size_t) { return &c.lobes; }
 LobesOptions* lobes_grid(Case& c, std::size_t) { return &c.lobes.grid; }
-Row lobes_row(std::string_view key) { return Row::field(LobesOptions::fields(), key, lobes_grid); }
+Row lobes_row(std::string_view key, bool echo_default = true) {
+  return Row::field(LobesOptions::fields(), key, lobes_grid, echo_default);
+}
 SimulateSection* simulate(Case& c, std::size_t) { return &c.simulate; }
 JohnsonCook* johnson_cook(Case& c, std::size_t) { return c.material ? &c.material->flow : nullptr; }
 ThermalProperties* thermal(Case& c, std::size_t) {
@@ -313,9 +330,7 @@ std::function<std::string(Case&)> refuse(std::string_view why) {
 
 // ---- the tables ----------------------------------------------------------------------------
 
-std::vector<Section> make_sections() {
-  std::vector<Section> all;
-
+Section top_level_section() {
   Section top;
   top.name = "";
   top.subtables = {"modes",    "cutting",   "tool",   "operation", "vibration", "lobes",
@@ -341,8 +356,10 @@ std::vector<Section> make_sections() {
                     .member(whole, &Case::spindle_max_rpm)};
   top.count = always();
   top.create = refuse("");
-  all.push_back(std::move(top));
+  return top;
+}
 
+Section modes_section() {
   Section modes;
   modes.name = "modes";
   modes.array = true;
@@ -416,8 +433,10 @@ std::vector<Section> make_sections() {
               })};
   modes.count = [](const Case& c) { return c.modal.modes.size(); };
   modes.create = refuse("");
-  all.push_back(std::move(modes));
+  return modes;
+}
 
+Section frf_section() {
   Section frf;
   frf.name = "frf";
   frf.array = true;
@@ -476,8 +495,10 @@ std::vector<Section> make_sections() {
           .access(frf_text(&FrfTable::units), set_frf_text(&FrfTable::units))};
   frf.count = [](const Case& c) { return c.frfs.size(); };
   frf.create = refuse("");
-  all.push_back(std::move(frf));
+  return frf;
+}
 
+Section cutting_section() {
   Section cut;
   cut.name = "cutting";
   cut.process_column = true;
@@ -553,8 +574,10 @@ std::vector<Section> make_sections() {
                   "kt_n_per_mm2 is the tangential coefficient)"}};
   cut.count = always();
   cut.create = refuse("");
-  all.push_back(std::move(cut));
+  return cut;
+}
 
+Section material_section() {
   Section material;
   material.name = "material";
   material.subtables = {"johnson_cook", "thermal"};
@@ -573,8 +596,10 @@ std::vector<Section> make_sections() {
                              })};
   material.count = if_present(&Case::material);
   material.create = refuse("the case has no [material] (give its name or both of its tables)");
-  all.push_back(std::move(material));
+  return material;
+}
 
+Section johnson_cook_section() {
   Section jc;
   jc.name = "material.johnson_cook";
   jc.fields = {number("a_mpa", kMpa, kPositive)
@@ -610,8 +635,10 @@ std::vector<Section> make_sections() {
                    .member(johnson_cook, &JohnsonCook::melting_temperature_c)};
   jc.count = if_present(&Case::material);
   jc.create = refuse("the case has no [material] (give its name or both of its tables)");
-  all.push_back(std::move(jc));
+  return jc;
+}
 
+Section thermal_section() {
   Section th;
   th.name = "material.thermal";
   th.fields = {number("density_kg_per_m3", unit("kg/m³"), kPositive)
@@ -638,8 +665,10 @@ std::vector<Section> make_sections() {
                    .member(thermal, &ThermalProperties::conductivity_slope_w_per_m_k2)};
   th.count = if_present(&Case::material);
   th.create = refuse("the case has no [material] (give its name or both of its tables)");
-  all.push_back(std::move(th));
+  return th;
+}
 
+Section oxley_section() {
   Section ox;
   ox.name = "oxley";
   ox.fields = {number("c0_min", kNone, kPositive)
@@ -666,8 +695,10 @@ std::vector<Section> make_sections() {
                    .member(oxley, &OxleyOptions::psi)};
   ox.count = [](const Case& c) -> std::size_t { return c.material ? 1 : 0; };
   ox.create = refuse("used only with a [material] (the settings of Oxley's theory)");
-  all.push_back(std::move(ox));
+  return ox;
+}
 
+Section tool_section() {
   Section tl;
   tl.name = "tool";
   tl.fields = {integer("teeth", 1, 200)
@@ -714,8 +745,10 @@ std::vector<Section> make_sections() {
                        })};
   tl.count = if_present(&Case::tool);
   tl.create = emplace(&Case::tool);
-  all.push_back(std::move(tl));
+  return tl;
+}
 
+Section operation_section() {
   Section op;
   op.name = "operation";
   op.fields = {
@@ -750,8 +783,10 @@ std::vector<Section> make_sections() {
           .member(engagement, &MillingEngagement::exit_rad)};
   op.count = if_present(&Case::operation);
   op.create = emplace(&Case::operation);
-  all.push_back(std::move(op));
+  return op;
+}
 
+Section force_law_section() {
   Section fl;
   fl.name = "force_law";
   fl.fields = {number("c_n_per_mm", kNPerMm, kNonNegative)
@@ -808,12 +843,12 @@ std::vector<Section> make_sections() {
                        })};
   fl.count = if_present(&Case::force_law);
   fl.create = emplace(&Case::force_law);
-  all.push_back(std::move(fl));
+  return fl;
+}
 
-  Section dr;
-  dr.name = "drives";
-  dr.array = true;
-  dr.fields = {
+// [[drives]]: the axis and its transmission.
+std::vector<Field> drive_axis_fields() {
+  return {
       choice("axis", {"x", "y", "z"})
           .deflt("`axis` or `direction`")
           .meaning("the feed is `\"x\"`")
@@ -891,7 +926,12 @@ std::vector<Section> make_sections() {
       number("idle_torque_nm", unit("N·m"), kAny)
           .label("idle torque")
           .meaning("Mc0")
-          .member(transmission, &Transmission::idle_torque_nm),
+          .member(transmission, &Transmission::idle_torque_nm)};
+}
+
+// [[drives]]: the drive's dynamics and controller.
+std::vector<Field> drive_dynamics_fields() {
+  return {
       choice("model", {"static", "dynamic"})
           .meaning("static: eq. 13; dynamic: the PI loop")
           .access(
@@ -942,62 +982,76 @@ std::vector<Section> make_sections() {
           .label("torque limit")
           .echo_if(is_dynamic)
           .deflt("0 (none)")
-          .member(drive, &FeedDrive::torque_limit_nm),
-      integer("pole_pairs", 1, 100)
-          .label("motor pole pairs")
-          .required_if(has_motor)
-          .deflt("with the motor")
-          .member(motor, &PmsmMotor::pole_pairs, kNeedsMotor),
-      number("torque_constant_nm_per_a", unit("N·m/A"), kPositive)
-          .label("motor torque constant")
-          .required_if(has_motor)
-          .deflt("with the motor")
-          .meaning("in `current_measure`'s measure")
-          .member(motor, &PmsmMotor::torque_constant_nm_per_a, kNeedsMotor),
-      choice("current_measure", {"rms", "space-vector"})
-          .access(
-              [](const Case& c, std::size_t i) -> std::optional<Value> {
-                if (!has_motor(c, i)) return std::nullopt;
-                return Value(std::string(to_string(c.drives[i].motor->measure)));
-              },
-              [](Case& c, std::size_t i, const Value& v) -> std::string {
-                if (!has_motor(c, i)) return std::string(kNeedsMotor);
-                c.drives[i].motor->measure = *parse_current_measure(text_of(v));
-                return {};
-              }),
-      number("current_noise_a", unit("A"), kNonNegative)
-          .label("current noise σ")
-          .meaning("σ of white noise per phase")
-          .member(motor, &PmsmMotor::noise_a, kNeedsMotor),
-      Row("current_offset_a", Type::kNumbers, unit("A"))
-          .size(3)
-          .deflt("0")
-          .meaning("sensor offsets of u, v, w")
-          .access(
-              [](const Case& c, std::size_t i) -> std::optional<Value> {
-                if (!has_motor(c, i)) return std::nullopt;
-                const double* o = c.drives[i].motor->offset_a;
-                return Value(std::vector<double>{o[0], o[1], o[2]});
-              },
-              [](Case& c, std::size_t i, const Value& v) -> std::string {
-                if (!has_motor(c, i)) return std::string(kNeedsMotor);
-                const auto& o = std::get<std::vector<double>>(v);
-                if (o.size() != 3) return "must be three numbers (phases u, v, w)";
-                for (int k = 0; k < 3; ++k)
-                  c.drives[i].motor->offset_a[k] = o[static_cast<std::size_t>(k)];
-                return {};
-              }),
-      integer("seed", 0, 2147483647)
-          .label("noise seed")
-          .meaning("with the motor; the seed of the current noise. Each axis draws its own "
-                   "stream of it (mixed with its index in `[[drives]]`), so axes are "
-                   "independent even with the same seed; `cutdyn drive --seed N` overrides it "
-                   "for every axis")
-          .member(motor, &PmsmMotor::seed, kNeedsMotor)};
+          .member(drive, &FeedDrive::torque_limit_nm)};
+}
+
+// [[drives]]: the motor behind the current estimate.
+std::vector<Field> drive_motor_fields() {
+  return {integer("pole_pairs", 1, 100)
+              .label("motor pole pairs")
+              .required_if(has_motor)
+              .deflt("with the motor")
+              .member(motor, &PmsmMotor::pole_pairs, kNeedsMotor),
+          number("torque_constant_nm_per_a", unit("N·m/A"), kPositive)
+              .label("motor torque constant")
+              .required_if(has_motor)
+              .deflt("with the motor")
+              .meaning("in `current_measure`'s measure")
+              .member(motor, &PmsmMotor::torque_constant_nm_per_a, kNeedsMotor),
+          choice("current_measure", {"rms", "space-vector"})
+              .access(
+                  [](const Case& c, std::size_t i) -> std::optional<Value> {
+                    if (!has_motor(c, i)) return std::nullopt;
+                    return Value(std::string(to_string(c.drives[i].motor->measure)));
+                  },
+                  [](Case& c, std::size_t i, const Value& v) -> std::string {
+                    if (!has_motor(c, i)) return std::string(kNeedsMotor);
+                    c.drives[i].motor->measure = *parse_current_measure(text_of(v));
+                    return {};
+                  }),
+          number("current_noise_a", unit("A"), kNonNegative)
+              .label("current noise σ")
+              .meaning("σ of white noise per phase")
+              .member(motor, &PmsmMotor::noise_a, kNeedsMotor),
+          Row("current_offset_a", Type::kNumbers, unit("A"))
+              .size(3)
+              .deflt("0")
+              .meaning("sensor offsets of u, v, w")
+              .access(
+                  [](const Case& c, std::size_t i) -> std::optional<Value> {
+                    if (!has_motor(c, i)) return std::nullopt;
+                    const double* o = c.drives[i].motor->offset_a;
+                    return Value(std::vector<double>{o[0], o[1], o[2]});
+                  },
+                  [](Case& c, std::size_t i, const Value& v) -> std::string {
+                    if (!has_motor(c, i)) return std::string(kNeedsMotor);
+                    const auto& o = std::get<std::vector<double>>(v);
+                    if (o.size() != 3) return "must be three numbers (phases u, v, w)";
+                    for (int k = 0; k < 3; ++k)
+                      c.drives[i].motor->offset_a[k] = o[static_cast<std::size_t>(k)];
+                    return {};
+                  }),
+          integer("seed", 0, 2147483647)
+              .label("noise seed")
+              .meaning("with the motor; the seed of the current noise. Each axis draws its own "
+                       "stream of it (mixed with its index in `[[drives]]`), so axes are "
+                       "independent even with the same seed; `cutdyn drive --seed N` overrides it "
+                       "for every axis")
+              .member(motor, &PmsmMotor::seed, kNeedsMotor)};
+}
+
+Section drives_section() {
+  Section dr;
+  dr.name = "drives";
+  dr.array = true;
+  for (auto part : {drive_axis_fields, drive_dynamics_fields, drive_motor_fields})
+    for (Field& f : part()) dr.fields.push_back(std::move(f));
   dr.count = [](const Case& c) { return c.drives.size(); };
   dr.create = refuse("");
-  all.push_back(std::move(dr));
+  return dr;
+}
 
+Section vibration_section() {
   Section vib;
   vib.name = "vibration";
   vib.fields = {
@@ -1019,17 +1073,17 @@ std::vector<Section> make_sections() {
           .member(vibration, &VibrationAssist::duty_cycle)};
   vib.count = if_present(&Case::vibration);
   vib.create = emplace(&Case::vibration);
-  all.push_back(std::move(vib));
+  return vib;
+}
 
+Section lobes_section() {
   Section lb;
   lb.name = "lobes";
   lb.fields = {
       lobes_row("rpm_min"),
       lobes_row("rpm_max"),
       lobes_row("rpm_steps"),
-      number("depth_max_mm", kMm, open_closed(0.0, kMaxDepthMm))
-          .label("depth limit")
-          .member(lobes, &LobesSection::depth_max_m),
+      Row::spec(stability_fields::kDepthMax).member(lobes, &LobesSection::depth_max_m),
       choice("method", {"auto", "zero-order", "closed-form", "multi-frequency",
                         "full-discretization", "full-discretization-dense"})
           .meaning(
@@ -1045,12 +1099,7 @@ std::vector<Section> make_sections() {
                 c.lobes.method = *parse_stability_method(text_of(v));
                 return {};
               }),
-      integer("harmonics", 0, 50)
-          .label("least harmonics kept")
-          .meaning("multi-frequency: the least number of harmonics kept each side (more are "
-                   "used until the window covers every mode and the contact pulse; "
-                   "docs/models/milling-stability.md)")
-          .member(lobes, &LobesSection::harmonics),
+      Row::spec(stability_fields::kHarmonics).member(lobes, &LobesSection::harmonics),
       integer("steps_per_period", 0, 100000)
           .label("steps per period")
           .meaning("full discretization, 0 = automatic")
@@ -1058,8 +1107,10 @@ std::vector<Section> make_sections() {
       lobes_row("refine")};
   lb.count = always();
   lb.create = refuse("");
-  all.push_back(std::move(lb));
+  return lb;
+}
 
+Section simulate_section() {
   Section sim;
   sim.name = "simulate";
   sim.process_column = true;
@@ -1109,9 +1160,11 @@ std::vector<Section> make_sections() {
           .member(simulate, &SimulateSection::closed_form_helix)};
   sim.count = always();
   sim.create = refuse("");
-  all.push_back(std::move(sim));
+  return sim;
+}
 
-  // ---- plan cases ----
+// A plan case's table.
+Section bore_section() {
   Section bo;
   bo.name = "bore";
   bo.plan = true;
@@ -1132,8 +1185,11 @@ std::vector<Section> make_sections() {
                    .member(bore, &BoreMillingCase::allowance_m)};
   bo.count = if_present(&Case::bore);
   bo.create = refuse("");
-  all.push_back(std::move(bo));
+  return bo;
+}
 
+// A plan case's table.
+Section cutter_section() {
   Section cu;
   cu.name = "cutter";
   cu.plan = true;
@@ -1166,8 +1222,11 @@ std::vector<Section> make_sections() {
           .member(bore, &BoreMillingCase::inclination_rad)};
   cu.count = if_present(&Case::bore);
   cu.create = refuse("");
-  all.push_back(std::move(cu));
+  return cu;
+}
 
+// A plan case's table.
+Section plan_process_section() {
   Section pr;
   pr.name = "process";
   pr.plan = true;
@@ -1195,8 +1254,11 @@ std::vector<Section> make_sections() {
                    .member(whole, &Case::axial_feed_m)};
   pr.count = if_present(&Case::bore);
   pr.create = refuse("");
-  all.push_back(std::move(pr));
+  return pr;
+}
 
+// A plan case's table.
+Section limits_section() {
   Section li;
   li.name = "limits";
   li.plan = true;
@@ -1235,7 +1297,30 @@ std::vector<Section> make_sections() {
                    .member(limits, &BoreMillingLimits::max_chip_thickness_m)};
   li.count = if_present(&Case::bore_limits);
   li.create = emplace(&Case::bore_limits);
-  all.push_back(std::move(li));
+  return li;
+}
+
+std::vector<Section> make_sections() {
+  std::vector<Section> all;
+  all.push_back(top_level_section());
+  all.push_back(modes_section());
+  all.push_back(frf_section());
+  all.push_back(cutting_section());
+  all.push_back(material_section());
+  all.push_back(johnson_cook_section());
+  all.push_back(thermal_section());
+  all.push_back(oxley_section());
+  all.push_back(tool_section());
+  all.push_back(operation_section());
+  all.push_back(force_law_section());
+  all.push_back(drives_section());
+  all.push_back(vibration_section());
+  all.push_back(lobes_section());
+  all.push_back(simulate_section());
+  all.push_back(bore_section());
+  all.push_back(cutter_section());
+  all.push_back(plan_process_section());
+  all.push_back(limits_section());
   return all;
 }
 

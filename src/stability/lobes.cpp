@@ -15,6 +15,14 @@
 
 namespace cutdyn {
 
+// 0 to kMaxThreads, with the rule the other front ends print for threads.
+constexpr FieldRange threads_range() {
+  static_assert(kMaxThreads == 1024, "the rule text below names the limit");
+  FieldRange r = FieldRange::closed(0, kMaxThreads);
+  r.rule_text = "must be 0 (all cores) to 1024";
+  return r;
+}
+
 std::span<const Field<LobesOptions>> LobesOptions::fields() {
   using R = FieldRange;
   static const Field<LobesOptions> list[] = {
@@ -24,8 +32,8 @@ std::span<const Field<LobesOptions>> LobesOptions::fields() {
        "highest spindle speed", "greater than `rpm_min`"},
       {"rpm_steps", FieldType::kInteger, fields::kNone, R::closed(2, 100000),
        &LobesOptions::rpm_steps, "spindle speeds", ""},
-      {"threads", FieldType::kInteger, fields::kNone, R::closed(0, kMaxThreads),
-       &LobesOptions::threads, "threads", "0: all cores"},
+      {"threads", FieldType::kInteger, fields::kNone, threads_range(), &LobesOptions::threads,
+       "threads", "0: all cores"},
       {"refine", FieldType::kBoolean, fields::kNone, R::any(), &LobesOptions::refine, "",
        "add speeds where lobes meet or are narrower than the grid (adaptive tracing); false: "
        "the uniform grid only"},

@@ -207,18 +207,28 @@ DelayedSystem milling_system(const MillingProcess& model, double rpm, double dep
   return s;
 }
 
+std::span<const Field<MillingStabilityOptions>> MillingStabilityOptions::fields() {
+  using O = MillingStabilityOptions;
+  static const Field<O> list[] = {
+      make_field(stability_fields::kDepthMax, &O::depth_max_m),
+      make_field(stability_fields::kHarmonics, &O::harmonics),
+      {"rel_tol", FieldType::kNumber, fields::kNone, FieldRange::closed(1e-12, 0.1), &O::rel_tol,
+       "depth tolerance", "relative tolerance of the critical depth"},
+      {"coarse_steps", FieldType::kInteger, fields::kNone, FieldRange::closed(1, 10000),
+       &O::coarse_steps, "depth grid", "depths scanned below the limit before Brent's method"},
+  };
+  return list;
+}
+
 std::vector<std::string> MillingStabilityOptions::validate() const {
   Validator v;
-  v.require_positive("depth_max_m", depth_max_m, "m");
-  v.require(harmonics >= 0 && harmonics <= 100, "harmonics", harmonics, "", "must be 0 to 100");
-  v.require(rel_tol >= 1e-12 && rel_tol <= 0.1, "rel_tol", rel_tol, "", "must be 1e-12 to 0.1");
-  v.require(coarse_steps >= 1 && coarse_steps <= 10000, "coarse_steps", coarse_steps, "",
-            "must be 1 to 10000");
+  check_fields(*this, fields(), v);
   v.merge(fd.validate());
   return v.problems();
 }
 
 MillingStabilityOptions extend_search(const MillingStabilityOptions& o, double depth_m) {
+  depth_m = std::min(depth_m, kMaxDepthM);  // no search deeper than any cut (method.hpp)
   if (!(depth_m > o.depth_max_m)) return o;
   Validator v;
   v.require(depth_m <= kMaxSearchExtension * o.depth_max_m, "depth", depth_m, "m",
@@ -229,6 +239,10 @@ MillingStabilityOptions extend_search(const MillingStabilityOptions& o, double d
   const double step = o.depth_max_m / o.coarse_steps;
   out.coarse_steps = static_cast<int>(std::ceil(depth_m / step - 1e-9));
   out.depth_max_m = out.coarse_steps * step;
+  if (out.depth_max_m > kMaxDepthM) {  // the grid point past 10 m: the one below it
+    --out.coarse_steps;
+    out.depth_max_m = out.coarse_steps * step;
+  }
   return out;
 }
 

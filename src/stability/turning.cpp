@@ -66,10 +66,18 @@ const char* to_string(TurningMethod method) {
   return "?";
 }
 
+std::span<const Field<TurningStabilityOptions>> TurningStabilityOptions::fields() {
+  using O = TurningStabilityOptions;
+  static const Field<O> list[] = {
+      make_field(stability_fields::kDepthMax, &O::depth_max_m),
+      make_field(stability_fields::kHarmonics, &O::harmonics),
+  };
+  return list;
+}
+
 std::vector<std::string> TurningStabilityOptions::validate() const {
   Validator v;
-  v.require_positive("depth_max_m", depth_max_m, "m");
-  v.require(harmonics >= 0 && harmonics <= 100, "harmonics", harmonics, "", "must be 0 to 100");
+  check_fields(*this, fields(), v);
   for (const std::string& p : fd.validate()) v.add("fd." + p);
   return v.problems();
 }

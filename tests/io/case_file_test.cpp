@@ -360,14 +360,14 @@ TEST(CaseFileErrors, ValuesOutOfRange) {
   EXPECT_THAT(problems_of(with("[lobes]\nrpm_steps = 100001\n")),
               ElementsAre("lobes.rpm_steps = 100001: must be an integer from 2 to 100000"));
   EXPECT_THAT(
-      problems_of(with("[lobes]\nrpm_steps = 1\nharmonics = 51\nsteps_per_period = -1\n"
+      problems_of(with("[lobes]\nrpm_steps = 1\nharmonics = 101\nsteps_per_period = -1\n"
                        "depth_max_mm = 1e5\nmethod = \"fast\"\n")),
       ElementsAre(
           "lobes.rpm_steps = 1: must be an integer from 2 to 100000",
           "lobes.depth_max_mm = 1e5: must be greater than 0 and at most 10000",
           "lobes.method = \"fast\": must be one of \"auto\", \"zero-order\", \"closed-form\", "
           "\"multi-frequency\", \"full-discretization\", \"full-discretization-dense\"",
-          "lobes.harmonics = 51: must be an integer from 0 to 50",
+          "lobes.harmonics = 101: must be an integer from 0 to 100",
           "lobes.steps_per_period = -1: must be an integer from 0 to 100000"));
   EXPECT_THAT(problems_of(milling_with("[tool]\nteeth = 0\ndiameter_mm = 20\nhelix_deg = 90\n")),
               ElementsAre("tool.teeth = 0: must be an integer from 1 to 200",

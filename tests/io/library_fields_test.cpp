@@ -15,6 +15,9 @@
 #include "cutdyn/core/fields.hpp"
 #include "cutdyn/io/case_file.hpp"
 #include "cutdyn/stability/lobes.hpp"
+#include "cutdyn/stability/milling.hpp"
+#include "cutdyn/stability/multi_frequency.hpp"
+#include "cutdyn/stability/turning.hpp"
 #include "io/case_fields.hpp"
 
 namespace cutdyn::io {
@@ -132,6 +135,75 @@ TEST(LibraryFields, LobesGridKeysAreTheLibrarysEverywhere) {
   const Case c = load_example("milling-insperger");
   expect_section_follows_library<LobesOptions>("lobes", LobesOptions::fields(), lobes_grid, c,
                                                4);
+}
+
+// Keys several library structs share (stability/method.hpp): the [lobes] row is the spec's,
+// the schema and the docs show its unit and range, and the reader, the milling options, the
+// turning options and the multi-frequency options refuse the same values and take the same
+// ones (one range for the key everywhere).
+TEST(LibraryFields, SharedStabilityKeysHaveOneRangeEverywhere) {
+  const detail::Section* lobes = detail::find_section("lobes", false);
+  ASSERT_NE(lobes, nullptr);
+  const nlohmann::json schema = case_schema()["lobes"]["keys"];
+  const std::string table = detail::key_table_markdown(*lobes);
+  const Case base = load_example("milling-insperger");
+  for (const FieldSpec* spec : {&stability_fields::kDepthMax, &stability_fields::kHarmonics}) {
+    const std::string key = "lobes." + std::string(spec->key);
+    SCOPED_TRACE(key);
+    const bool integer = spec->type == FieldType::kInteger;
+    const detail::Field* io = lobes->find(spec->key);
+    ASSERT_NE(io, nullptr);
+    EXPECT_EQ(io->unit.text, spec->unit.text);
+    EXPECT_EQ(io->label, spec->label);
+    EXPECT_EQ(io->meaning, spec->meaning);
+    EXPECT_EQ(io->type == detail::Type::kInteger, integer);
+    EXPECT_EQ(io->range.lo, spec->range.lo);
+    EXPECT_EQ(io->range.hi, spec->range.hi);
+    EXPECT_EQ(io->range.lo_open, spec->range.lo_open);
+    EXPECT_EQ(io->range.hi_open, spec->range.hi_open);
+    EXPECT_EQ(schema[std::string(spec->key)]["unit"], std::string(spec->unit.text));
+    EXPECT_THAT(schema[std::string(spec->key)]["rule"].get<std::string>(),
+                HasSubstr(spec->range.doc(integer)));
+    EXPECT_THAT(table, HasSubstr("| `" + std::string(spec->key) + "` |"));
+
+    const auto named = [&](const std::vector<std::string>& problems) {
+      for (const std::string& p : problems)
+        if (p.rfind(std::string(spec->key) + " = ", 0) == 0) return true;
+      return false;
+    };
+    for (double v : {inside(spec->range, integer), spec->range.hi}) {
+      SCOPED_TRACE(v);
+      const Case c = with_value(base, key, v);  // the reader takes it
+      MillingStabilityOptions mo;
+      TurningStabilityOptions to;
+      MultiFrequencyOptions fo;
+      if (spec == &stability_fields::kDepthMax) {
+        mo.depth_max_m = to.depth_max_m = spec->unit.to_si(v);
+        EXPECT_DOUBLE_EQ(c.lobes.depth_max_m, spec->unit.to_si(v));
+      } else {
+        mo.harmonics = to.harmonics = fo.harmonics = static_cast<int>(v);
+        EXPECT_EQ(c.lobes.harmonics, static_cast<int>(v));
+      }
+      EXPECT_FALSE(named(mo.validate()));
+      EXPECT_FALSE(named(to.validate()));
+      EXPECT_FALSE(named(fo.validate()));
+    }
+    for (double bad : outside(spec->range, integer)) {
+      SCOPED_TRACE(bad);
+      EXPECT_THROW((void)with_value(base, key, bad), InvalidInput);
+      MillingStabilityOptions mo;
+      TurningStabilityOptions to;
+      MultiFrequencyOptions fo;
+      if (spec == &stability_fields::kDepthMax) {
+        mo.depth_max_m = to.depth_max_m = spec->unit.to_si(bad);
+      } else {
+        mo.harmonics = to.harmonics = fo.harmonics = static_cast<int>(bad);
+        EXPECT_TRUE(named(fo.validate()));
+      }
+      EXPECT_TRUE(named(mo.validate()));
+      EXPECT_TRUE(named(to.validate()));
+    }
+  }
 }
 
 // Each field's own range and the struct's validate(): a value at each end of the range

@@ -77,6 +77,17 @@ inline constexpr FieldUnit kNone = unit("–");
 
 enum class FieldType { kNumber, kInteger, kBoolean };
 
+/// A key shared by several structs (the depth limit of every stability method): its
+/// spelling, unit and range once; make_field attaches it to one struct's member.
+struct FieldSpec {
+  std::string_view key;
+  FieldType type = FieldType::kNumber;
+  FieldUnit unit = fields::kNone;
+  FieldRange range;
+  std::string_view label;
+  std::string_view meaning;
+};
+
 /// One member of S a user can set.
 template <class S>
 struct Field {
@@ -106,6 +117,11 @@ struct Field {
     }
   }
 };
+
+template <class S, class M>
+Field<S> make_field(const FieldSpec& spec, M S::*member) {
+  return {spec.key, spec.type, spec.unit, spec.range, member, spec.label, spec.meaning};
+}
 
 /// The field named `key` in `list`; nullptr when there is none.
 template <class S>

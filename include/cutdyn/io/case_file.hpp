@@ -83,7 +83,7 @@ struct LobesSection {
   LobesOptions grid;
   double depth_max_m = 0.03;  // depth_max_mm
   StabilityMethod method = StabilityMethod::kAuto;
-  int harmonics = 5;         // multi-frequency: harmonics kept each side, 0..50
+  int harmonics = 5;         // multi-frequency: harmonics kept each side (stability_fields)
   int steps_per_period = 0;  // full discretization: 0 = automatic, else 1..100000
 };
 
@@ -102,8 +102,8 @@ struct SimulateSection {
   bool closed_form_helix = false;  // [Ermolaev2020] eqs. 8–9 instead of slices
 };
 
-/// The deepest cut any key or request may ask for (10 m): beyond it no number means a cut.
-inline constexpr double kMaxDepthMm = 10000.0;
+/// The deepest cut any key or request may ask for (stability/method.hpp).
+using cutdyn::kMaxDepthMm;
 
 /// The spindle speed limit of a case that states none: above the fastest machining spindles.
 inline constexpr double kDefaultSpindleMaxRpm = 60000.0;

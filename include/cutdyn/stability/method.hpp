@@ -16,6 +16,9 @@
 #include <optional>
 #include <string_view>
 
+#include "cutdyn/core/fields.hpp"
+#include "cutdyn/core/units.hpp"
+
 namespace cutdyn {
 
 enum class StabilityMethod {
@@ -38,5 +41,30 @@ std::optional<StabilityMethod> parse_stability_method(std::string_view name);
 inline constexpr const char* kStabilityMethodNames =
     "auto, zero-order, closed-form, multi-frequency, full-discretization, "
     "full-discretization-dense";
+
+/// The deepest cut any key or request may ask for (10 m): beyond it no number means a cut.
+/// No stability search goes deeper either (a check's margin search, a search extended to a
+/// requested depth stop there).
+inline constexpr double kMaxDepthMm = 10000.0;
+inline constexpr double kMaxDepthM = kMaxDepthMm / 1000.0;
+
+/// The keys every stability method's options share, spelled once (core/fields.hpp): the
+/// milling and turning options list them, and the case file's `[lobes]` rows are theirs.
+namespace stability_fields {
+inline constexpr FieldSpec kDepthMax{"depth_max_mm",
+                                     FieldType::kNumber,
+                                     {"mm", units::mm_to_m, units::m_to_mm},
+                                     FieldRange::open_closed(0.0, kMaxDepthMm),
+                                     "depth limit",
+                                     ""};
+inline constexpr FieldSpec kHarmonics{
+    "harmonics",
+    FieldType::kInteger,
+    fields::kNone,
+    FieldRange::closed(0, 100),
+    "least harmonics kept",
+    "multi-frequency: the least number of harmonics kept each side (more are used until the "
+    "window covers every mode and the contact pulse; docs/models/milling-stability.md)"};
+}  // namespace stability_fields
 
 }  // namespace cutdyn

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -75,6 +76,9 @@ struct MillingStabilityOptions {
   /// (coarse scan, then Brent), as before 2026-11-24.
   bool warm_start = true;
 
+  /// The members a user sets (core/fields.hpp): depth_max_mm, harmonics, rel_tol,
+  /// coarse_steps; validate() walks them.
+  static std::span<const Field<MillingStabilityOptions>> fields();
   std::vector<std::string> validate() const;
 };
 

@@ -26,6 +26,7 @@
 
 #include "cutdyn/stability/critical_depth.hpp"
 #include "cutdyn/stability/delayed_system.hpp"
+#include "cutdyn/stability/method.hpp"
 
 namespace cutdyn {
 

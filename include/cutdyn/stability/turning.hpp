@@ -8,6 +8,7 @@
 #pragma once
 
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,8 @@ struct TurningStabilityOptions {
   int harmonics = 5;
   FdOptions fd;  // depth_max_m is taken from above
 
+  /// The members a user sets (core/fields.hpp): depth_max_mm, harmonics.
+  static std::span<const Field<TurningStabilityOptions>> fields();
   std::vector<std::string> validate() const;
 };
 
