@@ -1104,7 +1104,8 @@ Section lobes_section() {
           .label("steps per period")
           .meaning("full discretization, 0 = automatic")
           .member(lobes, &LobesSection::steps_per_period),
-      lobes_row("refine")};
+      lobes_row("refine"),
+      lobes_row("refine_levels", false)};
   lb.count = always();
   lb.create = refuse("");
   return lb;

@@ -38,7 +38,9 @@ std::span<const Field<LobesOptions>> LobesOptions::fields() {
        "add speeds where lobes meet or are narrower than the grid (adaptive tracing); false: "
        "the uniform grid only"},
       {"refine_levels", FieldType::kInteger, fields::kNone, R::closed(0, 20),
-       &LobesOptions::refine_levels, "refinement levels", "halvings of a grid interval"},
+       &LobesOptions::refine_levels, "refinement levels",
+       "how many times the refinement may halve a grid interval (the finest spacing is the "
+       "grid's over 2^levels); 0: the uniform grid only"},
       {"refine_change", FieldType::kNumber, fields::kNone, R::open_closed(0.0, 10.0),
        &LobesOptions::refine_change, "refinement threshold",
        "relative change of the depth between neighbours that refines"},

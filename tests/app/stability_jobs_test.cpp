@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "cutdyn/app/case_models.hpp"
@@ -132,6 +133,39 @@ TEST(StabilityJobsInput, EveryGridTheCaseFileAcceptsIsAGrid) {
   o.refine = true;
   ASSERT_EQ(o.validate().size(), 1u);
   EXPECT_NE(o.validate()[0].find("refine_max_points"), std::string::npos);
+}
+
+// [lobes] refine_levels reaches the tracing: 0 keeps the uniform grid, each level may halve
+// an interval once more (the speeds added at level k lie on the grid of spacing Δ/2^k), and
+// the echo writes the key only when it is set.
+TEST(StabilityJobsInput, RefineLevelsFromTheCaseSetTheFinestSpacing) {
+  const std::string base = std::string(*io::example_text("turning-conventional"));
+  const auto lobes_with = [&](int levels) {
+    const io::Case c =
+        io::with_value(io::parse_case(base, "t.toml"), "lobes.refine_levels", levels);
+    EXPECT_EQ(c.lobes.grid.refine_levels, levels);
+    LobesRequest r;
+    r.threads = 1;
+    return run_lobes(c, r).lobes.points;
+  };
+  const io::Case plain = io::parse_case(base, "t.toml");
+  const double spacing =
+      (plain.lobes.grid.rpm_max - plain.lobes.grid.rpm_min) / (plain.lobes.grid.rpm_steps - 1);
+  const auto finest = [](const std::vector<LobePoint>& p) {
+    double f = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 1; i < p.size(); ++i) f = std::min(f, p[i].rpm - p[i - 1].rpm);
+    return f;
+  };
+  const std::vector<LobePoint> none = lobes_with(0), two = lobes_with(2), eight = lobes_with(8);
+  EXPECT_EQ(none.size(), static_cast<std::size_t>(plain.lobes.grid.rpm_steps));
+  EXPECT_GT(two.size(), none.size());
+  EXPECT_GT(eight.size(), two.size());
+  EXPECT_NEAR(finest(two), spacing / 4.0, 1e-9 * spacing);
+  EXPECT_GE(finest(eight), spacing / 256.0 * (1.0 - 1e-9));
+  EXPECT_LT(finest(eight), finest(two));
+  EXPECT_FALSE(io::to_json(plain)["lobes"].contains("refine_levels"));
+  EXPECT_EQ(io::to_json(io::with_value(plain, "lobes.refine_levels", 3))["lobes"]["refine_levels"],
+            3);
 }
 
 }  // namespace
