@@ -244,21 +244,29 @@ std::vector<MultiFrequencyCase> multi_frequency_cases() {
   return cases;
 }
 
-TEST(LargeEigenvalues, MultiFrequencyDepthIsTheDenseSolversOne) {
-  for (const MultiFrequencyCase& c : multi_frequency_cases()) {
+// The default multi-frequency answer and that of `variant` (the options changed one way) on
+// every case: same depth, chatter frequency and bifurcation, nothing unresolved.
+void expect_variant_agrees(const std::vector<MultiFrequencyCase>& cases,
+                           void (*variant)(MultiFrequencyOptions&)) {
+  for (const MultiFrequencyCase& c : cases) {
     MultiFrequencyOptions o;
     o.depth_max_m = c.depth_max_m;
     o.harmonics = c.system.more_delays.empty() ? 5 : 20;
-    const CriticalDepth fast = multi_frequency_critical_depth(c.system, o);
-    o.dense_eigenvalues = true;
-    const CriticalDepth dense = multi_frequency_critical_depth(c.system, o);
-    ASSERT_EQ(fast.found, dense.found) << c.name;
-    ASSERT_TRUE(dense.found) << c.name << ": nothing to compare";
-    EXPECT_NEAR(fast.depth_m, dense.depth_m, 1e-9 * dense.depth_m) << c.name;
-    EXPECT_NEAR(fast.chatter_hz, dense.chatter_hz, 1e-6 * dense.chatter_hz) << c.name;
-    EXPECT_EQ(fast.bifurcation, dense.bifurcation) << c.name;
-    EXPECT_EQ(fast.unresolved, 0) << c.name;
+    const CriticalDepth ours = multi_frequency_critical_depth(c.system, o);
+    variant(o);
+    const CriticalDepth other = multi_frequency_critical_depth(c.system, o);
+    ASSERT_EQ(ours.found, other.found) << c.name;
+    ASSERT_TRUE(other.found) << c.name << ": nothing to compare";
+    EXPECT_NEAR(ours.depth_m, other.depth_m, 1e-9 * other.depth_m) << c.name;
+    EXPECT_NEAR(ours.chatter_hz, other.chatter_hz, 1e-6 * other.chatter_hz) << c.name;
+    EXPECT_EQ(ours.bifurcation, other.bifurcation) << c.name;
+    EXPECT_EQ(ours.unresolved, 0) << c.name;
   }
+}
+
+TEST(LargeEigenvalues, MultiFrequencyDepthIsTheDenseSolversOne) {
+  expect_variant_agrees(multi_frequency_cases(),
+                        [](MultiFrequencyOptions& o) { o.dense_eigenvalues = true; });
 }
 
 // The frequency samples that widen away from the resonances (default) find the critical
@@ -274,20 +282,7 @@ TEST(LargeEigenvalues, WideningFrequencyStepsGiveTheEqualStepsDepth) {
   MillingProcess high = testing::four_mode_milling();
   high.modal.modes.back().natural_rad_s = units::hz_to_rad_per_s(6000.0);
   cases.push_back({"a mode at 6 kHz", milling_system(high, 6000.0), 30e-3});
-  for (const MultiFrequencyCase& c : cases) {
-    MultiFrequencyOptions o;
-    o.depth_max_m = c.depth_max_m;
-    o.harmonics = c.system.more_delays.empty() ? 5 : 20;
-    const CriticalDepth widening = multi_frequency_critical_depth(c.system, o);
-    o.uniform_step = true;
-    const CriticalDepth equal = multi_frequency_critical_depth(c.system, o);
-    ASSERT_EQ(widening.found, equal.found) << c.name;
-    ASSERT_TRUE(equal.found) << c.name << ": nothing to compare";
-    EXPECT_NEAR(widening.depth_m, equal.depth_m, 1e-9 * equal.depth_m) << c.name;
-    EXPECT_NEAR(widening.chatter_hz, equal.chatter_hz, 1e-6 * equal.chatter_hz) << c.name;
-    EXPECT_EQ(widening.bifurcation, equal.bifurcation) << c.name;
-    EXPECT_EQ(widening.unresolved, 0) << c.name;
-  }
+  expect_variant_agrees(cases, [](MultiFrequencyOptions& o) { o.uniform_step = true; });
 }
 
 }  // namespace
