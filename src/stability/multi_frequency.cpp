@@ -104,7 +104,7 @@ int multi_frequency_harmonics(const DelayedSystem& system, const MultiFrequencyO
 std::vector<std::string> MultiFrequencyOptions::validate() const {
   Validator v;
   const FieldSpec& h = stability_fields::kHarmonics;  // one range for the key everywhere
-  v.require(h.range.contains(harmonics), h.key, harmonics, "", h.range.rule());
+  if (!h.range.contains(harmonics)) v.require(false, h.key, harmonics, "", h.range.rule());
   v.require(max_harmonics >= 1 && max_harmonics <= 500, "max_harmonics", max_harmonics, "",
             "must be 1 to 500");
   v.require_positive("depth_max_m", depth_max_m, "m");

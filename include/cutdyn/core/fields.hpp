@@ -138,8 +138,8 @@ void check_fields(const S& s, std::span<const Field<S>> list, Validator& v) {
   for (const Field<S>& f : list) {
     if (f.type == FieldType::kBoolean) continue;
     const double value = f.user_value(s);
-    v.require(std::isfinite(value) && f.range.contains(value), f.key, value,
-              f.unit.message_text(), f.range.rule());
+    if (!(std::isfinite(value) && f.range.contains(value)))  // the rule's text only then
+      v.require(false, f.key, value, f.unit.message_text(), f.range.rule());
   }
 }
 
