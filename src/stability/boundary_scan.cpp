@@ -191,13 +191,13 @@ BoundaryScanReport scan_boundary(const MatrixFunction& evaluate, const BoundaryS
   std::vector<double> grid;
   if (o.step_at) {
     // Steps of at most theta_step, shorter where step_at says K changes fast; the last one
-    // is stretched or shortened to end on theta_max (never more than by half a step).
+    // ends on theta_max (no wider than the rule allows there).
     grid.push_back(o.theta_min);
     for (;;) {
       const double theta = grid.back();
       const double h = std::min(o.theta_step, o.step_at(theta));
       if (!(h > 0.0)) throw std::logic_error("scan_boundary: step_at must be positive");
-      if (theta + 1.5 * h >= o.theta_max) break;
+      if (theta + h >= o.theta_max) break;
       grid.push_back(theta + h);
     }
     grid.push_back(o.theta_max);
