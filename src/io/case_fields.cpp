@@ -75,7 +75,6 @@ namespace {
 
 // ---- units -------------------------------------------------------------------------------
 
-using fields::same;
 double n_per_mm_to_n_per_m(double v) { return 1e3 * v; }
 double n_per_m_to_n_per_mm(double v) { return 1e-3 * v; }
 double mpa_to_pa(double v) { return v * 1e6; }

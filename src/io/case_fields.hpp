@@ -10,7 +10,6 @@
 
 #include <cstddef>
 #include <functional>
-#include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -23,7 +22,7 @@
 
 namespace cutdyn::io::detail {
 
-inline constexpr double kInf = std::numeric_limits<double>::infinity();
+inline constexpr double kInf = FieldRange::kInf;
 
 /// Ranges and units are the library's (core/fields.hpp): a row made from a library struct's
 /// field list (Row::field) carries them unchanged.

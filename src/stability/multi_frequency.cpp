@@ -272,7 +272,6 @@ CriticalDepth multi_frequency_critical_depth(const DelayedSystem& system,
     }
     return d;
   };
-  const double step = std::min(delay_step, 0.25 * sharpest_half_bandwidth(system));
 
   const double min_eigenvalue = 1.0 / o.depth_max_m;
   const MatrixFunction evaluate = [&](double w, Eigen::MatrixXcd& K) {
@@ -283,7 +282,7 @@ CriticalDepth multi_frequency_critical_depth(const DelayedSystem& system,
   scan.theta_min = 0.0;
   scan.theta_max = w_max;
   if (o.uniform_step) {
-    scan.theta_step = step;
+    scan.theta_step = std::min(delay_step, 0.25 * sharpest_half_bandwidth(system));
   } else {
     scan.theta_step = delay_step;
     scan.step_at = [&](double w) { return 0.25 * pole_distance(w); };
